@@ -1,0 +1,700 @@
+//! The clearance revolute joint: kinematics, force and exact Jacobian.
+//!
+//! # Geometry
+//! The **bearing** (a hole) is carried by body *i*, the **pin** by body *j*; their centres are
+//! body-fixed points `s_i`, `s_j` (body frame), at `r_k^c = r_k + A(θ_k) s_k` in the global frame.
+//! With `e = r_j^c − r_i^c`, the normal is `n = e/|e|`, the tangent `t` is `n` turned by +90°
+//! and `φ = atan2(n_y, n_x)`. The surfaces are sampled in the contact direction in their own
+//! body frames, at `φ − θ_i` (bearing) and `φ − θ_j` (pin), giving the local radii `R_i`, `R_j`,
+//! the local clearance `c(φ) = R_i − R_j` and the penetration `δ = |e| − c(φ)`.
+//!
+//! # Worn (non-circular) surfaces
+//! We keep `n = e/|e|` for the contact direction, and use the **local** radii in the conformal
+//! Hertz formula (effective radius `R = R_i R_j/(R_i − R_j)`, stiffness
+//! `K = 4/(3(ε_i + ε_j)) √R`). This ignores the tilt of the true surface normal and the local
+//! curvature change a worn profile has (its radius of curvature is not its radius); it is the
+//! model's (and the paper's) treatment, adequate while the wear depth varies slowly along the
+//! arc. Because `R_i`, `R_j` depend on the direction `φ`, and `φ` on both bodies' positions,
+//! the profile slopes `dR/dα` enter the Jacobian through `∂φ/∂q`, both in `δ` and in `K`.
+//!
+//! The damping velocity is the **material** normal velocity `v_n = (v_j^Q − v_i^Q)·n`, which
+//! equals `d|e|/dt`; for round surfaces that is `dδ/dt`. On a worn surface `dδ/dt` also has the
+//! term `−dc/dt` of the profile sweeping past the contact direction, which is geometry, not an
+//! approach of material, and so is deliberately not damped.
+//!
+//! # Forces
+//! Force on the pin `F = −(F_n n + F_t t)` acting at the pin contact point `r_j^c + R_j n`; the
+//! opposite force on the bearing acts at the bearing contact point `r_i^c + R_i n`. Each body gets
+//! the moment of its force about its own centroid. The two points are `δ n` apart, so the pair of
+//! forces has a net moment `−δ F_t` about any point (zero without friction): the pair is
+//! otherwise in balance.
+
+use nalgebra::{Matrix2, SMatrix, Vector2, Vector3};
+
+use crate::diagnostics::ContactDiagnostics;
+use crate::error::{ContactError, finite, in_range, positive};
+use crate::friction::{FrictionLaw, FrictionLawKind};
+use crate::normal::{NormalLaw, NormalLawKind};
+use crate::surface::{RadiusSample, SurfaceProfile};
+
+/// Partials of the six generalized forces with respect to the twelve body coordinates.
+///
+/// Rows: `[bearing F_x, F_y, M, pin F_x, F_y, M]`.
+/// Columns: `[x_i, y_i, θ_i, x_j, y_j, θ_j, ẋ_i, ẏ_i, θ̇_i, ẋ_j, ẏ_j, θ̇_j]`
+/// (i = bearing body, j = pin body; positions then velocities).
+pub type ContactJacobian = SMatrix<f64, 6, 12>;
+
+type Row = SMatrix<f64, 1, 12>;
+type Rows2 = SMatrix<f64, 2, 12>;
+
+/// Column of `θ_i` in [`ContactJacobian`].
+const COL_THETA_I: usize = 2;
+/// Column of `θ_j` in [`ContactJacobian`].
+const COL_THETA_J: usize = 5;
+/// First velocity column of the bearing body (`ẋ_i`).
+const COL_VEL_I: usize = 6;
+/// First velocity column of the pin body (`ẋ_j`).
+const COL_VEL_J: usize = 9;
+
+/// Angles at which a joint's profiles are checked on construction.
+const VALIDATION_SAMPLES: usize = 64;
+
+/// Planar rigid-body state: centroid position, angle and their rates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct BodyState {
+    /// Centroid x (m).
+    pub x: f64,
+    /// Centroid y (m).
+    pub y: f64,
+    /// Angle (rad).
+    pub theta: f64,
+    /// Centroid velocity ẋ (m/s).
+    pub vx: f64,
+    /// Centroid velocity ẏ (m/s).
+    pub vy: f64,
+    /// Angular velocity θ̇ (rad/s).
+    pub omega: f64,
+}
+
+impl BodyState {
+    /// State from position `(x, y, θ)` and velocity `(ẋ, ẏ, θ̇)`.
+    pub fn new(position: [f64; 3], velocity: [f64; 3]) -> Self {
+        Self {
+            x: position[0],
+            y: position[1],
+            theta: position[2],
+            vx: velocity[0],
+            vy: velocity[1],
+            omega: velocity[2],
+        }
+    }
+
+    /// A body at rest at `(x, y, θ)`.
+    pub fn at_rest(x: f64, y: f64, theta: f64) -> Self {
+        Self::new([x, y, theta], [0.0; 3])
+    }
+
+    fn position(&self) -> Vector2<f64> {
+        Vector2::new(self.x, self.y)
+    }
+
+    fn velocity(&self) -> Vector2<f64> {
+        Vector2::new(self.vx, self.vy)
+    }
+
+    /// A body-fixed vector turned into the global frame.
+    fn rotate(&self, local: &Vector2<f64>) -> Vector2<f64> {
+        let (s, c) = self.theta.sin_cos();
+        Vector2::new(c * local.x - s * local.y, s * local.x + c * local.y)
+    }
+}
+
+/// Isotropic linear-elastic material of a contact surface.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "MaterialParams", into = "MaterialParams")]
+pub struct Material {
+    params: MaterialParams,
+}
+
+/// Parameters of a [`Material`], as written in scene files.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialParams {
+    /// Young's modulus `E > 0` (Pa).
+    pub youngs_modulus: f64,
+    /// Poisson's ratio `ν ∈ (−1, 0.5)`.
+    pub poisson_ratio: f64,
+}
+
+impl Material {
+    /// A material with Young's modulus `E > 0` (Pa) and Poisson's ratio `ν ∈ (−1, 0.5)`.
+    pub fn new(youngs_modulus: f64, poisson_ratio: f64) -> Result<Self, ContactError> {
+        positive("youngs_modulus", youngs_modulus)?;
+        in_range(
+            "poisson_ratio",
+            poisson_ratio,
+            |nu| nu > -1.0 && nu < 0.5,
+            "in (-1, 0.5)",
+        )?;
+        Ok(Self {
+            params: MaterialParams {
+                youngs_modulus,
+                poisson_ratio,
+            },
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> MaterialParams {
+        self.params
+    }
+
+    /// Compliance `ε = (1 − ν²)/E` (1/Pa).
+    pub fn compliance(&self) -> f64 {
+        let MaterialParams {
+            youngs_modulus,
+            poisson_ratio,
+        } = self.params;
+        (1.0 - poisson_ratio * poisson_ratio) / youngs_modulus
+    }
+}
+
+impl TryFrom<MaterialParams> for Material {
+    type Error = ContactError;
+    fn try_from(params: MaterialParams) -> Result<Self, ContactError> {
+        Self::new(params.youngs_modulus, params.poisson_ratio)
+    }
+}
+
+impl From<Material> for MaterialParams {
+    fn from(material: Material) -> Self {
+        material.params
+    }
+}
+
+/// One side of a joint: where its centre sits on its body, its shape and its material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointSurface<S> {
+    /// Centre of the bearing hole or pin in the carrying body's frame, relative to its centroid (m).
+    pub centre: [f64; 2],
+    /// Radius as a function of the body-frame angle.
+    pub profile: S,
+    /// Material.
+    pub material: Material,
+}
+
+/// Everything the kinematics of a joint gives at one state (global frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointKinematics {
+    /// Eccentricity `e = r_j^c − r_i^c` (m).
+    pub eccentricity: Vector2<f64>,
+    /// `|e|` (m).
+    pub eccentricity_norm: f64,
+    /// Normal `n = e/|e|` (taken as the x axis when `|e| = 0`).
+    pub normal: Vector2<f64>,
+    /// Tangent `t`: `n` turned by +90°.
+    pub tangent: Vector2<f64>,
+    /// Contact angle `φ = atan2(n_y, n_x)` (rad).
+    pub contact_angle: f64,
+    /// Bearing radius and slope at body-frame angle `φ − θ_i`.
+    pub bearing: RadiusSample,
+    /// Pin radius and slope at body-frame angle `φ − θ_j`.
+    pub pin: RadiusSample,
+    /// Penetration `δ = |e| − (R_i − R_j)` (m).
+    pub penetration: f64,
+    /// Bearing contact point `r_i^c + R_i n` (m).
+    pub bearing_point: Vector2<f64>,
+    /// Pin contact point `r_j^c + R_j n` (m).
+    pub pin_point: Vector2<f64>,
+    /// Velocity of the bearing body's material point at its contact point (m/s).
+    pub bearing_point_velocity: Vector2<f64>,
+    /// Velocity of the pin body's material point at its contact point (m/s).
+    pub pin_point_velocity: Vector2<f64>,
+    /// Normal relative velocity `v_n = (v_j^Q − v_i^Q)·n` (m/s), positive when approaching.
+    pub normal_velocity: f64,
+    /// Tangential relative velocity `v_t = (v_j^Q − v_i^Q)·t` (m/s).
+    pub tangential_velocity: f64,
+}
+
+/// Generalized contact forces on both bodies and what was seen on the way.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactForces {
+    /// `(F_x, F_y, M)` on the bearing body (N, N, N·m; moment about its centroid).
+    pub bearing: Vector3<f64>,
+    /// `(F_x, F_y, M)` on the pin body (N, N, N·m; moment about its centroid).
+    pub pin: Vector3<f64>,
+    /// Contact state for wear and recording.
+    pub diagnostics: ContactDiagnostics,
+}
+
+/// The positional part of the kinematics, shared by the event function and the kernel.
+#[derive(Clone, Copy)]
+struct Geometry {
+    /// Bearing-centre arm `A(θ_i) s_i` from the bearing body's centroid.
+    bearing_centre_arm: Vector2<f64>,
+    /// Pin-centre arm `A(θ_j) s_j` from the pin body's centroid.
+    pin_centre_arm: Vector2<f64>,
+    eccentricity: Vector2<f64>,
+    eccentricity_norm: f64,
+    normal: Vector2<f64>,
+    contact_angle: f64,
+    bearing: RadiusSample,
+    pin: RadiusSample,
+    penetration: f64,
+}
+
+/// A clearance revolute joint between a bearing on body *i* and a pin on body *j*.
+///
+/// Generic over the surface profiles and the laws, so a fixed configuration is statically
+/// dispatched; the defaults ([`NormalLawKind`], [`FrictionLawKind`]) dispatch at run time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClearanceJoint<B, P, N = NormalLawKind, F = FrictionLawKind> {
+    bearing_centre: Vector2<f64>,
+    pin_centre: Vector2<f64>,
+    bearing_profile: B,
+    pin_profile: P,
+    bearing_material: Material,
+    pin_material: Material,
+    /// `4/(3(ε_i + ε_j))`: the stiffness is this times `√R`.
+    modulus_factor: f64,
+    normal_law: N,
+    friction_law: F,
+}
+
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
+    ClearanceJoint<B, P, N, F>
+{
+    /// A joint, validated: finite centres, and profiles that are finite, positive and leave a
+    /// positive clearance in every direction (checked on 64 angles per surface: the smallest
+    /// bearing radius must exceed the largest pin radius).
+    pub fn new(
+        bearing: JointSurface<B>,
+        pin: JointSurface<P>,
+        normal_law: N,
+        friction_law: F,
+    ) -> Result<Self, ContactError> {
+        for (parameter, value) in [
+            ("bearing centre x", bearing.centre[0]),
+            ("bearing centre y", bearing.centre[1]),
+            ("pin centre x", pin.centre[0]),
+            ("pin centre y", pin.centre[1]),
+        ] {
+            finite(parameter, value)?;
+        }
+        validate_profiles(&bearing.profile, &pin.profile)?;
+        let compliance = bearing.material.compliance() + pin.material.compliance();
+        Ok(Self {
+            bearing_centre: Vector2::from(bearing.centre),
+            pin_centre: Vector2::from(pin.centre),
+            bearing_profile: bearing.profile,
+            pin_profile: pin.profile,
+            bearing_material: bearing.material,
+            pin_material: pin.material,
+            modulus_factor: 4.0 / (3.0 * compliance),
+            normal_law,
+            friction_law,
+        })
+    }
+
+    /// The same joint with new surface profiles (e.g. after a wear stage), validated again.
+    pub fn with_profiles<B2: SurfaceProfile, P2: SurfaceProfile>(
+        self,
+        bearing_profile: B2,
+        pin_profile: P2,
+    ) -> Result<ClearanceJoint<B2, P2, N, F>, ContactError> {
+        validate_profiles(&bearing_profile, &pin_profile)?;
+        Ok(ClearanceJoint {
+            bearing_centre: self.bearing_centre,
+            pin_centre: self.pin_centre,
+            bearing_profile,
+            pin_profile,
+            bearing_material: self.bearing_material,
+            pin_material: self.pin_material,
+            modulus_factor: self.modulus_factor,
+            normal_law: self.normal_law,
+            friction_law: self.friction_law,
+        })
+    }
+
+    /// The bearing's profile.
+    pub fn bearing_profile(&self) -> &B {
+        &self.bearing_profile
+    }
+
+    /// The pin's profile.
+    pub fn pin_profile(&self) -> &P {
+        &self.pin_profile
+    }
+
+    /// The bearing and pin materials.
+    pub fn materials(&self) -> (Material, Material) {
+        (self.bearing_material, self.pin_material)
+    }
+
+    /// The normal law.
+    pub fn normal_law(&self) -> &N {
+        &self.normal_law
+    }
+
+    /// The friction law.
+    pub fn friction_law(&self) -> &F {
+        &self.friction_law
+    }
+
+    /// Hertz stiffness `K = 4/(3(ε_i + ε_j)) √(R_i R_j/(R_i − R_j))` for local radii (N/m^1.5).
+    pub fn stiffness(&self, bearing_radius: f64, pin_radius: f64) -> f64 {
+        let effective_radius = bearing_radius * pin_radius / (bearing_radius - pin_radius);
+        self.modulus_factor * effective_radius.sqrt()
+    }
+
+    /// Penetration `δ` only (m; negative when free): cheap, for event (root) functions.
+    #[inline]
+    pub fn penetration(&self, bearing_body: &BodyState, pin_body: &BodyState) -> f64 {
+        self.geometry(bearing_body, pin_body).penetration
+    }
+
+    /// Full kinematics of the joint at the given states.
+    pub fn kinematics(&self, bearing_body: &BodyState, pin_body: &BodyState) -> JointKinematics {
+        let geometry = self.geometry(bearing_body, pin_body);
+        kinematics_from(&geometry, bearing_body, pin_body)
+    }
+
+    /// Generalized forces on both bodies.
+    ///
+    /// `onset_velocity` is `δ̇⁻` of the current contact (see [`crate::ImpactMemory`]); `None`
+    /// means the contact has just begun and the current normal velocity is used.
+    #[inline]
+    pub fn forces(
+        &self,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        onset_velocity: Option<f64>,
+    ) -> ContactForces {
+        let kin = self.kinematics(bearing_body, pin_body);
+        if kin.penetration < 0.0 {
+            return free_forces(&kin, bearing_body, pin_body);
+        }
+        let stiffness = self.stiffness(kin.bearing.radius, kin.pin.radius);
+        let onset = onset_velocity.unwrap_or(kin.normal_velocity);
+        let normal =
+            self.normal_law
+                .evaluate(stiffness, kin.penetration, kin.normal_velocity, onset);
+        let friction = self
+            .friction_law
+            .evaluate(kin.tangential_velocity, normal.force);
+        assemble(&kin, bearing_body, pin_body, normal.force, friction.force)
+    }
+
+    /// Generalized forces and their exact partials (layout: [`ContactJacobian`]).
+    ///
+    /// `δ̇⁻` is a parameter of the current contact, so it has no partial; with
+    /// `onset_velocity = None` the current normal velocity is used as a constant. Where the law
+    /// is not differentiable (the friction ramp's corners, the clamp) one side's partial is
+    /// returned. Everything lives on the stack.
+    pub fn forces_and_jacobian(
+        &self,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        onset_velocity: Option<f64>,
+    ) -> (ContactForces, ContactJacobian) {
+        let geometry = self.geometry(bearing_body, pin_body);
+        let kin = kinematics_from(&geometry, bearing_body, pin_body);
+        if kin.penetration < 0.0 {
+            return (
+                free_forces(&kin, bearing_body, pin_body),
+                ContactJacobian::zeros(),
+            );
+        }
+        let onset = onset_velocity.unwrap_or(kin.normal_velocity);
+        let (n, t) = (kin.normal, kin.tangent);
+        let rho = kin.eccentricity_norm;
+
+        // Positions: eccentricity, |e| and the contact direction φ.
+        let mut d_ecc = Rows2::zeros();
+        d_ecc[(0, 0)] = -1.0;
+        d_ecc[(1, 1)] = -1.0;
+        d_ecc.set_column(COL_THETA_I, &-perp(&geometry.bearing_centre_arm));
+        d_ecc[(0, 3)] = 1.0;
+        d_ecc[(1, 4)] = 1.0;
+        d_ecc.set_column(COL_THETA_J, &perp(&geometry.pin_centre_arm));
+        let d_rho: Row = n.transpose() * d_ecc;
+        let d_phi: Row = t.transpose() * d_ecc / rho;
+
+        // Local radii through the body-frame angles φ − θ.
+        let mut d_bearing_radius = d_phi * kin.bearing.slope;
+        d_bearing_radius[COL_THETA_I] -= kin.bearing.slope;
+        let mut d_pin_radius = d_phi * kin.pin.slope;
+        d_pin_radius[COL_THETA_J] -= kin.pin.slope;
+        let d_penetration = d_rho - d_bearing_radius + d_pin_radius;
+
+        // Stiffness through the effective radius.
+        let (r_i, r_j) = (kin.bearing.radius, kin.pin.radius);
+        let clearance = r_i - r_j;
+        let effective_radius = r_i * r_j / clearance;
+        let stiffness = self.modulus_factor * effective_radius.sqrt();
+        let d_effective_radius =
+            (d_pin_radius * (r_i * r_i) - d_bearing_radius * (r_j * r_j)) / (clearance * clearance);
+        let d_stiffness = d_effective_radius * (0.5 * stiffness / effective_radius);
+
+        // Arms from the centroids to the contact points, and the relative velocity.
+        let bearing_arm = kin.bearing_point - bearing_body.position();
+        let pin_arm = kin.pin_point - pin_body.position();
+        let d_bearing_arm = arm_partials(
+            &geometry.bearing_centre_arm,
+            COL_THETA_I,
+            &n,
+            &t,
+            r_i,
+            &d_bearing_radius,
+            &d_phi,
+        );
+        let d_pin_arm = arm_partials(
+            &geometry.pin_centre_arm,
+            COL_THETA_J,
+            &n,
+            &t,
+            r_j,
+            &d_pin_radius,
+            &d_phi,
+        );
+        let mut d_rel_vel = rotate_columns(&d_pin_arm) * pin_body.omega
+            - rotate_columns(&d_bearing_arm) * bearing_body.omega;
+        d_rel_vel[(0, COL_VEL_I)] -= 1.0;
+        d_rel_vel[(1, COL_VEL_I + 1)] -= 1.0;
+        d_rel_vel.set_column(COL_VEL_I + 2, &-perp(&bearing_arm));
+        d_rel_vel[(0, COL_VEL_J)] += 1.0;
+        d_rel_vel[(1, COL_VEL_J + 1)] += 1.0;
+        d_rel_vel.set_column(COL_VEL_J + 2, &perp(&pin_arm));
+        let d_normal_velocity: Row = n.transpose() * d_rel_vel + d_phi * kin.tangential_velocity;
+        let d_tangential_velocity: Row = t.transpose() * d_rel_vel - d_phi * kin.normal_velocity;
+
+        // Laws.
+        let normal =
+            self.normal_law
+                .evaluate(stiffness, kin.penetration, kin.normal_velocity, onset);
+        let friction = self
+            .friction_law
+            .evaluate(kin.tangential_velocity, normal.force);
+        let d_normal_force = d_penetration * normal.d_penetration
+            + d_normal_velocity * normal.d_velocity
+            + d_stiffness * normal.d_stiffness;
+        let d_friction_force =
+            d_tangential_velocity * friction.d_velocity + d_normal_force * friction.d_normal_force;
+
+        // Force on the pin, −(F_n n + F_t t), and its moments.
+        let pin_force = -(n * normal.force + t * friction.force);
+        let d_pin_force: Rows2 = -(n * d_normal_force
+            + t * d_friction_force
+            + (t * normal.force - n * friction.force) * d_phi);
+        let d_pin_moment = moment_partials(&pin_arm, &d_pin_arm, &pin_force, &d_pin_force);
+        let d_bearing_moment =
+            moment_partials(&bearing_arm, &d_bearing_arm, &-pin_force, &-d_pin_force);
+
+        let mut jacobian = ContactJacobian::zeros();
+        jacobian.fixed_rows_mut::<2>(0).copy_from(&-d_pin_force);
+        jacobian.set_row(2, &d_bearing_moment);
+        jacobian.fixed_rows_mut::<2>(3).copy_from(&d_pin_force);
+        jacobian.set_row(5, &d_pin_moment);
+
+        let forces = assemble(&kin, bearing_body, pin_body, normal.force, friction.force);
+        (forces, jacobian)
+    }
+
+    fn geometry(&self, bearing_body: &BodyState, pin_body: &BodyState) -> Geometry {
+        let bearing_centre_arm = bearing_body.rotate(&self.bearing_centre);
+        let pin_centre_arm = pin_body.rotate(&self.pin_centre);
+        let eccentricity =
+            pin_body.position() + pin_centre_arm - bearing_body.position() - bearing_centre_arm;
+        let eccentricity_norm = eccentricity.norm();
+        let normal = if eccentricity_norm > 0.0 {
+            eccentricity / eccentricity_norm
+        } else {
+            Vector2::x()
+        };
+        let contact_angle = normal.y.atan2(normal.x);
+        let bearing = self
+            .bearing_profile
+            .sample(contact_angle - bearing_body.theta);
+        let pin = self.pin_profile.sample(contact_angle - pin_body.theta);
+        Geometry {
+            bearing_centre_arm,
+            pin_centre_arm,
+            eccentricity,
+            eccentricity_norm,
+            normal,
+            contact_angle,
+            bearing,
+            pin,
+            penetration: eccentricity_norm - (bearing.radius - pin.radius),
+        }
+    }
+}
+
+fn validate_profiles<B: SurfaceProfile, P: SurfaceProfile>(
+    bearing: &B,
+    pin: &P,
+) -> Result<(), ContactError> {
+    let mut smallest_bearing = (f64::INFINITY, 0.0);
+    let mut largest_pin = (f64::NEG_INFINITY, 0.0);
+    for k in 0..VALIDATION_SAMPLES {
+        let angle = std::f64::consts::TAU * k as f64 / VALIDATION_SAMPLES as f64;
+        let b = bearing.sample(angle);
+        let p = pin.sample(angle);
+        finite("bearing radius", b.radius)?;
+        finite("bearing radius slope", b.slope)?;
+        finite("pin radius", p.radius)?;
+        finite("pin radius slope", p.slope)?;
+        positive("pin radius", p.radius)?;
+        if b.radius < smallest_bearing.0 {
+            smallest_bearing = (b.radius, angle);
+        }
+        if p.radius > largest_pin.0 {
+            largest_pin = (p.radius, angle);
+        }
+    }
+    if smallest_bearing.0 > largest_pin.0 {
+        Ok(())
+    } else {
+        Err(ContactError::NonPositiveClearance {
+            bearing_radius: smallest_bearing.0,
+            pin_radius: largest_pin.0,
+            angle: smallest_bearing.1,
+        })
+    }
+}
+
+fn kinematics_from(
+    geometry: &Geometry,
+    bearing_body: &BodyState,
+    pin_body: &BodyState,
+) -> JointKinematics {
+    let n = geometry.normal;
+    let t = perp(&n);
+    let bearing_point =
+        bearing_body.position() + geometry.bearing_centre_arm + n * geometry.bearing.radius;
+    let pin_point = pin_body.position() + geometry.pin_centre_arm + n * geometry.pin.radius;
+    let bearing_point_velocity = bearing_body.velocity()
+        + perp(&(bearing_point - bearing_body.position())) * bearing_body.omega;
+    let pin_point_velocity =
+        pin_body.velocity() + perp(&(pin_point - pin_body.position())) * pin_body.omega;
+    let relative_velocity = pin_point_velocity - bearing_point_velocity;
+    JointKinematics {
+        eccentricity: geometry.eccentricity,
+        eccentricity_norm: geometry.eccentricity_norm,
+        normal: n,
+        tangent: t,
+        contact_angle: geometry.contact_angle,
+        bearing: geometry.bearing,
+        pin: geometry.pin,
+        penetration: geometry.penetration,
+        bearing_point,
+        pin_point,
+        bearing_point_velocity,
+        pin_point_velocity,
+        normal_velocity: relative_velocity.dot(&n),
+        tangential_velocity: relative_velocity.dot(&t),
+    }
+}
+
+fn diagnostics(
+    kin: &JointKinematics,
+    bearing_body: &BodyState,
+    pin_body: &BodyState,
+    normal_force: f64,
+    friction_force: f64,
+) -> ContactDiagnostics {
+    let wrap = |angle: f64| angle.rem_euclid(std::f64::consts::TAU);
+    ContactDiagnostics {
+        in_contact: kin.penetration >= 0.0,
+        penetration: kin.penetration,
+        eccentricity: kin.eccentricity_norm,
+        contact_angle: kin.contact_angle,
+        bearing_angle: wrap(kin.contact_angle - bearing_body.theta),
+        pin_angle: wrap(kin.contact_angle - pin_body.theta),
+        bearing_radius: kin.bearing.radius,
+        pin_radius: kin.pin.radius,
+        normal_velocity: kin.normal_velocity,
+        tangential_velocity: kin.tangential_velocity,
+        normal_force,
+        friction_force,
+        contact_point: [kin.bearing_point.x, kin.bearing_point.y],
+    }
+}
+
+fn free_forces(
+    kin: &JointKinematics,
+    bearing_body: &BodyState,
+    pin_body: &BodyState,
+) -> ContactForces {
+    ContactForces {
+        bearing: Vector3::zeros(),
+        pin: Vector3::zeros(),
+        diagnostics: diagnostics(kin, bearing_body, pin_body, 0.0, 0.0),
+    }
+}
+
+fn assemble(
+    kin: &JointKinematics,
+    bearing_body: &BodyState,
+    pin_body: &BodyState,
+    normal_force: f64,
+    friction_force: f64,
+) -> ContactForces {
+    let pin_force = -(kin.normal * normal_force + kin.tangent * friction_force);
+    let pin_moment = cross(&(kin.pin_point - pin_body.position()), &pin_force);
+    let bearing_moment = cross(&(kin.bearing_point - bearing_body.position()), &-pin_force);
+    ContactForces {
+        bearing: Vector3::new(-pin_force.x, -pin_force.y, bearing_moment),
+        pin: Vector3::new(pin_force.x, pin_force.y, pin_moment),
+        diagnostics: diagnostics(kin, bearing_body, pin_body, normal_force, friction_force),
+    }
+}
+
+/// `v` turned by +90°.
+#[inline]
+fn perp(v: &Vector2<f64>) -> Vector2<f64> {
+    Vector2::new(-v.y, v.x)
+}
+
+/// z component of `a × b`.
+#[inline]
+fn cross(a: &Vector2<f64>, b: &Vector2<f64>) -> f64 {
+    a.x * b.y - a.y * b.x
+}
+
+/// Every column turned by +90°.
+#[inline]
+fn rotate_columns(d: &Rows2) -> Rows2 {
+    Matrix2::new(0.0, -1.0, 1.0, 0.0) * d
+}
+
+/// Partials of a contact arm `A(θ) s + R n` (centroid to contact point).
+#[inline]
+fn arm_partials(
+    centre_arm: &Vector2<f64>,
+    theta_column: usize,
+    n: &Vector2<f64>,
+    t: &Vector2<f64>,
+    radius: f64,
+    d_radius: &Row,
+    d_phi: &Row,
+) -> Rows2 {
+    // dn = t dφ.
+    let mut d_arm: Rows2 = n * d_radius + t * (d_phi * radius);
+    let turned = perp(centre_arm);
+    d_arm[(0, theta_column)] += turned.x;
+    d_arm[(1, theta_column)] += turned.y;
+    d_arm
+}
+
+/// Partials of the moment `b × f`.
+#[inline]
+fn moment_partials(
+    arm: &Vector2<f64>,
+    d_arm: &Rows2,
+    force: &Vector2<f64>,
+    d_force: &Rows2,
+) -> Row {
+    d_arm.row(0) * force.y - d_arm.row(1) * force.x + d_force.row(1) * arm.x
+        - d_force.row(0) * arm.y
+}
