@@ -1,5 +1,71 @@
 //! Archard wear on body-fixed pin and bearing grids.
 //!
-//! This crate will hold worn surfaces as data (body-fixed grids of worn radii with a smooth
-//! periodic interpolation that implements the `contact` crate's surface profile), Archard wear
-//! accumulation over accepted integration steps, and staged wear extrapolation.
+//! A clearance revolute joint wears where the pin presses and slides on the bearing. This
+//! crate holds the worn surfaces as data and evolves them (MODEL.md §3, §8):
+//!
+//! - [`WornProfile`]: one surface, `N` body-fixed cells over 360° holding the accumulated
+//!   Archard depth `h_k`; the bearing's radius is `R_i + h/2`, the pin's `R_j − h/2`. It
+//!   implements [`contact::SurfaceProfile`] with a periodic cubic B-spline (C², local, never
+//!   negative, O(1) per sample), so the contact kernel sees a smooth worn radius and its exact
+//!   slope.
+//! - [`WornJoint`]: bearing + pin + wear parameters; serializable so a stage can be saved and
+//!   resumed. [`WornJoint::new`] returns `None` for `K_d = 0`: a caller holding
+//!   `Option<WornJoint>` with wear off allocates no grid and calls no wear code.
+//! - [`StageWear`]: the depth one stage gathers from **accepted** integration steps
+//!   ([`StageWear::accumulate_step`], allocation-free), kept apart from the surfaces so the
+//!   geometry stays frozen within the stage; [`WornJoint::apply`] moves it in, amplified.
+//! - [`run_stages`]: the staged extrapolation (K cycles → ×factor → update → next stage),
+//!   adaptive by default so no sub-step grows a local clearance by more than 10 %; the
+//!   caller's integrator is a closure.
+//!
+//! ```
+//! use contact::{ContactDiagnostics, SurfaceProfile};
+//! use wear::{WearParams, WornJoint};
+//!
+//! // LGRES joint B: bearing 80 mm, clearance 0.5 mm, hinge 0.1 m, K_d = 1.8e-13 m²/N.
+//! let params = WearParams::new(1.8e-13, 0.1, 1000)?;
+//! let mut joint = WornJoint::new(&params, 0.080, 0.0795)?.expect("K_d > 0: wear is on");
+//!
+//! // One stage: the caller's integrator reports each accepted step's end states.
+//! let mut stage = joint.start_stage();
+//! let state = |t: f64| ContactDiagnostics {
+//!     in_contact: true,
+//!     eccentricity: 0.0005 + 10e-6, // 10 µm penetration
+//!     bearing_radius: 0.080,
+//!     pin_radius: 0.0795,
+//!     normal_force: 3000.0,
+//!     tangential_velocity: 0.05,
+//!     pin_angle: 1.5,
+//!     bearing_angle: 1.5 - 0.6 * t, // the bearing turns under the load
+//!     ..Default::default()
+//! };
+//! let dt = 1e-3;
+//! for step in 0..1000 {
+//!     let t = step as f64 * dt;
+//!     stage.accumulate_step(&state(t), &state(t + dt), dt)?;
+//! }
+//! // Volume in the grids matches Archard's K_d F s (up to the arc/chord ratio).
+//! assert!((stage.worn_volume() / stage.archard_volume() - 1.0).abs() < 0.01);
+//!
+//! // End of stage: amplify ×20,000 and update the surfaces.
+//! joint.apply(&stage, 20_000.0)?;
+//! let worn = joint.pin().sample(1.5);
+//! assert!(worn.radius < 0.0795); // the pin shrank where it was loaded
+//! assert_eq!(joint.pin().sample(4.6).radius, 0.0795); // and nowhere else
+//! # Ok::<(), wear::WearError>(())
+//! ```
+
+mod accumulate;
+mod error;
+mod joint;
+mod profile;
+mod staging;
+
+pub use accumulate::StageWear;
+pub use error::WearError;
+pub use joint::{ContactArc, DEFAULT_CELLS, WearParams, WornJoint};
+pub use profile::{AngularRange, Side, WornProfile};
+pub use staging::{
+    Extrapolation, ExtrapolationWarning, JointSubstep, RunContext, StagePlan, StageReport,
+    StagingError, SubstepReport, run_stage, run_stages,
+};

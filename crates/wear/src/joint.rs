@@ -1,0 +1,279 @@
+//! A worn clearance joint: wear parameters, the bearing and pin surfaces, the contact arc.
+
+use serde::{Deserialize, Serialize};
+
+use crate::accumulate::StageWear;
+use crate::error::{WearError, non_negative, positive};
+use crate::profile::{Side, WornProfile, check_increment};
+
+/// Default number of cells per surface (the paper's grid).
+pub const DEFAULT_CELLS: usize = 1000;
+
+/// Archard wear parameters of one joint.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WearParams {
+    /// Dimensional wear coefficient `K_d = K_w / H` (m²/N). `0` means wear off.
+    pub wear_coefficient: f64,
+    /// Hinge width `w` (m): the contact area is `chord · w`.
+    pub hinge_width: f64,
+    /// Cells per surface over 360°.
+    pub cells: usize,
+}
+
+impl WearParams {
+    /// Validated parameters: `K_d` finite and ≥ 0, `w` finite and > 0, `cells ≥ 1`.
+    pub fn new(wear_coefficient: f64, hinge_width: f64, cells: usize) -> Result<Self, WearError> {
+        let params = Self {
+            wear_coefficient,
+            hinge_width,
+            cells,
+        };
+        params.validate()?;
+        Ok(params)
+    }
+
+    /// Checks the parameters (for values built or deserialized field by field).
+    pub fn validate(&self) -> Result<(), WearError> {
+        non_negative("wear_coefficient", self.wear_coefficient)?;
+        positive("hinge_width", self.hinge_width)?;
+        if self.cells == 0 {
+            return Err(WearError::ZeroCells);
+        }
+        Ok(())
+    }
+
+    /// Whether these parameters produce any wear (`K_d > 0`).
+    pub fn is_on(&self) -> bool {
+        self.wear_coefficient > 0.0
+    }
+}
+
+/// The geometry of a penetrating contact: where the pin and bearing circles intersect.
+///
+/// The intersection points A and B lie at `R_j` from the pin centre and `R_i` from the bearing
+/// centre, `|e|` apart. In the triangle (bearing centre, pin centre, A) the law of cosines gives
+/// the angle `α` at the pin centre (MODEL.md §3), and the angle `γ` at the bearing centre:
+///
+/// `cos α = (|e|² + R_j² − R_i²) / (2|e|R_j)`,  `cos γ = (|e|² + R_i² − R_j²) / (2|e|R_i)`.
+///
+/// The contact direction `n` points from the bearing centre through the pin centre, so the
+/// pin's arc spans `±(π − α)` about `n` and the bearing's `±γ` about `n`; the chord is
+/// `AB = 2R_j sin(π − α) = 2R_i sin γ` (law of sines). Both angles are computed in the
+/// cancellation-free half-angle form, with `δ = |e| − (R_i − R_j)`:
+///
+/// `sin²((π − α)/2) = δ (|e| + R_i + R_j) / (4|e|R_j)`,  `sin²(γ/2) = δ (R_i + R_j − |e|) / (4|e|R_i)`,
+///
+/// which stay accurate for micrometre penetrations where the cosine forms lose digits.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactArc {
+    /// Half-angle of the arc on the pin, `π − α` (rad).
+    pub pin_half_angle: f64,
+    /// Half-angle of the arc on the bearing, `γ` (rad).
+    pub bearing_half_angle: f64,
+    /// Chord `AB` (m).
+    pub chord: f64,
+}
+
+impl ContactArc {
+    /// The arc for eccentricity `|e|` and local radii; `None` unless the pin penetrates
+    /// (`δ > 0`) with positive radii.
+    pub fn new(eccentricity: f64, bearing_radius: f64, pin_radius: f64) -> Option<Self> {
+        let (e, ri, rj) = (eccentricity, bearing_radius, pin_radius);
+        let delta = e - (ri - rj);
+        if !(delta > 0.0 && ri > 0.0 && rj > 0.0 && e.is_finite()) {
+            return None;
+        }
+        let half = |s2: f64| 2.0 * s2.clamp(0.0, 1.0).sqrt().asin();
+        let pin_half_angle = half(delta * (e + ri + rj) / (4.0 * e * rj));
+        let bearing_half_angle = half(delta * (ri + rj - e) / (4.0 * e * ri));
+        let chord = 2.0 * rj * pin_half_angle.sin();
+        (chord > 0.0).then_some(Self {
+            pin_half_angle,
+            bearing_half_angle,
+            chord,
+        })
+    }
+}
+
+/// A clearance joint with worn surfaces: the bearing (hole, on one body) and the pin
+/// (journal, on the other), each a body-fixed [`WornProfile`], plus the wear parameters.
+///
+/// Serializes whole, so a stage can be saved, inspected and resumed; deserialization
+/// re-validates.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "JointData")]
+pub struct WornJoint {
+    wear_coefficient: f64,
+    hinge_width: f64,
+    bearing: WornProfile,
+    pin: WornProfile,
+}
+
+#[derive(Deserialize)]
+struct JointData {
+    wear_coefficient: f64,
+    hinge_width: f64,
+    bearing: WornProfile,
+    pin: WornProfile,
+}
+
+impl TryFrom<JointData> for WornJoint {
+    type Error = WearError;
+    fn try_from(d: JointData) -> Result<Self, WearError> {
+        WornJoint::from_profiles(d.wear_coefficient, d.hinge_width, d.bearing, d.pin)
+    }
+}
+
+impl WornJoint {
+    /// An unworn joint, or `Ok(None)` when `params.wear_coefficient == 0`.
+    ///
+    /// `K_d = 0` is normalized to "wear off" rather than rejected: the caller keeps an
+    /// `Option<WornJoint>`, and with `None` allocates no grid and calls no wear code (it uses
+    /// `contact::CircularProfile` for the surfaces). Radii are validated either way.
+    pub fn new(
+        params: &WearParams,
+        bearing_radius: f64,
+        pin_radius: f64,
+    ) -> Result<Option<Self>, WearError> {
+        params.validate()?;
+        check_radii(bearing_radius, pin_radius)?;
+        if !params.is_on() {
+            return Ok(None);
+        }
+        Self::from_profiles(
+            params.wear_coefficient,
+            params.hinge_width,
+            WornProfile::new(Side::Bearing, bearing_radius, params.cells)?,
+            WornProfile::new(Side::Pin, pin_radius, params.cells)?,
+        )
+        .map(Some)
+    }
+
+    /// A joint from existing (possibly worn) surfaces, e.g. loaded from a previous stage.
+    /// `wear_coefficient` must be > 0 here: a joint value always means wear on.
+    pub fn from_profiles(
+        wear_coefficient: f64,
+        hinge_width: f64,
+        bearing: WornProfile,
+        pin: WornProfile,
+    ) -> Result<Self, WearError> {
+        positive("wear_coefficient", wear_coefficient)?;
+        positive("hinge_width", hinge_width)?;
+        for (name, profile, side) in [
+            ("bearing", &bearing, Side::Bearing),
+            ("pin", &pin, Side::Pin),
+        ] {
+            if profile.side() != side {
+                return Err(WearError::WrongSide { name });
+            }
+        }
+        check_radii(bearing.nominal_radius(), pin.nominal_radius())?;
+        Ok(Self {
+            wear_coefficient,
+            hinge_width,
+            bearing,
+            pin,
+        })
+    }
+
+    /// `K_d` (m²/N).
+    pub fn wear_coefficient(&self) -> f64 {
+        self.wear_coefficient
+    }
+
+    /// Hinge width `w` (m).
+    pub fn hinge_width(&self) -> f64 {
+        self.hinge_width
+    }
+
+    /// The bearing surface (implements `contact::SurfaceProfile`).
+    pub fn bearing(&self) -> &WornProfile {
+        &self.bearing
+    }
+
+    /// The pin surface (implements `contact::SurfaceProfile`).
+    pub fn pin(&self) -> &WornProfile {
+        &self.pin
+    }
+
+    /// Initial clearance `c0 = R_i − R_j` (m).
+    pub fn nominal_clearance(&self) -> f64 {
+        self.bearing.nominal_radius() - self.pin.nominal_radius()
+    }
+
+    /// Local clearance `c = R_i*(θ_i) − R_j*(θ_j) = c0 + (h_i + h_j)/2 ≥ c0` (m) for a contact
+    /// direction at body-frame angles `bearing_angle` and `pin_angle`.
+    pub fn local_clearance(&self, bearing_angle: f64, pin_angle: f64) -> f64 {
+        self.nominal_clearance()
+            + 0.5 * (self.bearing.wear_depth(bearing_angle).0 + self.pin.wear_depth(pin_angle).0)
+    }
+
+    /// Material removed from both surfaces so far (m³).
+    pub fn worn_volume(&self) -> f64 {
+        self.bearing.worn_volume(self.hinge_width) + self.pin.worn_volume(self.hinge_width)
+    }
+
+    /// An empty wear record for one stage on this joint (allocates its two depth buffers).
+    pub fn start_stage(&self) -> StageWear {
+        StageWear::new(self)
+    }
+
+    /// Upper bound on the relative change of the local clearance, in any contact direction,
+    /// that applying `wear` with amplification 1 would cause.
+    ///
+    /// A bearing cell with depth `h_i` meets the pin where the clearance is at least
+    /// `c0 + h_i/2`, so its share is `(Δh_i/2)/(c0 + h_i/2)`; likewise for the pin. The sum of
+    /// the two surfaces' largest shares bounds `Δc/c` for every pairing of cells, whatever
+    /// the bodies' relative rotation. It is linear in the amplification.
+    pub fn clearance_change_per_amplification(&self, wear: &StageWear) -> Result<f64, WearError> {
+        self.check(wear)?;
+        let c0 = self.nominal_clearance();
+        Ok(self.bearing.relative_opening(wear.bearing(), c0)
+            + self.pin.relative_opening(wear.pin(), c0))
+    }
+
+    /// Ends a stage: adds `amplification ×` the stage's depths to the surfaces and returns
+    /// the clearance-change bound of this update (see
+    /// [`clearance_change_per_amplification`](Self::clearance_change_per_amplification)).
+    ///
+    /// Depths only grow, so the clearance only opens. Fails, leaving the joint untouched,
+    /// for a foreign wear record, `amplification ≤ 0`, or a pin that would be worn through.
+    pub fn apply(&mut self, wear: &StageWear, amplification: f64) -> Result<f64, WearError> {
+        let fraction = self.check_apply(wear, amplification)?;
+        self.bearing.add_scaled(wear.bearing(), amplification);
+        self.pin.add_scaled(wear.pin(), amplification);
+        Ok(fraction)
+    }
+
+    /// Everything [`apply`](Self::apply) checks, without changing the joint; returns the
+    /// same clearance-change bound. Lets several joints be checked before any is updated.
+    pub fn check_apply(&self, wear: &StageWear, amplification: f64) -> Result<f64, WearError> {
+        positive("amplification", amplification)?;
+        let fraction = amplification * self.clearance_change_per_amplification(wear)?;
+        let pin_depth = self.pin.max_half_depth_after(wear.pin(), amplification);
+        if pin_depth >= self.pin.nominal_radius() {
+            return Err(WearError::PinWornThrough {
+                radius: self.pin.nominal_radius(),
+                depth: pin_depth,
+            });
+        }
+        Ok(fraction)
+    }
+
+    fn check(&self, wear: &StageWear) -> Result<(), WearError> {
+        check_increment("bearing wear", &self.bearing, wear.bearing())?;
+        check_increment("pin wear", &self.pin, wear.pin())
+    }
+}
+
+fn check_radii(bearing_radius: f64, pin_radius: f64) -> Result<(), WearError> {
+    positive("bearing_radius", bearing_radius)?;
+    positive("pin_radius", pin_radius)?;
+    if pin_radius >= bearing_radius {
+        return Err(WearError::RadiiInconsistent {
+            pin: pin_radius,
+            bearing: bearing_radius,
+        });
+    }
+    Ok(())
+}

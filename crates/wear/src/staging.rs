@@ -1,0 +1,328 @@
+//! Staged wear: simulate K cycles on frozen surfaces, amplify, update, repeat.
+//!
+//! The crate knows nothing about integrators: the caller supplies the runner, a closure that
+//! simulates its K drive cycles on the given (frozen) joints and returns each joint's
+//! [`StageWear`]. The paper amplifies once per stage (K = 100, ×20,000). With the printed
+//! `K_d` that jump can grow a clearance several-fold (MODEL.md §8), so the default is
+//! [`Extrapolation::Adaptive`]: the amplification is spent in sub-steps that each change any
+//! local clearance by at most a set fraction, re-running the K cycles on the updated surfaces
+//! in between. Sub-step amplifications sum to the stage's factor.
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+
+use crate::accumulate::StageWear;
+use crate::error::{WearError, positive, require};
+use crate::joint::WornJoint;
+
+/// How a stage's amplification is applied.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Extrapolation {
+    /// Sub-steps, each changing any local clearance by at most `max_fraction` of its current
+    /// value; fails with [`WearError::SubstepLimit`] after `max_substeps` sub-steps.
+    Adaptive {
+        /// Largest relative clearance change per sub-step, in `(0, 1]`.
+        max_fraction: f64,
+        /// Most sub-steps (K-cycle re-runs) per stage.
+        max_substeps: usize,
+    },
+    /// The paper's single jump; the stage report carries a warning when the jump changes a
+    /// local clearance by more than `warn_fraction`.
+    SingleJump {
+        /// Relative clearance change above which the jump is reported, in `(0, 1]`.
+        warn_fraction: f64,
+    },
+}
+
+impl Extrapolation {
+    /// Default bound on the relative clearance change per sub-step.
+    pub const DEFAULT_FRACTION: f64 = 0.1;
+    /// Default sub-step limit per stage.
+    pub const DEFAULT_MAX_SUBSTEPS: usize = 200;
+
+    /// Adaptive with the default fraction (10 %) and sub-step limit.
+    pub fn adaptive() -> Self {
+        Self::Adaptive {
+            max_fraction: Self::DEFAULT_FRACTION,
+            max_substeps: Self::DEFAULT_MAX_SUBSTEPS,
+        }
+    }
+
+    /// The paper's single jump, warning above the default fraction (10 %).
+    pub fn single_jump() -> Self {
+        Self::SingleJump {
+            warn_fraction: Self::DEFAULT_FRACTION,
+        }
+    }
+
+    fn validate(&self) -> Result<(), WearError> {
+        let (name, fraction) = match *self {
+            Self::Adaptive {
+                max_fraction,
+                max_substeps,
+            } => {
+                require(
+                    "max_substeps",
+                    max_substeps as f64,
+                    max_substeps > 0,
+                    ">= 1",
+                )?;
+                ("max_fraction", max_fraction)
+            }
+            Self::SingleJump { warn_fraction } => ("warn_fraction", warn_fraction),
+        };
+        require(
+            name,
+            fraction,
+            fraction > 0.0 && fraction <= 1.0,
+            "in (0, 1]",
+        )?;
+        Ok(())
+    }
+}
+
+/// A staged-wear plan: `stages` stages, each standing for `amplification ×` the simulated
+/// cycles.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StagePlan {
+    /// Number of stages S.
+    pub stages: usize,
+    /// Amplification factor of a stage (paper: 20,000).
+    pub amplification: f64,
+    /// How the factor is applied.
+    pub extrapolation: Extrapolation,
+}
+
+impl StagePlan {
+    /// The paper's amplification of a stage: 100 simulated cycles stand for 2 million.
+    pub const PAPER_AMPLIFICATION: f64 = 20_000.0;
+
+    /// `stages` stages of the paper's factor, extrapolated adaptively.
+    pub fn paper(stages: usize) -> Self {
+        Self {
+            stages,
+            amplification: Self::PAPER_AMPLIFICATION,
+            extrapolation: Extrapolation::adaptive(),
+        }
+    }
+
+    /// Checks amplification (> 0, finite) and the extrapolation's fraction and limit.
+    pub fn validate(&self) -> Result<(), WearError> {
+        positive("amplification", self.amplification)?;
+        self.extrapolation.validate()
+    }
+}
+
+/// What the runner is asked to simulate (for the caller's logging and outputs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RunContext {
+    /// Stage index, from 0.
+    pub stage: usize,
+    /// Sub-step index within the stage, from 0.
+    pub substep: usize,
+}
+
+/// One joint after a sub-step.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JointSubstep {
+    /// Largest bearing cell depth `h` after the update (m); the radius grew by `h/2`.
+    pub max_bearing_depth: f64,
+    /// Largest pin cell depth `h` after the update (m); the radius shrank by `h/2`.
+    pub max_pin_depth: f64,
+    /// Bound on the relative local-clearance change of this update.
+    pub change_fraction: f64,
+}
+
+/// One amplification sub-step (a single jump is one sub-step).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SubstepReport {
+    /// Stage and sub-step index.
+    pub context: RunContext,
+    /// Amplification applied in this sub-step.
+    pub amplification: f64,
+    /// Largest cell depth on any surface after the update (m).
+    pub max_depth: f64,
+    /// Largest clearance-change bound over the joints.
+    pub max_change_fraction: f64,
+    /// Per joint, in the order given.
+    pub joints: Vec<JointSubstep>,
+}
+
+/// A single jump that changed a local clearance by more than the plan allows.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ExtrapolationWarning {
+    /// Stage index.
+    pub stage: usize,
+    /// Amplification of the jump.
+    pub amplification: f64,
+    /// Bound on the relative clearance change the jump caused.
+    pub change_fraction: f64,
+    /// The plan's `warn_fraction`.
+    pub limit: f64,
+}
+
+impl fmt::Display for ExtrapolationWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "stage {}: single wear jump ×{} changed a local clearance by up to {:.1} % \
+             (limit {:.1} %); the linear extrapolation is not credible, use adaptive sub-steps",
+            self.stage,
+            self.amplification,
+            100.0 * self.change_fraction,
+            100.0 * self.limit
+        )
+    }
+}
+
+/// The outcome of one stage.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StageReport {
+    /// Stage index.
+    pub stage: usize,
+    /// Sub-steps in order; their amplifications sum to the plan's factor.
+    pub substeps: Vec<SubstepReport>,
+    /// Set when a single jump exceeded its `warn_fraction`.
+    pub warning: Option<ExtrapolationWarning>,
+}
+
+/// A staging failure: invalid plan or wear data, or the caller's runner failed.
+#[derive(Debug, thiserror::Error)]
+pub enum StagingError<E> {
+    /// Wear-side error.
+    #[error(transparent)]
+    Wear(#[from] WearError),
+    /// The caller's K-cycle simulation failed.
+    #[error("stage runner failed: {0}")]
+    Runner(E),
+}
+
+/// Runs all stages of `plan` on `joints` (all joints of the mechanism that wear, updated
+/// together so one sub-step bound covers them all).
+///
+/// `runner(context, joints)` must simulate the K cycles on the joints as given (frozen) and
+/// return one [`StageWear`] per joint, same order. On error the joints hold the surfaces of
+/// the sub-steps completed so far.
+pub fn run_stages<E, F>(
+    joints: &mut [WornJoint],
+    plan: &StagePlan,
+    mut runner: F,
+) -> Result<Vec<StageReport>, StagingError<E>>
+where
+    F: FnMut(RunContext, &[WornJoint]) -> Result<Vec<StageWear>, E>,
+{
+    plan.validate()?;
+    (0..plan.stages)
+        .map(|stage| run_stage(joints, stage, plan, &mut runner))
+        .collect()
+}
+
+/// Runs stage `stage` of `plan` (see [`run_stages`]).
+pub fn run_stage<E, F>(
+    joints: &mut [WornJoint],
+    stage: usize,
+    plan: &StagePlan,
+    runner: &mut F,
+) -> Result<StageReport, StagingError<E>>
+where
+    F: FnMut(RunContext, &[WornJoint]) -> Result<Vec<StageWear>, E>,
+{
+    plan.validate()?;
+    let mut report = StageReport {
+        stage,
+        substeps: Vec::new(),
+        warning: None,
+    };
+    let mut used = 0.0;
+    loop {
+        let context = RunContext {
+            stage,
+            substep: report.substeps.len(),
+        };
+        let wear = runner(context, joints).map_err(StagingError::Runner)?;
+        if wear.len() != joints.len() {
+            return Err(WearError::JointCount {
+                expected: joints.len(),
+                found: wear.len(),
+            }
+            .into());
+        }
+        let per_unit = joints
+            .iter()
+            .zip(&wear)
+            .map(|(joint, w)| joint.clearance_change_per_amplification(w))
+            .try_fold(0.0, |acc: f64, x| x.map(|x| acc.max(x)))?;
+        let remaining = plan.amplification - used;
+        let amplification = match plan.extrapolation {
+            // The small slack avoids a needless re-run for a rounding-sized remainder.
+            Extrapolation::Adaptive { max_fraction, .. }
+                if per_unit * remaining > max_fraction * (1.0 + 1e-9) =>
+            {
+                max_fraction / per_unit
+            }
+            _ => remaining,
+        };
+        let substep = apply_all(joints, &wear, amplification, context)?;
+        used += amplification;
+        if let Extrapolation::SingleJump { warn_fraction } = plan.extrapolation
+            && substep.max_change_fraction > warn_fraction
+        {
+            report.warning = Some(ExtrapolationWarning {
+                stage,
+                amplification,
+                change_fraction: substep.max_change_fraction,
+                limit: warn_fraction,
+            });
+        }
+        report.substeps.push(substep);
+        if amplification == remaining {
+            return Ok(report);
+        }
+        if let Extrapolation::Adaptive { max_substeps, .. } = plan.extrapolation
+            && report.substeps.len() >= max_substeps
+        {
+            return Err(WearError::SubstepLimit {
+                stage,
+                limit: max_substeps,
+                remaining: plan.amplification - used,
+            }
+            .into());
+        }
+    }
+}
+
+/// Checks every joint, then updates them all: no joint moves unless all can.
+fn apply_all(
+    joints: &mut [WornJoint],
+    wear: &[StageWear],
+    amplification: f64,
+    context: RunContext,
+) -> Result<SubstepReport, WearError> {
+    for (joint, w) in joints.iter().zip(wear) {
+        joint.check_apply(w, amplification)?;
+    }
+    let mut report = SubstepReport {
+        context,
+        amplification,
+        max_depth: 0.0,
+        max_change_fraction: 0.0,
+        joints: Vec::with_capacity(joints.len()),
+    };
+    for (joint, w) in joints.iter_mut().zip(wear) {
+        let change_fraction = joint.apply(w, amplification)?;
+        let step = JointSubstep {
+            max_bearing_depth: joint.bearing().peak().0,
+            max_pin_depth: joint.pin().peak().0,
+            change_fraction,
+        };
+        report.max_depth = report
+            .max_depth
+            .max(step.max_bearing_depth)
+            .max(step.max_pin_depth);
+        report.max_change_fraction = report.max_change_fraction.max(change_fraction);
+        report.joints.push(step);
+    }
+    Ok(report)
+}
