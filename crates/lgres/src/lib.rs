@@ -1,6 +1,28 @@
 //! Scenes for planar mechanisms with worn clearance joints.
 //!
-//! This crate will hold the serde scene format and its validation, the force element that adapts
-//! `contact` and `wear` to `multibody`, the shipped scenes (the landing-gear
-//! retraction/extension system of Ma, Jiang & Yin, *Aerospace* 2026, and a slider-crank), the
-//! paper's studies, recorders and reports.
+//! This crate holds the serde scene format and its validation ([`scene`]), the shipped scenes
+//! and the paper's studies ([`scenes`]: the landing-gear retraction/extension system of Ma,
+//! Jiang & Yin, *Aerospace* 2026, its variants, and a slider-crank), atomic output writers
+//! ([`output`]) and figures ([`plot`]). The adapter from a scene to `multibody` with `contact`
+//! and `wear` force elements comes when those crates are ready.
+//!
+//! ```
+//! use lgres::scene::BodyRef;
+//!
+//! let scene = lgres::scenes::builtin("lgres")?; // parsed and validated
+//! assert_eq!(scene.bodies.len(), 5);
+//! for joint in &scene.revolute_joints {
+//!     assert!(scene.resolve(&joint.body).is_some());
+//! }
+//! let a = &scene.clearance_joints[0];
+//! assert_eq!(scene.resolve(&a.bearing_body), Some(BodyRef::Body(2)));
+//! assert!((a.pin_radius() - 0.0495).abs() < 1e-12);
+//! // 15 coordinates, 11 constraint equations: A and B are force elements.
+//! assert_eq!(scene.degrees_of_freedom(), 4);
+//! # Ok::<(), lgres::scene::SceneError>(())
+//! ```
+
+pub mod output;
+pub mod plot;
+pub mod scene;
+pub mod scenes;

@@ -1,0 +1,279 @@
+//! Output files that are either complete or absent.
+//!
+//! Every writer here writes to a hidden temporary file in the target's folder and renames it
+//! over the target only when done. Renaming within one folder is atomic, so an error, a panic or
+//! Ctrl-C never leaves a half-written CSV, JSON or PNG where a reader expects a finished one (at
+//! worst a stray `.name.tmp-<pid>` file).
+
+use std::fs::{self, File};
+use std::io::{self, BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+/// An output file could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// File-system error.
+    #[error("writing {path}: {source}")]
+    Io {
+        /// Target file.
+        path: PathBuf,
+        /// Cause.
+        source: io::Error,
+    },
+    /// CSV encoding error.
+    #[error("writing CSV {path}: {source}")]
+    Csv {
+        /// Target file.
+        path: PathBuf,
+        /// Cause.
+        source: csv::Error,
+    },
+    /// JSON encoding error.
+    #[error("writing JSON {path}: {source}")]
+    Json {
+        /// Target file.
+        path: PathBuf,
+        /// Cause.
+        source: serde_json::Error,
+    },
+    /// A row does not match the header.
+    #[error("writing CSV {path}: row has {got} values, header has {expected} columns")]
+    RowLength {
+        /// Target file.
+        path: PathBuf,
+        /// Columns in the header.
+        expected: usize,
+        /// Values in the row.
+        got: usize,
+    },
+    /// Columns of different lengths.
+    #[error("writing CSV {path}: column {column} has {got} values, the first has {expected}")]
+    ColumnLength {
+        /// Target file.
+        path: PathBuf,
+        /// The offending column.
+        column: String,
+        /// Length of the first column.
+        expected: usize,
+        /// Length of this one.
+        got: usize,
+    },
+    /// Rendering a figure failed.
+    #[error("drawing {path}: {reason}")]
+    Plot {
+        /// Target file.
+        path: PathBuf,
+        /// What plotters reported.
+        reason: String,
+    },
+}
+
+fn io_err(path: &Path) -> impl Fn(io::Error) -> OutputError + '_ {
+    move |source| OutputError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// The temporary sibling of `target`; keeps the extension, since some writers (plotters) pick
+/// the format from it.
+fn temp_path(target: &Path) -> PathBuf {
+    let name = target
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = target
+        .extension()
+        .map(|e| format!(".{}", e.to_string_lossy()))
+        .unwrap_or_default();
+    target.with_file_name(format!(".{name}.tmp-{}{ext}", std::process::id()))
+}
+
+/// Create `target`'s folder if needed, let `write` fill the temporary path it is given, then
+/// rename that over `target`. The temporary file is removed if `write` fails. For writers that
+/// insist on opening the file themselves (plotters).
+pub fn write_via_temp(
+    target: &Path,
+    write: impl FnOnce(&Path) -> Result<(), OutputError>,
+) -> Result<(), OutputError> {
+    if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
+        fs::create_dir_all(dir).map_err(io_err(dir))?;
+    }
+    let tmp = temp_path(target);
+    let result = write(&tmp).and_then(|()| fs::rename(&tmp, target).map_err(io_err(target)));
+    if result.is_err() {
+        // Best effort: the error being reported matters more than a leftover temp file.
+        let _ = fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// A file being written that appears at its path only on [`AtomicFile::commit`]; dropped
+/// without commit, it vanishes.
+pub struct AtomicFile {
+    target: PathBuf,
+    tmp: PathBuf,
+    file: Option<BufWriter<File>>,
+}
+
+impl AtomicFile {
+    /// Start writing `target` (its folder is created if needed).
+    pub fn create(target: impl AsRef<Path>) -> Result<Self, OutputError> {
+        let target = target.as_ref().to_path_buf();
+        if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
+            fs::create_dir_all(dir).map_err(io_err(dir))?;
+        }
+        let tmp = temp_path(&target);
+        let file = File::create(&tmp).map_err(io_err(&tmp))?;
+        Ok(Self {
+            target,
+            tmp,
+            file: Some(BufWriter::new(file)),
+        })
+    }
+
+    /// Flush, sync and move into place.
+    pub fn commit(mut self) -> Result<PathBuf, OutputError> {
+        let target = self.target.clone();
+        let file = self.file.take().map(BufWriter::into_inner);
+        match file {
+            Some(Ok(f)) => f.sync_all().map_err(io_err(&target))?,
+            Some(Err(e)) => return Err(io_err(&target)(e.into_error())),
+            None => {}
+        }
+        fs::rename(&self.tmp, &target).map_err(io_err(&target))?;
+        Ok(target)
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        match &mut self.file {
+            Some(f) => f.write(buf),
+            None => Err(io::Error::other("file already committed")),
+        }
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.file.as_mut().map_or(Ok(()), Write::flush)
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.file.take().is_some() {
+            let _ = fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// Write `bytes` to `target` atomically.
+pub fn write_atomic(target: impl AsRef<Path>, bytes: &[u8]) -> Result<(), OutputError> {
+    let target = target.as_ref();
+    let mut f = AtomicFile::create(target)?;
+    f.write_all(bytes).map_err(io_err(target))?;
+    f.commit().map(|_| ())
+}
+
+/// Write `value` as pretty JSON to `target` atomically (run summaries).
+pub fn write_json(target: impl AsRef<Path>, value: &impl Serialize) -> Result<(), OutputError> {
+    let target = target.as_ref();
+    let mut text = serde_json::to_string_pretty(value).map_err(|source| OutputError::Json {
+        path: target.to_path_buf(),
+        source,
+    })?;
+    text.push('\n');
+    write_atomic(target, text.as_bytes())
+}
+
+/// A CSV column: name and unit; the header cell reads `name [unit]`.
+#[derive(Debug, Clone, Copy)]
+pub struct Column<'a> {
+    /// Quantity, e.g. `x3`.
+    pub name: &'a str,
+    /// Unit, e.g. `m` (`1` for dimensionless).
+    pub unit: &'a str,
+}
+
+/// Streams rows of numbers to a CSV file with a `name [unit]` header; the file appears only on
+/// [`CsvWriter::finish`].
+pub struct CsvWriter {
+    path: PathBuf,
+    columns: usize,
+    inner: csv::Writer<AtomicFile>,
+}
+
+impl CsvWriter {
+    /// Start a file with this header.
+    pub fn create(target: impl AsRef<Path>, columns: &[Column<'_>]) -> Result<Self, OutputError> {
+        let path = target.as_ref().to_path_buf();
+        let mut inner = csv::Writer::from_writer(AtomicFile::create(&path)?);
+        let csv_err = |source| OutputError::Csv {
+            path: path.clone(),
+            source,
+        };
+        inner
+            .write_record(columns.iter().map(|c| format!("{} [{}]", c.name, c.unit)))
+            .map_err(csv_err)?;
+        Ok(Self {
+            path,
+            columns: columns.len(),
+            inner,
+        })
+    }
+
+    /// Append one row; it must have one value per column.
+    pub fn row(&mut self, values: &[f64]) -> Result<(), OutputError> {
+        if values.len() != self.columns {
+            return Err(OutputError::RowLength {
+                path: self.path.clone(),
+                expected: self.columns,
+                got: values.len(),
+            });
+        }
+        self.inner
+            .write_record(values.iter().map(|v| format!("{v:e}")))
+            .map_err(|source| OutputError::Csv {
+                path: self.path.clone(),
+                source,
+            })
+    }
+
+    /// Flush and move the file into place.
+    pub fn finish(self) -> Result<PathBuf, OutputError> {
+        let path = self.path;
+        let file = self.inner.into_inner().map_err(|e| OutputError::Io {
+            path: path.clone(),
+            source: io::Error::other(e.to_string()),
+        })?;
+        file.commit()
+    }
+}
+
+/// Write whole columns as a CSV time series (all slices the same length).
+pub fn write_csv(
+    target: impl AsRef<Path>,
+    columns: &[(Column<'_>, &[f64])],
+) -> Result<PathBuf, OutputError> {
+    let target = target.as_ref();
+    let rows = columns.first().map_or(0, |(_, v)| v.len());
+    if let Some((c, v)) = columns.iter().find(|(_, v)| v.len() != rows) {
+        return Err(OutputError::ColumnLength {
+            path: target.to_path_buf(),
+            column: c.name.to_string(),
+            expected: rows,
+            got: v.len(),
+        });
+    }
+    let header: Vec<Column<'_>> = columns.iter().map(|(c, _)| *c).collect();
+    let mut w = CsvWriter::create(target, &header)?;
+    let mut row = vec![0.0; columns.len()];
+    for k in 0..rows {
+        for (slot, (_, values)) in row.iter_mut().zip(columns) {
+            *slot = values[k];
+        }
+        w.row(&row)?;
+    }
+    w.finish()
+}

@@ -1,0 +1,351 @@
+//! Figures as PNG, written atomically (see [`crate::output`]).
+//!
+//! Text uses the DejaVu Sans font embedded in the binary, so figures render the same on a
+//! machine without system fonts.
+
+use std::error::Error;
+use std::f64::consts::TAU;
+use std::ops::Range;
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::{FontStyle, register_font};
+
+use crate::output::{OutputError, write_via_temp};
+
+/// Default figure size, pixels.
+pub const DEFAULT_SIZE: (u32, u32) = (1000, 650);
+
+/// Colour-blind-safe series colours (Okabe–Ito), cycled.
+const COLOURS: [RGBColor; 7] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
+];
+
+fn colour(k: usize) -> RGBColor {
+    COLOURS[k % COLOURS.len()]
+}
+
+const FONT: &str = "sans-serif";
+
+fn register_fonts() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        // The fonts are compiled in and valid; should registration fail anyway, plotters
+        // reports the missing font as a drawing error, which is where it is handled.
+        let _ = register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
+        let _ = register_font(FONT, FontStyle::Bold, dejavu::sans::bold());
+    });
+}
+
+/// Title, axis labels (with units) and size of a figure.
+#[derive(Debug, Clone, Copy)]
+pub struct Figure<'a> {
+    /// Caption above the plot.
+    pub title: &'a str,
+    /// Horizontal axis label with unit, e.g. `t (s)`.
+    pub x_label: &'a str,
+    /// Vertical axis label with unit.
+    pub y_label: &'a str,
+    /// Width and height, pixels.
+    pub size: (u32, u32),
+}
+
+/// One curve: legend label and points.
+#[derive(Debug, Clone, Copy)]
+pub struct Series<'a> {
+    /// Legend entry.
+    pub label: &'a str,
+    /// Abscissae.
+    pub x: &'a [f64],
+    /// Ordinates (same length as `x`; extra values of either are ignored).
+    pub y: &'a [f64],
+}
+
+type DrawResult = Result<(), Box<dyn Error>>;
+
+/// Render with plotters into a temporary file next to `path`, then move it into place.
+fn render(
+    path: &Path,
+    size: (u32, u32),
+    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> DrawResult,
+) -> Result<(), OutputError> {
+    register_fonts();
+    write_via_temp(path, |tmp| {
+        let root = BitMapBackend::new(tmp, size).into_drawing_area();
+        root.fill(&WHITE)
+            .map_err(Box::<dyn Error>::from)
+            .and_then(|()| draw(&root))
+            .and_then(|()| root.present().map_err(Box::<dyn Error>::from))
+            .map_err(|e| OutputError::Plot {
+                path: path.to_path_buf(),
+                reason: e.to_string(),
+            })
+    })
+}
+
+/// Range of the finite values, padded by 5 % (a unit range around a constant, 0..1 if none).
+fn padded_range(values: impl Iterator<Item = f64>) -> Range<f64> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        return 0.0..1.0;
+    }
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else {
+        0.5 * lo.abs().max(1.0)
+    };
+    (lo - pad)..(hi + pad)
+}
+
+/// Several curves against a common abscissa, with a legend: time histories, comparisons.
+pub fn line_chart(
+    path: impl AsRef<Path>,
+    figure: &Figure<'_>,
+    series: &[Series<'_>],
+) -> Result<(), OutputError> {
+    let xs = padded_range(series.iter().flat_map(|s| s.x.iter().copied()));
+    let ys = padded_range(series.iter().flat_map(|s| s.y.iter().copied()));
+    // A tight x range reads better for time axes: drop the padding there.
+    let xs = series
+        .iter()
+        .flat_map(|s| s.x.iter().copied())
+        .filter(|v| v.is_finite())
+        .fold(None, |r: Option<(f64, f64)>, v| {
+            Some(r.map_or((v, v), |(a, b)| (a.min(v), b.max(v))))
+        })
+        .filter(|(a, b)| b > a)
+        .map_or(xs, |(a, b)| a..b);
+    render(path.as_ref(), figure.size, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(figure.title, (FONT, 24))
+            .margin(15)
+            .x_label_area_size(50)
+            .y_label_area_size(80)
+            .build_cartesian_2d(xs, ys)?;
+        chart
+            .configure_mesh()
+            .x_desc(figure.x_label)
+            .y_desc(figure.y_label)
+            .label_style((FONT, 15))
+            .axis_desc_style((FONT, 17))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()?;
+        for (k, s) in series.iter().enumerate() {
+            let style = colour(k).stroke_width(2);
+            let points = s.x.iter().zip(s.y).map(|(x, y)| (*x, *y));
+            chart
+                .draw_series(LineSeries::new(points, style))?
+                .label(s.label)
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style));
+        }
+        if series.iter().any(|s| !s.label.is_empty()) {
+            chart
+                .configure_series_labels()
+                .label_font((FONT, 15))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()?;
+        }
+        Ok(())
+    })
+}
+
+/// Body-frame angle of the centre of grid cell `k` of `n`, degrees: cell 0 spans 0..360/n.
+pub fn cell_angle_deg(k: usize, n: usize) -> f64 {
+    (k as f64 + 0.5) * 360.0 / n as f64
+}
+
+/// Wear depth per grid cell (m) against the cell's body-frame angle, one curve per surface;
+/// drawn in µm.
+pub fn wear_depth(
+    path: impl AsRef<Path>,
+    title: &str,
+    size: (u32, u32),
+    surfaces: &[(&str, &[f64])],
+) -> Result<(), OutputError> {
+    let data: Vec<(Vec<f64>, Vec<f64>)> = surfaces
+        .iter()
+        .map(|(_, h)| {
+            let n = h.len();
+            (
+                (0..n).map(|k| cell_angle_deg(k, n)).collect(),
+                h.iter().map(|d| d * 1e6).collect(),
+            )
+        })
+        .collect();
+    let series: Vec<Series<'_>> = surfaces
+        .iter()
+        .zip(&data)
+        .map(|((label, _), (x, y))| Series { label, x, y })
+        .collect();
+    let figure = Figure {
+        title,
+        x_label: "angle in body frame (deg)",
+        y_label: "wear depth (µm)",
+        size,
+    };
+    line_chart(path, &figure, &series)
+}
+
+/// Worn surfaces of one joint, each in its own body frame.
+#[derive(Debug, Clone, Copy)]
+pub struct WornJoint<'a> {
+    /// Nominal bearing radius, m.
+    pub bearing_radius: f64,
+    /// Nominal pin radius, m.
+    pub pin_radius: f64,
+    /// Radius increase of the bearing per cell, m (cell k at [`cell_angle_deg`]).
+    pub bearing_wear: &'a [f64],
+    /// Radius decrease of the pin per cell, m.
+    pub pin_wear: &'a [f64],
+    /// Factor the wear is drawn magnified by (the clearance itself is drawn true to scale).
+    pub exaggeration: f64,
+}
+
+/// Closed outline `r(φ)` in mm, sampled at each cell centre.
+fn outline(radius: f64, wear: &[f64], sign: f64, k: f64) -> Vec<(f64, f64)> {
+    let n = wear.len().max(1);
+    let depth = |j: usize| wear.get(j % wear.len().max(1)).copied().unwrap_or(0.0);
+    (0..=n)
+        .map(|j| {
+            let phi = cell_angle_deg(j % n, n).to_radians();
+            let r = 1e3 * (radius + sign * k * depth(j));
+            (r * phi.cos(), r * phi.sin())
+        })
+        .collect()
+}
+
+fn circle(radius_mm: f64) -> Vec<(f64, f64)> {
+    (0..=360)
+        .map(|d| {
+            let phi = TAU * f64::from(d) / 360.0;
+            (radius_mm * phi.cos(), radius_mm * phi.sin())
+        })
+        .collect()
+}
+
+/// A labelled polyline of a square chart (empty label: no legend entry).
+type Curve = (String, Vec<(f64, f64)>, ShapeStyle);
+
+/// A square plot with equal axes over ±`half` (in the unit of `unit`).
+fn square_chart(
+    path: &Path,
+    title: &str,
+    size: (u32, u32),
+    half: f64,
+    unit: &str,
+    curves: &[Curve],
+) -> Result<(), OutputError> {
+    let side = size.0.min(size.1);
+    render(path, (side, side), |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, (FONT, 22))
+            .margin(15)
+            .x_label_area_size(50)
+            .y_label_area_size(70)
+            .build_cartesian_2d(-half..half, -half..half)?;
+        chart
+            .configure_mesh()
+            .x_desc(format!("x ({unit})"))
+            .y_desc(format!("y ({unit})"))
+            .label_style((FONT, 14))
+            .axis_desc_style((FONT, 16))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()?;
+        for (label, points, style) in curves {
+            let style = *style;
+            let drawn = chart.draw_series(LineSeries::new(points.iter().copied(), style))?;
+            if !label.is_empty() {
+                drawn
+                    .label(label.as_str())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style));
+            }
+        }
+        chart
+            .configure_series_labels()
+            .label_font((FONT, 14))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()?;
+        Ok(())
+    })?;
+    Ok(())
+}
+
+/// Outlines of the worn bearing and pin (wear magnified) over their nominal circles, in mm. The
+/// figure is square, its side the smaller of `size`.
+pub fn worn_outline(
+    path: impl AsRef<Path>,
+    title: &str,
+    size: (u32, u32),
+    joint: &WornJoint<'_>,
+) -> Result<(), OutputError> {
+    let k = joint.exaggeration;
+    let bearing = outline(joint.bearing_radius, joint.bearing_wear, 1.0, k);
+    let pin = outline(joint.pin_radius, joint.pin_wear, -1.0, k);
+    let half = bearing
+        .iter()
+        .chain(&pin)
+        .map(|(x, y)| x.abs().max(y.abs()))
+        .fold(1e3 * joint.bearing_radius, f64::max)
+        * 1.15;
+    let grey = RGBColor(150, 150, 150).stroke_width(1);
+    let curves = [
+        (String::new(), circle(1e3 * joint.bearing_radius), grey),
+        (String::new(), circle(1e3 * joint.pin_radius), grey),
+        (
+            format!("bearing (wear ×{k})"),
+            bearing,
+            colour(0).stroke_width(2),
+        ),
+        (format!("pin (wear ×{k})"), pin, colour(1).stroke_width(2)),
+    ];
+    square_chart(path.as_ref(), title, size, half, "mm", &curves)
+}
+
+/// Path of the pin centre relative to the bearing centre (`e = r_pin − r_bearing`, m), inside
+/// the clearance circle; drawn in µm. The figure is square.
+pub fn journal_path(
+    path: impl AsRef<Path>,
+    title: &str,
+    size: (u32, u32),
+    ex: &[f64],
+    ey: &[f64],
+    clearance: f64,
+) -> Result<(), OutputError> {
+    let c = 1e6 * clearance;
+    let points: Vec<(f64, f64)> = ex.iter().zip(ey).map(|(x, y)| (1e6 * x, 1e6 * y)).collect();
+    let half = points
+        .iter()
+        .map(|(x, y)| x.abs().max(y.abs()))
+        .filter(|v| v.is_finite())
+        .fold(c, f64::max)
+        * 1.15;
+    let curves = [
+        (
+            format!("clearance circle ({c:.0} µm)"),
+            circle(c),
+            BLACK.stroke_width(2),
+        ),
+        (
+            "journal centre".to_string(),
+            points,
+            colour(0).stroke_width(1),
+        ),
+    ];
+    square_chart(path.as_ref(), title, size, half, "µm", &curves)
+}

@@ -1,0 +1,108 @@
+//! The shipped scenes, embedded in the binary, and the paper's studies as lists of them.
+//!
+//! Variants are small TOML files that `extends = "lgres"` and override a few values (see
+//! [`crate::scene`]), so the reconstructed geometry lives in `scenes/lgres.toml` only.
+
+use crate::scene::{self, Scene, SceneError};
+
+/// A shipped scene.
+#[derive(Debug, Clone, Copy)]
+pub struct Builtin {
+    /// Name used on the command line and in `extends`.
+    pub name: &'static str,
+    /// One-line summary.
+    pub summary: &'static str,
+    /// The TOML text.
+    pub source: &'static str,
+}
+
+macro_rules! builtin {
+    ($name:literal, $summary:literal) => {
+        Builtin {
+            name: $name,
+            summary: $summary,
+            source: include_str!(concat!("../scenes/", $name, ".toml")),
+        }
+    };
+}
+
+/// Every shipped scene; the first is the default.
+pub const BUILTINS: &[Builtin] = &[
+    builtin!(
+        "lgres",
+        "LGRES of the paper: A and B with 0.5 mm clearance, 60 rpm, one wear stage"
+    ),
+    builtin!("lgres-c02", "LGRES with 0.2 mm initial clearance"),
+    builtin!("lgres-45rpm", "LGRES driven at 45 rpm"),
+    builtin!("lgres-105rpm", "LGRES driven at 105 rpm"),
+    builtin!("lgres-2stages", "LGRES with two wear stages"),
+    builtin!(
+        "lgres-printed-inertia",
+        "LGRES with Table 1's printed inertias (x1e-3 kg m^2)"
+    ),
+    builtin!(
+        "lgres-ideal",
+        "LGRES with ideal joints A and B (reference mechanism)"
+    ),
+    builtin!(
+        "slider-crank",
+        "Slider-crank with a rod-slider clearance joint (Flores benchmark)"
+    ),
+];
+
+/// Name of the default scene.
+pub const DEFAULT: &str = "lgres";
+
+/// The TOML text of a built-in scene.
+pub fn source(name: &str) -> Option<&'static str> {
+    BUILTINS.iter().find(|b| b.name == name).map(|b| b.source)
+}
+
+/// A built-in scene, parsed and validated.
+pub fn builtin(name: &str) -> Result<Scene, SceneError> {
+    let text = source(name).ok_or_else(|| SceneError::UnknownBuiltin {
+        name: name.to_string(),
+        known: BUILTINS
+            .iter()
+            .map(|b| b.name)
+            .collect::<Vec<_>>()
+            .join(", "),
+    })?;
+    scene::load_str(text, name)
+}
+
+/// One of the paper's studies (Sec. 4.2): the scenes it runs, each compared with its
+/// [`Scene::idealized`] reference.
+#[derive(Debug, Clone, Copy)]
+pub struct Study {
+    /// Name used on the command line.
+    pub name: &'static str,
+    /// What it shows.
+    pub summary: &'static str,
+    /// Built-in scene names, in the order the paper presents them.
+    pub scenes: &'static [&'static str],
+}
+
+/// The paper's studies.
+pub const STUDIES: &[Study] = &[
+    Study {
+        name: "wear-stages",
+        summary: "0.5 mm, 60 rpm, one and two wear stages (Sec. 4.2.1)",
+        scenes: &["lgres", "lgres-2stages"],
+    },
+    Study {
+        name: "clearance",
+        summary: "0.2 and 0.5 mm initial clearance, 60 rpm, one stage (Sec. 4.2.2)",
+        scenes: &["lgres-c02", "lgres"],
+    },
+    Study {
+        name: "speed",
+        summary: "45 and 105 rpm, 0.5 mm, one stage (Sec. 4.2.3)",
+        scenes: &["lgres-45rpm", "lgres-105rpm"],
+    },
+];
+
+/// A study by name.
+pub fn study(name: &str) -> Option<&'static Study> {
+    STUDIES.iter().find(|s| s.name == name)
+}

@@ -1,0 +1,255 @@
+//! Shipped scenes parse, validate and are geometrically consistent; bad input is rejected with
+//! the field named.
+
+use lgres::scene::{self, Coordinate, DriverTarget, Scene, SceneError};
+use lgres::scenes::{self, BUILTINS, STUDIES};
+
+fn issues(err: SceneError) -> Vec<String> {
+    match err {
+        SceneError::Invalid { issues, .. } => issues.iter().map(ToString::to_string).collect(),
+        other => panic!("expected a validation error, got {other}"),
+    }
+}
+
+/// The default scene's text with `from` replaced by `to` (which must occur).
+fn edited(from: &str, to: &str) -> String {
+    let text = scenes::source("lgres").unwrap();
+    assert!(
+        text.contains(from),
+        "test fixture: {from:?} not in lgres.toml"
+    );
+    text.replacen(from, to, 1)
+}
+
+fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+#[test]
+fn every_builtin_parses_and_validates() {
+    for b in BUILTINS {
+        let s = scenes::builtin(b.name).unwrap_or_else(|e| panic!("{}: {e}", b.name));
+        assert!(!s.description.is_empty() && !s.inertia_convention.is_empty());
+    }
+    for study in STUDIES {
+        for name in study.scenes {
+            assert!(scenes::source(name).is_some(), "{}: {name}", study.name);
+        }
+    }
+    assert!(scenes::builtin("nope").is_err());
+}
+
+/// Pure geometry: every ideal joint, the concentric clearance joints, the guide and the drive
+/// hold at the initial poses to the table's rounding.
+#[test]
+fn lgres_initial_configuration_satisfies_the_constraints() {
+    const TOL: f64 = 1e-4;
+    let s = scenes::builtin("lgres").unwrap();
+    for j in &s.revolute_joints {
+        let a = s.initial_point(&j.body, j.point).unwrap();
+        let b = s.initial_point(&j.other, j.other_point).unwrap();
+        assert!(distance(a, b) < TOL, "joint {}: {a:?} vs {b:?}", j.name);
+    }
+    for c in &s.clearance_joints {
+        let a = s.initial_point(&c.bearing_body, c.bearing_point).unwrap();
+        let b = s.initial_point(&c.pin_body, c.pin_point).unwrap();
+        assert!(distance(a, b) < TOL, "joint {} not concentric", c.name);
+    }
+    // MODEL.md §6 positions of A and B.
+    let a = s.initial_point("rod3", [0.645, 0.0]).unwrap();
+    assert!(distance(a, [1.28973, 0.02633]) < TOL);
+    let b = s.initial_point("rocker", [0.285, 0.0]).unwrap();
+    assert!(distance(b, [0.245, 0.575]) < TOL);
+    for p in &s.prismatic_joints {
+        let q = s.initial_point(&p.body, p.point).unwrap();
+        let o = s.initial_point(&p.other, p.other_point).unwrap();
+        let [dx, dy] = p.direction;
+        let normal_offset = ((q[0] - o[0]) * dy - (q[1] - o[1]) * dx) / dx.hypot(dy);
+        assert!(normal_offset.abs() < TOL, "prismatic {}", p.name);
+    }
+    let slide = s.bodies.iter().find(|b| b.name == "slide_rod").unwrap();
+    assert!((slide.theta.deg() - 90.0).abs() < 1e-9);
+    let d = &s.drivers[0];
+    assert!(matches!(
+        &d.target,
+        DriverTarget::BodyCoordinate { body, coordinate: Coordinate::Y } if body == "slide_rod"
+    ));
+    assert!((d.law.eval(0.0)[0] - slide.y).abs() < TOL);
+    assert!((s.cycle_period().unwrap() - 1.0).abs() < 1e-12);
+    // 15 coordinates − 11 equations; the ideal reference is kinematically driven.
+    assert_eq!(s.constraint_count(), 11);
+    assert_eq!(s.degrees_of_freedom(), 4);
+    assert_eq!(
+        scenes::builtin("lgres-ideal").unwrap().degrees_of_freedom(),
+        0
+    );
+    assert_eq!(s.idealized().degrees_of_freedom(), 0);
+}
+
+#[test]
+fn variants_change_only_what_they_say() {
+    let base = scenes::builtin("lgres").unwrap();
+    let c02 = scenes::builtin("lgres-c02").unwrap();
+    assert!(c02.clearance_joints.iter().all(|c| c.clearance == 2e-4));
+    assert_eq!(c02.bodies, base.bodies);
+    let fast = scenes::builtin("lgres-105rpm").unwrap();
+    assert!((fast.cycle_period().unwrap() - 60.0 / 105.0).abs() < 1e-12);
+    assert_eq!(fast.drivers.len(), 1);
+    let two = scenes::builtin("lgres-2stages").unwrap();
+    assert_eq!(two.run.wear_stages, 2);
+    assert_eq!(two.run.cycles_per_stage, 100);
+    let printed = scenes::builtin("lgres-printed-inertia").unwrap();
+    assert_eq!(printed.bodies[2].inertia, 9.69e-3);
+    assert_eq!(printed.bodies[2].mass, base.bodies[2].mass);
+    assert_ne!(printed.inertia_convention, base.inertia_convention);
+    let ideal = scenes::builtin("lgres-ideal").unwrap();
+    assert_eq!(ideal.active_clearance_joints().count(), 0);
+}
+
+#[test]
+fn default_tolerances_scale_with_the_clearance() {
+    let t = scenes::builtin("lgres").unwrap().tolerances();
+    assert!((t.position - 1e-7).abs() < 1e-20);
+    let t = scenes::builtin("lgres-c02").unwrap().tolerances();
+    assert!((t.position - 4e-8).abs() < 1e-20);
+}
+
+#[test]
+fn scene_round_trips_through_toml() {
+    for b in BUILTINS {
+        let s = scenes::builtin(b.name).unwrap();
+        let again = scene::load_str(&s.to_toml(), "round trip").unwrap();
+        // Degrees → radians → degrees may move the last bit of an angle.
+        for (x, y) in s.bodies.iter().zip(&again.bodies) {
+            assert!((x.theta.rad() - y.theta.rad()).abs() < 1e-14);
+        }
+        let strip = |mut s: Scene| {
+            s.bodies
+                .iter_mut()
+                .for_each(|b| b.theta = Default::default());
+            s
+        };
+        assert_eq!(strip(s), strip(again), "{}", b.name);
+    }
+}
+
+#[test]
+fn bad_values_name_field_value_and_reason() {
+    let text = edited("clearance = 0.0005", "clearance = 0.06");
+    let msg = issues(scene::load_str(&text, "t").unwrap_err());
+    assert_eq!(msg.len(), 1, "{msg:?}");
+    assert!(msg[0].starts_with("clearance_joints[0].clearance = 0.06: must be smaller"));
+
+    let text = edited("mass = 6.32", "mass = -1.0");
+    assert!(
+        issues(scene::load_str(&text, "t").unwrap_err())[0].starts_with("bodies[0].mass = -1.0")
+    );
+
+    let text = edited("restitution = 0.9", "restitution = 1.2");
+    assert!(
+        issues(scene::load_str(&text, "t").unwrap_err())[0]
+            .starts_with("clearance_joints[0].normal_law.restitution = 1.2: must lie in (0, 1]")
+    );
+
+    let text = edited("v1 = 1e-3", "v1 = 1e-5");
+    assert!(
+        issues(scene::load_str(&text, "t").unwrap_err())[0]
+            .starts_with("clearance_joints[0].friction.v1")
+    );
+
+    let text = edited("other = \"rod2\"", "other = \"rod9\"");
+    assert!(
+        issues(scene::load_str(&text, "t").unwrap_err())[0]
+            .starts_with("revolute_joints[1].other = \"rod9\": no body")
+    );
+
+    let text = edited("name = \"rod2\"", "name = \"rod1\"");
+    let msg = issues(scene::load_str(&text, "t").unwrap_err());
+    assert!(
+        msg.iter()
+            .any(|m| m.starts_with("bodies[1].name = \"rod1\": duplicate"))
+    );
+
+    let text = edited("x = 0.15441", "x = nan");
+    assert!(issues(scene::load_str(&text, "t").unwrap_err())[0].contains("finite"));
+
+    let text = edited("rpm = 60.0", "rpm = 60.0, omega = 6.0");
+    assert!(issues(scene::load_str(&text, "t").unwrap_err())[0].starts_with("drivers[0].law"));
+
+    let text = edited("rtol = 1e-6", "rtol = 0.0");
+    assert!(issues(scene::load_str(&text, "t").unwrap_err())[0].starts_with("solver.rtol"));
+}
+
+#[test]
+fn unknown_keys_and_syntax_errors_carry_position() {
+    let text = edited("mass = 6.32", "mass = 6.32\nmas = 1.0");
+    let msg = scene::load_str(&text, "t").unwrap_err().to_string();
+    assert!(msg.contains("mas") && msg.contains("line"), "{msg}");
+
+    let text = edited("rtol = 1e-6", "rtol = 1e-6\nrtoll = 1.0");
+    let msg = scene::load_str(&text, "t").unwrap_err().to_string();
+    assert!(msg.contains("rtoll"), "{msg}");
+
+    let text = edited("law = \"ambrosio\"", "law = \"ambrosia\"");
+    assert!(scene::load_str(&text, "t").is_err());
+
+    let msg = scene::load_str("description = ", "t")
+        .unwrap_err()
+        .to_string();
+    assert!(msg.contains("line 1"), "{msg}");
+
+    // Unknown keys in a variant are rejected too (no position: the document was merged).
+    let msg = scene::load_str("extends = \"lgres\"\n[run]\ncycle = 3\n", "t")
+        .unwrap_err()
+        .to_string();
+    assert!(msg.contains("cycle"), "{msg}");
+}
+
+#[test]
+fn extends_merges_by_name_and_rejects_unknown_bases() {
+    let s = scene::load_str(
+        "extends = \"lgres\"\n[[clearance_joints]]\nname = \"B\"\nclearance = 3e-4\n",
+        "t",
+    )
+    .unwrap();
+    assert_eq!(s.clearance_joints.len(), 2);
+    assert_eq!(s.clearance_joints[0].clearance, 5e-4);
+    assert_eq!(s.clearance_joints[1].clearance, 3e-4);
+    let err = scene::load_str("extends = \"nothing\"\n", "t").unwrap_err();
+    assert!(matches!(err, SceneError::Extends { .. }), "{err}");
+}
+
+#[test]
+fn files_extend_files_next_to_them() {
+    let dir = std::env::temp_dir().join(format!("lgres-extends-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(
+        dir.join("base.toml"),
+        scenes::source("slider-crank").unwrap(),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("variant.toml"),
+        "extends = \"base.toml\"\n[run]\ncycles = 5\n",
+    )
+    .unwrap();
+    let s = scene::load_path(&dir.join("variant.toml")).unwrap();
+    assert_eq!(s.run.cycles, 5);
+    assert_eq!(s.bodies.len(), 3);
+    std::fs::write(dir.join("loop.toml"), "extends = \"loop.toml\"\n").unwrap();
+    assert!(scene::load_path(&dir.join("loop.toml")).is_err());
+    assert!(scene::load_path(&dir.join("missing.toml")).is_err());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn slider_crank_counts() {
+    let s = scenes::builtin("slider-crank").unwrap();
+    assert_eq!(s.degrees_of_freedom(), 2);
+    assert!((s.cycle_period().unwrap() - 0.012).abs() < 1e-6);
+    for j in &s.revolute_joints {
+        let a = s.initial_point(&j.body, j.point).unwrap();
+        let b = s.initial_point(&j.other, j.other_point).unwrap();
+        assert!(distance(a, b) < 1e-12, "{}", j.name);
+    }
+}
