@@ -1,0 +1,194 @@
+//! Shared test fixtures: the LGRES joint-A parameters, a worn-looking profile, and a small
+//! fixed-step RK4 integrator of two free bodies coupled only by a joint.
+#![allow(dead_code)]
+
+use contact::{
+    Ambrosio, BodyState, CircularProfile, ClearanceJoint, FrictionLaw, ImpactMemory, JointSurface,
+    LankaraniNikravesh, Material, NormalLaw, RadiusSample, SurfaceProfile,
+};
+
+/// LGRES joint A: bearing radius 0.05 m, clearance 0.5 mm.
+pub const BEARING_RADIUS: f64 = 0.05;
+pub const CLEARANCE: f64 = 5e-4;
+
+pub fn steel() -> Material {
+    Material::new(200e9, 0.3).expect("valid steel")
+}
+
+/// A smooth non-circular profile `R(α) = R₀ + Σ a_k cos(kα) + b_k sin(kα)`, like a worn surface.
+#[derive(Clone, Copy, Debug)]
+pub struct WavyProfile {
+    pub base: f64,
+    pub modes: [(f64, f64, f64); 2],
+}
+
+impl SurfaceProfile for WavyProfile {
+    fn sample(&self, angle: f64) -> RadiusSample {
+        let mut radius = self.base;
+        let mut slope = 0.0;
+        for (k, a, b) in self.modes {
+            let (s, c) = (k * angle).sin_cos();
+            radius += a * c + b * s;
+            slope += k * (-a * s + b * c);
+        }
+        RadiusSample { radius, slope }
+    }
+}
+
+/// Joint A with round surfaces; the bearing and pin centres sit at the given body-fixed points.
+pub fn round_joint<N: NormalLaw, F: FrictionLaw>(
+    bearing_centre: [f64; 2],
+    pin_centre: [f64; 2],
+    normal: N,
+    friction: F,
+) -> ClearanceJoint<CircularProfile, CircularProfile, N, F> {
+    ClearanceJoint::new(
+        JointSurface {
+            centre: bearing_centre,
+            profile: CircularProfile::new(BEARING_RADIUS),
+            material: steel(),
+        },
+        JointSurface {
+            centre: pin_centre,
+            profile: CircularProfile::new(BEARING_RADIUS - CLEARANCE),
+            material: steel(),
+        },
+        normal,
+        friction,
+    )
+    .expect("valid joint")
+}
+
+pub fn lgres_laws(restitution: f64) -> (LankaraniNikravesh, Ambrosio) {
+    (
+        LankaraniNikravesh::new(restitution).expect("valid restitution"),
+        Ambrosio::new(0.15, 1e-4, 1e-3).expect("valid friction"),
+    )
+}
+
+/// Mass and centroidal inertia of a free body.
+#[derive(Clone, Copy, Debug)]
+pub struct Inertia {
+    pub mass: f64,
+    pub inertia: f64,
+}
+
+impl Inertia {
+    pub fn kinetic_energy(&self, s: &BodyState) -> f64 {
+        0.5 * self.mass * (s.vx * s.vx + s.vy * s.vy) + 0.5 * self.inertia * s.omega * s.omega
+    }
+}
+
+fn derivative(
+    state: &[BodyState; 2],
+    forces: &[[f64; 3]; 2],
+    inertia: &[Inertia; 2],
+) -> [[f64; 6]; 2] {
+    let mut out = [[0.0; 6]; 2];
+    for k in 0..2 {
+        let s = &state[k];
+        let f = &forces[k];
+        out[k] = [
+            s.vx,
+            s.vy,
+            s.omega,
+            f[0] / inertia[k].mass,
+            f[1] / inertia[k].mass,
+            f[2] / inertia[k].inertia,
+        ];
+    }
+    out
+}
+
+fn advance(state: &[BodyState; 2], rate: &[[f64; 6]; 2], h: f64) -> [BodyState; 2] {
+    let mut out = *state;
+    for k in 0..2 {
+        let s = &mut out[k];
+        let r = &rate[k];
+        s.x += h * r[0];
+        s.y += h * r[1];
+        s.theta += h * r[2];
+        s.vx += h * r[3];
+        s.vy += h * r[4];
+        s.omega += h * r[5];
+    }
+    out
+}
+
+/// Summary of one simulated impact.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ImpactRecord {
+    /// Normal velocity at the onset (m/s).
+    pub onset_velocity: f64,
+    /// Normal velocity after separation (m/s, negative when separating).
+    pub separation_velocity: f64,
+    pub peak_force: f64,
+    pub peak_penetration: f64,
+    /// Bodies when they separate.
+    pub final_state: [BodyState; 2],
+}
+
+impl ImpactRecord {
+    pub fn restitution(&self) -> f64 {
+        -self.separation_velocity / self.onset_velocity
+    }
+}
+
+/// Integrates two free bodies (bearing first) with RK4 at step `h` until the first contact ends
+/// (or `max_steps` pass). The onset velocity is tracked with [`ImpactMemory`] on accepted steps.
+pub fn simulate_impact<B, P, N, F>(
+    joint: &ClearanceJoint<B, P, N, F>,
+    mut state: [BodyState; 2],
+    inertia: [Inertia; 2],
+    h: f64,
+    max_steps: usize,
+) -> Option<ImpactRecord>
+where
+    B: SurfaceProfile,
+    P: SurfaceProfile,
+    N: NormalLaw,
+    F: FrictionLaw,
+{
+    let mut memory = ImpactMemory::new();
+    let mut record = ImpactRecord::default();
+    let mut previous = joint.forces(&state[0], &state[1], None).diagnostics;
+    let mut touched = false;
+    let rates = |s: &[BodyState; 2], onset: Option<f64>| {
+        let f = joint.forces(&s[0], &s[1], onset);
+        derivative(s, &[f.bearing.into(), f.pin.into()], &inertia)
+    };
+    for _ in 0..max_steps {
+        let onset = memory.onset_velocity();
+        let k1 = rates(&state, onset);
+        let k2 = rates(&advance(&state, &k1, 0.5 * h), onset);
+        let k3 = rates(&advance(&state, &k2, 0.5 * h), onset);
+        let k4 = rates(&advance(&state, &k3, h), onset);
+        for k in 0..2 {
+            let s = &mut state[k];
+            let mut r = [0.0; 6];
+            for m in 0..6 {
+                r[m] = (k1[k][m] + 2.0 * k2[k][m] + 2.0 * k3[k][m] + k4[k][m]) / 6.0;
+            }
+            *s = advance(&[*s, *s], &[r, r], h)[0];
+        }
+        let current = joint
+            .forces(&state[0], &state[1], memory.onset_velocity())
+            .diagnostics;
+        memory.update(&previous, &current);
+        if current.in_contact && !touched {
+            touched = true;
+            record.onset_velocity = memory.onset_velocity().unwrap_or(current.normal_velocity);
+        }
+        if touched {
+            record.peak_force = record.peak_force.max(current.normal_force);
+            record.peak_penetration = record.peak_penetration.max(current.penetration);
+            if !current.in_contact {
+                record.separation_velocity = current.normal_velocity;
+                record.final_state = state;
+                return Some(record);
+            }
+        }
+        previous = current;
+    }
+    None
+}

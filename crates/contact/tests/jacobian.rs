@@ -1,0 +1,376 @@
+//! The analytic Jacobian against central finite differences on many random states.
+//!
+//! Tolerance: an entry passes when `|J − J_fd| ≤ 1e-5 |J| + 1e-7 · max|row of J|`.
+//! Central differences with steps `h` carry a truncation error `~ h² f'''/6`; the steps below are
+//! at most 1e-3 of the penetration (and of the distance to the friction ramp's corners), giving a
+//! relative error below ~1e-7, and a round-off error `~ ulp(|e|) / h ≈ 1e-7` relative. The
+//! absolute part (relative to the row's largest entry) covers entries that vanish analytically
+//! but pick up that round-off. The tests print the worst ratio seen (observed ≤ 0.45, near δ = 0). Dropping
+//! any one term of the Jacobian (a profile slope in `∂R/∂θ`, `∂K/∂q`, the rotation of `n` in
+//! `∂v_n/∂q`, one arm component) was checked to fail by 1.5–700× the tolerance.
+
+mod common;
+
+use common::{BEARING_RADIUS, CLEARANCE, WavyProfile, steel};
+use contact::{
+    Ambrosio, BodyState, ClearanceJoint, ContactJacobian, FrictionLaw, FrictionLawKind,
+    JointSurface, LankaraniNikravesh, NormalLaw, NormalLawKind, SurfaceProfile,
+};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+const RELATIVE_TOLERANCE: f64 = 1e-5;
+const ROW_ABSOLUTE_TOLERANCE: f64 = 1e-7;
+
+#[derive(Clone, Copy, Debug)]
+enum Regime {
+    /// δ of micrometres, sliding faster than v_1.
+    DeepSliding,
+    /// δ of 1e-8..1e-7 m.
+    NearTouch,
+    /// |v_t| inside the friction ramp (v_0, v_1).
+    FrictionRamp,
+    /// |v_t| below v_0 (no friction).
+    Sticking,
+}
+
+fn worn_joint() -> ClearanceJoint<WavyProfile, WavyProfile, LankaraniNikravesh, Ambrosio> {
+    let bearing = WavyProfile {
+        base: BEARING_RADIUS,
+        modes: [(2.0, 2e-5, -1e-5), (3.0, 0.0, 1.5e-5)],
+    };
+    let pin = WavyProfile {
+        base: BEARING_RADIUS - CLEARANCE,
+        modes: [(1.0, -1e-5, 2e-5), (4.0, 5e-6, 0.0)],
+    };
+    ClearanceJoint::new(
+        JointSurface {
+            centre: [0.04, -0.02],
+            profile: bearing,
+            material: steel(),
+        },
+        JointSurface {
+            centre: [-0.03, 0.025],
+            profile: pin,
+            material: steel(),
+        },
+        LankaraniNikravesh::new(0.9).expect("valid"),
+        Ambrosio::new(0.15, 1e-4, 1e-3).expect("valid"),
+    )
+    .expect("valid joint")
+}
+
+fn state_vector(bearing: &BodyState, pin: &BodyState) -> [f64; 12] {
+    [
+        bearing.x,
+        bearing.y,
+        bearing.theta,
+        pin.x,
+        pin.y,
+        pin.theta,
+        bearing.vx,
+        bearing.vy,
+        bearing.omega,
+        pin.vx,
+        pin.vy,
+        pin.omega,
+    ]
+}
+
+fn states_from(z: &[f64; 12]) -> (BodyState, BodyState) {
+    (
+        BodyState::new([z[0], z[1], z[2]], [z[6], z[7], z[8]]),
+        BodyState::new([z[3], z[4], z[5]], [z[9], z[10], z[11]]),
+    )
+}
+
+fn generalized_forces<B, P, N, F>(
+    joint: &ClearanceJoint<B, P, N, F>,
+    z: &[f64; 12],
+    onset: f64,
+) -> [f64; 6]
+where
+    B: SurfaceProfile,
+    P: SurfaceProfile,
+    N: NormalLaw,
+    F: FrictionLaw,
+{
+    let (bearing, pin) = states_from(z);
+    let f = joint.forces(&bearing, &pin, Some(onset));
+    [
+        f.bearing.x,
+        f.bearing.y,
+        f.bearing.z,
+        f.pin.x,
+        f.pin.y,
+        f.pin.z,
+    ]
+}
+
+/// Places the pin body so that the joint penetrates by `target` along a random direction, then
+/// sets the pin's velocity so that `v_n` and `v_t` take the requested values.
+fn random_state<B, P, N, F>(
+    joint: &ClearanceJoint<B, P, N, F>,
+    rng: &mut ChaCha8Rng,
+    target_penetration: f64,
+    normal_velocity: f64,
+    tangential_velocity: f64,
+) -> (BodyState, BodyState)
+where
+    B: SurfaceProfile,
+    P: SurfaceProfile,
+    N: NormalLaw,
+    F: FrictionLaw,
+{
+    let bearing = BodyState::new(
+        [
+            rng.random_range(-0.1..0.1),
+            rng.random_range(-0.1..0.1),
+            rng.random_range(-3.0..3.0),
+        ],
+        [
+            rng.random_range(-0.2..0.2),
+            rng.random_range(-0.2..0.2),
+            rng.random_range(-2.0..2.0),
+        ],
+    );
+    let mut pin = BodyState::new(
+        [bearing.x, bearing.y, rng.random_range(-3.0..3.0)],
+        [
+            rng.random_range(-0.2..0.2),
+            rng.random_range(-0.2..0.2),
+            rng.random_range(-2.0..2.0),
+        ],
+    );
+    // Fixed-point iteration on the pin position: δ depends on the direction through the radii.
+    let phi: f64 = rng.random_range(-3.1..3.1);
+    for _ in 0..50 {
+        let kin = joint.kinematics(&bearing, &pin);
+        let correction = target_penetration - kin.penetration;
+        let direction = if kin.eccentricity_norm > 1e-6 {
+            kin.normal
+        } else {
+            nalgebra::Vector2::new(phi.cos(), phi.sin())
+        };
+        pin.x += correction * direction.x;
+        pin.y += correction * direction.y;
+    }
+    let kin = joint.kinematics(&bearing, &pin);
+    let dn = normal_velocity - kin.normal_velocity;
+    let dt = tangential_velocity - kin.tangential_velocity;
+    pin.vx += dn * kin.normal.x + dt * kin.tangent.x;
+    pin.vy += dn * kin.normal.y + dt * kin.tangent.y;
+    (bearing, pin)
+}
+
+fn finite_difference_jacobian<B, P, N, F>(
+    joint: &ClearanceJoint<B, P, N, F>,
+    z: &[f64; 12],
+    onset: f64,
+    steps: &[f64; 12],
+) -> ContactJacobian
+where
+    B: SurfaceProfile,
+    P: SurfaceProfile,
+    N: NormalLaw,
+    F: FrictionLaw,
+{
+    let mut jacobian = ContactJacobian::zeros();
+    for col in 0..12 {
+        let (mut plus, mut minus) = (*z, *z);
+        plus[col] += steps[col];
+        minus[col] -= steps[col];
+        let fp = generalized_forces(joint, &plus, onset);
+        let fm = generalized_forces(joint, &minus, onset);
+        for row in 0..6 {
+            jacobian[(row, col)] = (fp[row] - fm[row]) / (2.0 * steps[col]);
+        }
+    }
+    jacobian
+}
+
+/// Largest violation of the tolerance (≤ 1 passes).
+fn worst_ratio(analytic: &ContactJacobian, numeric: &ContactJacobian) -> (f64, usize, usize) {
+    let mut worst = (0.0, 0, 0);
+    for row in 0..6 {
+        let row_scale = analytic.row(row).amax();
+        for col in 0..12 {
+            let a = analytic[(row, col)];
+            let allowed = RELATIVE_TOLERANCE * a.abs() + ROW_ABSOLUTE_TOLERANCE * row_scale;
+            let ratio = (a - numeric[(row, col)]).abs() / allowed.max(f64::MIN_POSITIVE);
+            if ratio > worst.0 {
+                worst = (ratio, row, col);
+            }
+        }
+    }
+    worst
+}
+
+/// Checks `samples` random states of `regime`; the normal velocity is drawn from
+/// `[−max_separation_ratio · δ̇⁻, δ̇⁻]`, which the caller picks to stay clear of the clamp.
+fn check_regime<B, P, N, F>(
+    joint: &ClearanceJoint<B, P, N, F>,
+    regime: Regime,
+    seed: u64,
+    samples: usize,
+    max_separation_ratio: f64,
+) where
+    B: SurfaceProfile,
+    P: SurfaceProfile,
+    N: NormalLaw,
+    F: FrictionLaw,
+{
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut worst_seen: f64 = 0.0;
+    let mut checked = 0;
+    while checked < samples {
+        let sign = if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+        let (penetration, tangential) = match regime {
+            Regime::DeepSliding => (
+                rng.random_range(1e-6..2e-5),
+                sign * rng.random_range(0.002..0.3),
+            ),
+            Regime::NearTouch => (
+                rng.random_range(1e-8..1e-7),
+                sign * rng.random_range(0.002..0.3),
+            ),
+            Regime::FrictionRamp => (
+                rng.random_range(1e-6..2e-5),
+                sign * rng.random_range(1.2e-4..9.8e-4),
+            ),
+            Regime::Sticking => (
+                rng.random_range(1e-6..2e-5),
+                sign * rng.random_range(0.0..9.8e-5),
+            ),
+        };
+        let onset: f64 = rng.random_range(0.01..0.5);
+        let normal_velocity = rng.random_range(-max_separation_ratio * onset..onset);
+        let (bearing, pin) =
+            random_state(joint, &mut rng, penetration, normal_velocity, tangential);
+        let z = state_vector(&bearing, &pin);
+        let (forces, analytic) = joint.forces_and_jacobian(&bearing, &pin, Some(onset));
+        assert!(
+            forces.diagnostics.normal_force > 0.0,
+            "{regime:?}: sample not in contact"
+        );
+
+        // Steps: ≤ 1e-3 δ in position (arms ≤ 0.1 m, so 1e-3 δ / 0.1 in angle), and ≤ 1e-3 of
+        // the distance from v_t to the ramp corners in velocity.
+        let distance_to_corner = [1e-4, 1e-3]
+            .iter()
+            .map(|corner| (tangential.abs() - corner).abs())
+            .fold(f64::INFINITY, f64::min)
+            .max(1e-12);
+        let hq = (1e-3 * penetration).min(1e-9);
+        let hv = (1e-3 * distance_to_corner).min(1e-7);
+        let steps = [
+            hq,
+            hq,
+            10.0 * hq,
+            hq,
+            hq,
+            10.0 * hq,
+            hv,
+            hv,
+            10.0 * hv,
+            hv,
+            hv,
+            10.0 * hv,
+        ];
+        let numeric = finite_difference_jacobian(joint, &z, onset, &steps);
+        let (ratio, row, col) = worst_ratio(&analytic, &numeric);
+        assert!(
+            ratio <= 1.0,
+            "{regime:?} sample {checked}: entry ({row}, {col}) analytic {:e} vs FD {:e} \
+             (ratio to tolerance {ratio:.2}); δ = {penetration:e}, v_t = {tangential:e}",
+            analytic[(row, col)],
+            numeric[(row, col)],
+        );
+        worst_seen = worst_seen.max(ratio);
+        checked += 1;
+    }
+    eprintln!("{regime:?}: worst |J − J_fd| / tolerance over {samples} samples = {worst_seen:.3}");
+}
+
+#[test]
+fn jacobian_matches_finite_differences_deep_contact_sliding() {
+    // 1 + χ v_n/δ̇⁻ ≥ 0.28 with χ = 0.1425 (L–N at c_e = 0.9): away from the clamp.
+    check_regime(&worn_joint(), Regime::DeepSliding, 1, 300, 5.0);
+}
+
+#[test]
+fn jacobian_matches_finite_differences_near_touch() {
+    // 1 + χ v_n/δ̇⁻ ≥ 0.28 with χ = 0.1425 (L–N at c_e = 0.9): away from the clamp.
+    check_regime(&worn_joint(), Regime::NearTouch, 2, 300, 5.0);
+}
+
+#[test]
+fn jacobian_matches_finite_differences_in_friction_ramp() {
+    // 1 + χ v_n/δ̇⁻ ≥ 0.28 with χ = 0.1425 (L–N at c_e = 0.9): away from the clamp.
+    check_regime(&worn_joint(), Regime::FrictionRamp, 3, 300, 5.0);
+}
+
+#[test]
+fn jacobian_matches_finite_differences_below_stick_velocity() {
+    // 1 + χ v_n/δ̇⁻ ≥ 0.28 with χ = 0.1425 (L–N at c_e = 0.9): away from the clamp.
+    check_regime(&worn_joint(), Regime::Sticking, 4, 100, 5.0);
+}
+
+#[test]
+fn jacobian_matches_for_every_runtime_law() {
+    use contact::{Coulomb, Flores, Hertz, HuntCrossley};
+    let normals = [
+        NormalLawKind::HuntCrossley(HuntCrossley::new(0.8).expect("valid")),
+        NormalLawKind::Flores(Flores::new(0.5).expect("valid")),
+        NormalLawKind::Hertz(Hertz::new(1.0).expect("valid")),
+    ];
+    let frictions = [
+        FrictionLawKind::Coulomb(Coulomb::new(0.3).expect("valid")),
+        FrictionLawKind::None,
+    ];
+    let base = worn_joint();
+    for (k, normal) in normals.iter().enumerate() {
+        for (m, friction) in frictions.iter().enumerate() {
+            let joint = ClearanceJoint::new(
+                JointSurface {
+                    centre: [0.04, -0.02],
+                    profile: *base.bearing_profile(),
+                    material: steel(),
+                },
+                JointSurface {
+                    centre: [-0.03, 0.025],
+                    profile: *base.pin_profile(),
+                    material: steel(),
+                },
+                *normal,
+                *friction,
+            )
+            .expect("valid joint");
+            // χ ≤ 1.6 (Flores at c_e = 0.5): 1 + χ v_n/δ̇⁻ ≥ 0.2.
+            check_regime(
+                &joint,
+                Regime::DeepSliding,
+                10 + (3 * k + m) as u64,
+                50,
+                0.5,
+            );
+        }
+    }
+}
+
+#[test]
+fn free_joint_has_zero_forces_and_jacobian() {
+    let joint = worn_joint();
+    let bearing = BodyState::new([0.0, 0.0, 0.3], [0.1, 0.0, 1.0]);
+    let mut pin = BodyState::new([0.07, -0.045, -0.2], [0.0, 0.2, -1.0]);
+    // Shift the pin body so that the centres are 0.1 mm apart: inside the 0.5 mm clearance.
+    let kin = joint.kinematics(&bearing, &pin);
+    pin.x -= kin.eccentricity.x - 1e-4;
+    pin.y -= kin.eccentricity.y;
+    assert!(joint.penetration(&bearing, &pin) < 0.0);
+    let (forces, jacobian) = joint.forces_and_jacobian(&bearing, &pin, Some(0.1));
+    assert_eq!(forces.bearing, nalgebra::Vector3::zeros());
+    assert_eq!(forces.pin, nalgebra::Vector3::zeros());
+    assert_eq!(jacobian, ContactJacobian::zeros());
+    assert!(!forces.diagnostics.in_contact);
+}
