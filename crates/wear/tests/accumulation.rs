@@ -1,0 +1,181 @@
+//! Archard accumulation against closed-form pin-on-bearing wear.
+
+mod common;
+
+use approx::assert_relative_eq;
+use common::*;
+use contact::ContactDiagnostics;
+use std::f64::consts::TAU;
+use wear::{ContactArc, WearError};
+
+/// Half-angles straight from MODEL.md's law of cosines (independent of the crate's form).
+fn arc_by_cosines(e: f64, ri: f64, rj: f64) -> (f64, f64) {
+    let alpha = ((e * e + rj * rj - ri * ri) / (2.0 * e * rj)).acos();
+    let gamma = ((e * e + ri * ri - rj * rj) / (2.0 * e * ri)).acos();
+    (std::f64::consts::PI - alpha, gamma)
+}
+
+#[test]
+fn contact_arc_matches_law_of_cosines_and_sines() {
+    for delta in [1e-6, 1e-5, 5e-5, 2e-4] {
+        let e = CLEARANCE + delta;
+        let arc = ContactArc::new(e, R_BEARING, R_PIN).unwrap();
+        let (pin, bearing) = arc_by_cosines(e, R_BEARING, R_PIN);
+        assert_relative_eq!(arc.pin_half_angle, pin, max_relative = 1e-6);
+        assert_relative_eq!(arc.bearing_half_angle, bearing, max_relative = 1e-6);
+        // Same chord seen from both centres.
+        assert_relative_eq!(
+            arc.chord,
+            2.0 * R_BEARING * arc.bearing_half_angle.sin(),
+            max_relative = 1e-12
+        );
+        assert_relative_eq!(arc.chord, 2.0 * R_PIN * pin.sin(), max_relative = 1e-6);
+    }
+    assert!(ContactArc::new(CLEARANCE - 1e-6, R_BEARING, R_PIN).is_none());
+}
+
+/// A pin held still under constant load; the bearing turns at `omega` under it.
+#[test]
+fn pin_on_turning_bearing_matches_archard() {
+    let cells = 1000;
+    let (force, omega, delta) = (3000.0, 0.5, 10e-6);
+    let speed = omega * R_BEARING;
+    let (pin_angle, bearing_start) = (1.0, 3.0);
+    let (dt, steps) = (1e-3, 2000);
+    let total = dt * steps as f64;
+    let state = |t: f64| loaded(force, speed, delta, pin_angle, bearing_start - omega * t);
+
+    let joint = joint(cells);
+    let mut stage = joint.start_stage();
+    for s in 0..steps {
+        let t = s as f64 * dt;
+        stage
+            .accumulate_step(&state(t), &state(t + dt), dt)
+            .unwrap();
+    }
+
+    let (a, gamma) = arc_by_cosines(CLEARANCE + delta, R_BEARING, R_PIN);
+    let chord = 2.0 * R_PIN * a.sin();
+    let rate = K_D * force / (chord * WIDTH) * speed;
+    let dtheta = TAU / cells as f64;
+    let centre = |k: usize| (k as f64 + 0.5) * dtheta;
+
+    // Pin: cells wholly inside the fixed arc wear for the whole time.
+    let mut inside = 0;
+    for (k, &h) in stage.pin().iter().enumerate() {
+        let off = (centre(k) - pin_angle).abs();
+        if off < a - dtheta {
+            assert_relative_eq!(h, rate * total, max_relative = 1e-9);
+            inside += 1;
+        } else if off > a + dtheta {
+            assert_eq!(h, 0.0, "pin cell {k} outside the arc");
+        }
+    }
+    assert!(inside > 50, "the arc should cover many cells, got {inside}");
+
+    // Bearing: cells the whole arc swept over wear for 2γ/ω.
+    let end = bearing_start - omega * total;
+    let mut swept = 0;
+    for (k, &h) in stage.bearing().iter().enumerate() {
+        let th = centre(k);
+        if th > end + gamma + dtheta && th < bearing_start - gamma - dtheta {
+            assert_relative_eq!(h, rate * 2.0 * gamma / omega, max_relative = 1e-3);
+            swept += 1;
+        } else if th < end - gamma - dtheta || th > bearing_start + gamma + dtheta {
+            assert_eq!(h, 0.0, "bearing cell {k} never under the arc");
+        }
+    }
+    assert!(swept > 50);
+
+    // Volume: both halves together equal K_d F s (up to the arc/chord ratio, < 1 %).
+    let archard = K_D * force * speed * total;
+    assert_relative_eq!(stage.archard_volume(), archard, max_relative = 1e-12);
+    let worn = stage.worn_volume();
+    assert!(
+        (worn / archard - 1.0).abs() < 0.01,
+        "worn/archard = {}",
+        worn / archard
+    );
+    // ... and exactly by that ratio.
+    let pin_half = 0.5 * archard * a / a.sin();
+    let bearing_half = 0.5 * archard * gamma / gamma.sin();
+    assert_relative_eq!(worn, pin_half + bearing_half, max_relative = 1e-6);
+}
+
+#[test]
+fn contact_onset_gets_half_a_step_from_the_loaded_end() {
+    let joint = joint(1000);
+    let mut stage = joint.start_stage();
+    let free = ContactDiagnostics::default();
+    let end = loaded(2000.0, 0.1, 5e-6, 2.0, 4.0);
+    let dt = 1e-4;
+    stage.accumulate_step(&free, &end, dt).unwrap();
+    let archard = K_D * 2000.0 * 0.1;
+    assert_relative_eq!(
+        stage.archard_volume(),
+        archard * dt / 2.0,
+        max_relative = 1e-12
+    );
+    // Contact ending: symmetric.
+    let mut ending = joint.start_stage();
+    ending.accumulate_step(&end, &free, dt).unwrap();
+    assert_eq!(ending.pin(), stage.pin());
+    assert_eq!(ending.bearing(), stage.bearing());
+    // In contact but unloaded (force clamped to zero while separating): no wear.
+    let mut unloaded = joint.start_stage();
+    let mut zero = end;
+    zero.normal_force = 0.0;
+    unloaded.accumulate_step(&zero, &zero, dt).unwrap();
+    assert_eq!(unloaded.max_depth(), 0.0);
+}
+
+#[test]
+fn surfaces_stay_frozen_until_the_stage_is_applied() {
+    let mut joint = joint(1000);
+    let before = joint.clone();
+    let mut stage = joint.start_stage();
+    let s = loaded(2000.0, 0.1, 5e-6, 2.0, 4.0);
+    stage.accumulate_step(&s, &s, 1e-2).unwrap();
+    assert!(stage.max_depth() > 0.0);
+    assert_eq!(joint, before);
+    joint.apply(&stage, 10.0).unwrap();
+    let (peak, _, angle) = joint.pin().peak();
+    assert_relative_eq!(peak, 10.0 * stage.pin().iter().copied().fold(0.0, f64::max));
+    // The peak lies on the loaded arc of the pin.
+    let arc = ContactArc::new(s.eccentricity, R_BEARING, R_PIN).unwrap();
+    assert!((angle - 2.0).abs() <= arc.pin_half_angle);
+    // Reset reuses the buffers.
+    stage.reset();
+    assert_eq!(stage.max_depth(), 0.0);
+    assert_eq!(stage.archard_volume(), 0.0);
+}
+
+#[test]
+fn bad_diagnostics_and_steps_name_the_field() {
+    let joint = joint(100);
+    let mut stage = joint.start_stage();
+    let good = loaded(2000.0, 0.1, 5e-6, 2.0, 4.0);
+    let named = |r: Result<(), WearError>| match r {
+        Err(WearError::InvalidParameter { name, .. }) => name,
+        other => panic!("expected a named error, got {other:?}"),
+    };
+    assert_eq!(named(stage.accumulate_step(&good, &good, -1.0)), "dt");
+    assert_eq!(named(stage.accumulate_step(&good, &good, f64::NAN)), "dt");
+    let mut bad = good;
+    bad.tangential_velocity = f64::INFINITY;
+    assert_eq!(
+        named(stage.accumulate_step(&good, &bad, 1e-3)),
+        "tangential_velocity"
+    );
+    let mut bad = good;
+    bad.normal_force = f64::NAN;
+    assert_eq!(
+        named(stage.accumulate_step(&bad, &good, 1e-3)),
+        "normal_force"
+    );
+    let mut bad = good;
+    bad.pin_angle = f64::NAN;
+    assert_eq!(named(stage.accumulate_step(&bad, &good, 1e-3)), "pin_angle");
+    // Nothing was deposited by the rejected calls.
+    assert_eq!(stage.max_depth(), 0.0);
+}

@@ -1,0 +1,38 @@
+//! Shared fixtures: LGRES joint B geometry and synthetic contact states.
+#![allow(dead_code)]
+
+use contact::ContactDiagnostics;
+use wear::{WearParams, WornJoint};
+
+pub const R_BEARING: f64 = 0.080;
+pub const CLEARANCE: f64 = 0.0005;
+pub const R_PIN: f64 = R_BEARING - CLEARANCE;
+pub const WIDTH: f64 = 0.1;
+pub const K_D: f64 = 1.8e-13;
+
+pub fn joint(cells: usize) -> WornJoint {
+    let params = WearParams::new(K_D, WIDTH, cells).unwrap();
+    WornJoint::new(&params, R_BEARING, R_PIN).unwrap().unwrap()
+}
+
+/// A loaded contact state with penetration `delta` on the nominal geometry.
+pub fn loaded(
+    force: f64,
+    speed: f64,
+    delta: f64,
+    pin_angle: f64,
+    bearing_angle: f64,
+) -> ContactDiagnostics {
+    ContactDiagnostics {
+        in_contact: true,
+        penetration: delta,
+        eccentricity: CLEARANCE + delta,
+        bearing_radius: R_BEARING,
+        pin_radius: R_PIN,
+        normal_force: force,
+        tangential_velocity: speed,
+        pin_angle,
+        bearing_angle,
+        ..Default::default()
+    }
+}

@@ -1,0 +1,175 @@
+//! Invalid parameters give errors naming the parameter and value.
+
+mod common;
+
+use common::*;
+use wear::{
+    Extrapolation, Side, StagePlan, StageWear, WearError, WearParams, WornJoint, WornProfile,
+};
+
+fn name(e: WearError) -> &'static str {
+    match e {
+        WearError::InvalidParameter { name, .. } => name,
+        other => panic!("expected InvalidParameter, got {other:?}"),
+    }
+}
+
+#[test]
+fn parameters() {
+    assert_eq!(
+        name(WearParams::new(-1e-13, WIDTH, 10).unwrap_err()),
+        "wear_coefficient"
+    );
+    assert_eq!(
+        name(WearParams::new(f64::NAN, WIDTH, 10).unwrap_err()),
+        "wear_coefficient"
+    );
+    assert_eq!(
+        name(WearParams::new(K_D, 0.0, 10).unwrap_err()),
+        "hinge_width"
+    );
+    assert_eq!(
+        name(WearParams::new(K_D, f64::INFINITY, 10).unwrap_err()),
+        "hinge_width"
+    );
+    assert_eq!(
+        WearParams::new(K_D, WIDTH, 0).unwrap_err(),
+        WearError::ZeroCells
+    );
+    let e = WearParams::new(K_D, -0.5, 10).unwrap_err();
+    assert!(e.to_string().contains("hinge_width = -0.5"), "{e}");
+}
+
+#[test]
+fn zero_wear_coefficient_means_off() {
+    let off = WearParams::new(0.0, WIDTH, 1000).unwrap();
+    assert!(WornJoint::new(&off, R_BEARING, R_PIN).unwrap().is_none());
+    // Radii are still validated when wear is off.
+    assert!(matches!(
+        WornJoint::new(&off, R_PIN, R_BEARING),
+        Err(WearError::RadiiInconsistent { .. })
+    ));
+    // A joint value always means wear on.
+    let b = WornProfile::new(Side::Bearing, R_BEARING, 10).unwrap();
+    let p = WornProfile::new(Side::Pin, R_PIN, 10).unwrap();
+    assert_eq!(
+        name(WornJoint::from_profiles(0.0, WIDTH, b.clone(), p.clone()).unwrap_err()),
+        "wear_coefficient"
+    );
+    assert_eq!(
+        WornJoint::from_profiles(K_D, WIDTH, p, b).unwrap_err(),
+        WearError::WrongSide { name: "bearing" }
+    );
+}
+
+#[test]
+fn radii() {
+    let params = WearParams::new(K_D, WIDTH, 10).unwrap();
+    assert_eq!(
+        WornJoint::new(&params, 0.05, 0.05).unwrap_err(),
+        WearError::RadiiInconsistent {
+            pin: 0.05,
+            bearing: 0.05
+        }
+    );
+    assert_eq!(
+        name(WornJoint::new(&params, 0.05, -0.01).unwrap_err()),
+        "pin_radius"
+    );
+    assert_eq!(
+        name(WornJoint::new(&params, f64::NAN, 0.01).unwrap_err()),
+        "bearing_radius"
+    );
+}
+
+#[test]
+fn depths_and_grids() {
+    let e = WornProfile::from_depths(Side::Pin, R_PIN, vec![0.0, -1e-9]).unwrap_err();
+    assert_eq!(
+        e,
+        WearError::InvalidDepth {
+            name: "depth",
+            index: 1,
+            value: -1e-9
+        }
+    );
+    assert_eq!(
+        WornProfile::from_depths(Side::Pin, R_PIN, vec![]).unwrap_err(),
+        WearError::ZeroCells
+    );
+    let j = joint(10);
+    let e = StageWear::from_depths(&j, vec![0.0; 9], vec![0.0; 10]).unwrap_err();
+    assert_eq!(
+        e,
+        WearError::GridMismatch {
+            name: "bearing wear",
+            expected: 10,
+            found: 9
+        }
+    );
+    let e = StageWear::from_depths(&j, vec![0.0; 10], vec![f64::NAN; 10]).unwrap_err();
+    assert!(matches!(
+        e,
+        WearError::InvalidDepth {
+            name: "pin wear",
+            index: 0,
+            ..
+        }
+    ));
+}
+
+#[test]
+fn amplification_and_pin_worn_through() {
+    let mut j = joint(10);
+    let w = StageWear::from_depths(&j, vec![1e-6; 10], vec![1e-6; 10]).unwrap();
+    assert_eq!(name(j.apply(&w, 0.0).unwrap_err()), "amplification");
+    assert_eq!(name(j.apply(&w, -2.0).unwrap_err()), "amplification");
+    let before = j.clone();
+    let e = j.apply(&w, 1e6).unwrap_err();
+    assert!(matches!(e, WearError::PinWornThrough { .. }), "{e}");
+    assert_eq!(j, before, "a refused update leaves the joint untouched");
+}
+
+#[test]
+fn plans() {
+    let with = |x| StagePlan {
+        extrapolation: x,
+        ..StagePlan::paper(1)
+    };
+    let adaptive = |f| {
+        with(Extrapolation::Adaptive {
+            max_fraction: f,
+            max_substeps: 10,
+        })
+    };
+    for bad in [0.0, -0.1, 1.5, f64::NAN] {
+        assert_eq!(name(adaptive(bad).validate().unwrap_err()), "max_fraction");
+        assert_eq!(
+            name(
+                with(Extrapolation::SingleJump { warn_fraction: bad })
+                    .validate()
+                    .unwrap_err()
+            ),
+            "warn_fraction"
+        );
+    }
+    assert!(adaptive(1.0).validate().is_ok());
+    assert_eq!(
+        name(
+            with(Extrapolation::Adaptive {
+                max_fraction: 0.1,
+                max_substeps: 0
+            })
+            .validate()
+            .unwrap_err()
+        ),
+        "max_substeps"
+    );
+    for bad in [0.0, -20_000.0, f64::INFINITY] {
+        let plan = StagePlan {
+            amplification: bad,
+            ..StagePlan::paper(1)
+        };
+        assert_eq!(name(plan.validate().unwrap_err()), "amplification");
+    }
+}

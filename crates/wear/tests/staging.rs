@@ -1,0 +1,212 @@
+//! Staged extrapolation with synthetic runners (no integrator).
+
+mod common;
+
+use approx::assert_relative_eq;
+use common::*;
+use std::convert::Infallible;
+use wear::{
+    Extrapolation, RunContext, StagePlan, StageWear, StagingError, WearError, WornJoint, run_stages,
+};
+
+/// Wear localized around cell 250 (bearing) and 260 (pin), proportional to the current local
+/// clearance `c0 + h/2` of each cell: it accelerates as the joint opens.
+fn clearance_proportional(joint: &WornJoint, rate: f64) -> StageWear {
+    let bump = |k: usize, at: usize| (-((k as f64 - at as f64) / 8.0).powi(2)).exp();
+    let c0 = joint.nominal_clearance();
+    let b = joint
+        .bearing()
+        .depth()
+        .iter()
+        .enumerate()
+        .map(|(k, h)| rate * (c0 + h / 2.0) * bump(k, 250))
+        .collect();
+    let p = joint
+        .pin()
+        .depth()
+        .iter()
+        .enumerate()
+        .map(|(k, h)| rate * (c0 + h / 2.0) * bump(k, 260))
+        .collect();
+    StageWear::from_depths(joint, b, p).unwrap()
+}
+
+/// Largest relative change of the clearance of aligned cell pairs, `c0 + (h_b + h_p)/2`.
+fn measured_change(before: &WornJoint, after: &WornJoint, shift: isize) -> f64 {
+    let n = before.bearing().cells() as isize;
+    (0..n)
+        .map(|k| {
+            let j = (k + shift).rem_euclid(n) as usize;
+            let c = |w: &WornJoint| {
+                w.nominal_clearance() + 0.5 * (w.bearing().depth()[k as usize] + w.pin().depth()[j])
+            };
+            c(after) / c(before) - 1.0
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn adaptive_split_obeys_fraction_and_sums_to_factor() {
+    let mut joints = vec![joint(1000), joint(500)];
+    let plan = StagePlan::paper(2);
+    let mut calls = Vec::new();
+    let mut history = vec![joints.clone()];
+    let reports = run_stages(&mut joints, &plan, |ctx: RunContext, js: &[WornJoint]| {
+        calls.push(ctx);
+        if ctx.substep > 0 {
+            // The runner sees the surfaces updated by the previous sub-step.
+            assert_ne!(js, &history.last().unwrap()[..]);
+        }
+        history.push(js.to_vec());
+        Ok::<_, Infallible>(vec![
+            clearance_proportional(&js[0], 1e-4),
+            clearance_proportional(&js[1], 2e-5),
+        ])
+    })
+    .unwrap();
+    history.push(joints.clone());
+    assert_eq!(reports.len(), 2);
+    let mut index = 0;
+    for report in &reports {
+        assert!(report.warning.is_none());
+        let sum: f64 = report.substeps.iter().map(|s| s.amplification).sum();
+        assert_relative_eq!(sum, plan.amplification, max_relative = 1e-12);
+        // 1e-4 per unit per surface half: amplification 1000 per 10 % sub-step.
+        assert!(
+            report.substeps.len() >= 20,
+            "{} sub-steps",
+            report.substeps.len()
+        );
+        for s in &report.substeps {
+            assert!(
+                s.max_change_fraction <= 0.1 * (1.0 + 1e-9),
+                "{}",
+                s.max_change_fraction
+            );
+            // Independent check on the surfaces themselves, for every pairing shift.
+            let (before, after) = (&history[index + 1][0], &history[index + 2][0]);
+            for shift in [-10, 0, 10] {
+                assert!(measured_change(before, after, shift) <= 0.1 * (1.0 + 1e-9));
+            }
+            assert_eq!(
+                s.max_depth,
+                s.joints
+                    .iter()
+                    .map(|j| j.max_bearing_depth.max(j.max_pin_depth))
+                    .fold(0.0, f64::max)
+            );
+            index += 1;
+        }
+    }
+    assert_eq!(calls.len(), index);
+    assert_eq!(
+        calls[0],
+        RunContext {
+            stage: 0,
+            substep: 0
+        }
+    );
+    assert_eq!(calls.last().unwrap().stage, 1);
+}
+
+#[test]
+fn constant_wear_extrapolates_linearly_whatever_the_split() {
+    let joint0 = joint(200);
+    let fixed = |j: &WornJoint| {
+        let b: Vec<f64> = (0..200)
+            .map(|k| if (40..60).contains(&k) { 1e-8 } else { 0.0 })
+            .collect();
+        StageWear::from_depths(j, b.clone(), b).unwrap()
+    };
+    let mut adaptive = vec![joint0.clone()];
+    let r = run_stages(
+        &mut adaptive,
+        &StagePlan::paper(1),
+        |_, js: &[WornJoint]| Ok::<_, Infallible>(vec![fixed(&js[0])]),
+    )
+    .unwrap();
+    assert!(r[0].substeps.len() > 1);
+    let mut jump = vec![joint0];
+    let plan = StagePlan {
+        extrapolation: Extrapolation::single_jump(),
+        ..StagePlan::paper(1)
+    };
+    let r = run_stages(&mut jump, &plan, |_, js: &[WornJoint]| {
+        Ok::<_, Infallible>(vec![fixed(&js[0])])
+    })
+    .unwrap();
+    assert_eq!(r[0].substeps.len(), 1);
+    for k in 0..200 {
+        assert_relative_eq!(
+            adaptive[0].bearing().depth()[k],
+            jump[0].bearing().depth()[k],
+            max_relative = 1e-12
+        );
+    }
+    assert_relative_eq!(jump[0].bearing().depth()[50], 20_000.0 * 1e-8);
+}
+
+#[test]
+fn single_jump_warns_only_when_too_large() {
+    let plan = StagePlan {
+        extrapolation: Extrapolation::single_jump(),
+        ..StagePlan::paper(1)
+    };
+    let mut big = vec![joint(1000)];
+    let r = run_stages(&mut big, &plan, |_, js: &[WornJoint]| {
+        Ok::<_, Infallible>(vec![clearance_proportional(&js[0], 1e-4)])
+    })
+    .unwrap();
+    let warning = r[0].warning.expect("a ×20,000 jump of 2 c0 must warn");
+    assert!(warning.change_fraction > 1.0);
+    assert_eq!(warning.limit, 0.1);
+    assert!(warning.to_string().contains("stage 0"));
+    let mut small = vec![joint(1000)];
+    let r = run_stages(&mut small, &plan, |_, js: &[WornJoint]| {
+        Ok::<_, Infallible>(vec![clearance_proportional(&js[0], 1e-7)])
+    })
+    .unwrap();
+    assert!(r[0].warning.is_none());
+    assert!(r[0].substeps[0].max_change_fraction < 0.1);
+}
+
+#[test]
+fn substep_limit_and_runner_errors_surface() {
+    let plan = StagePlan {
+        extrapolation: Extrapolation::Adaptive {
+            max_fraction: 0.1,
+            max_substeps: 3,
+        },
+        ..StagePlan::paper(1)
+    };
+    let mut js = vec![joint(1000)];
+    let err = run_stages(&mut js, &plan, |_, js: &[WornJoint]| {
+        Ok::<_, Infallible>(vec![clearance_proportional(&js[0], 1e-4)])
+    })
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            StagingError::Wear(WearError::SubstepLimit { limit: 3, .. })
+        ),
+        "{err}"
+    );
+
+    let err = run_stages(&mut js, &plan, |_, _: &[WornJoint]| {
+        Err::<Vec<StageWear>, _>("integrator diverged")
+    })
+    .unwrap_err();
+    assert_eq!(err.to_string(), "stage runner failed: integrator diverged");
+
+    let err = run_stages(&mut js, &plan, |_, _: &[WornJoint]| {
+        Ok::<_, Infallible>(Vec::new())
+    })
+    .unwrap_err();
+    assert!(matches!(
+        err,
+        StagingError::Wear(WearError::JointCount {
+            expected: 1,
+            found: 0
+        })
+    ));
+}
