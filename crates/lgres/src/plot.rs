@@ -240,7 +240,18 @@ fn circle(radius_mm: f64) -> Vec<(f64, f64)> {
 /// A labelled polyline of a square chart (empty label: no legend entry).
 type Curve = (String, Vec<(f64, f64)>, ShapeStyle);
 
-/// A square plot with equal axes over ±`half` (in the unit of `unit`).
+/// Width of the legend column right of a square chart, pixels.
+const LEGEND_WIDTH: u32 = 210;
+
+/// A tick label without float noise or trailing zeros.
+fn tick(v: &f64) -> String {
+    let s = format!("{v:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
+/// A plot with equal axes over ±`half` (in `unit`) in a square on the left, its legend in a
+/// column on the right, so the legend never hides the curves.
 fn square_chart(
     path: &Path,
     title: &str,
@@ -249,45 +260,42 @@ fn square_chart(
     unit: &str,
     curves: &[Curve],
 ) -> Result<(), OutputError> {
-    let side = size.0.min(size.1);
-    render(path, (side, side), |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(title, (FONT, 22))
-            .margin(15)
+    let side = size.1.min(size.0.saturating_sub(LEGEND_WIDTH)).max(100);
+    render(path, size, |root| {
+        let root = root.titled(title, (FONT, 22))?;
+        let (square, legend) = root.split_horizontally(side);
+        let mut chart = ChartBuilder::on(&square)
+            .margin(10)
             .x_label_area_size(50)
-            .y_label_area_size(70)
+            .y_label_area_size(65)
             .build_cartesian_2d(-half..half, -half..half)?;
         chart
             .configure_mesh()
             .x_desc(format!("x ({unit})"))
             .y_desc(format!("y ({unit})"))
+            .x_labels(7)
+            .y_labels(7)
+            .x_label_formatter(&tick)
+            .y_label_formatter(&tick)
             .label_style((FONT, 14))
             .axis_desc_style((FONT, 16))
             .light_line_style(RGBColor(235, 235, 235))
             .draw()?;
+        let mut row = 40;
         for (label, points, style) in curves {
-            let style = *style;
-            let drawn = chart.draw_series(LineSeries::new(points.iter().copied(), style))?;
+            chart.draw_series(LineSeries::new(points.iter().copied(), *style))?;
             if !label.is_empty() {
-                drawn
-                    .label(label.as_str())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style));
+                legend.draw(&PathElement::new(vec![(5, row), (35, row)], *style))?;
+                legend.draw(&Text::new(label.as_str(), (42, row - 8), (FONT, 14)))?;
+                row += 26;
             }
         }
-        chart
-            .configure_series_labels()
-            .label_font((FONT, 14))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()?;
         Ok(())
-    })?;
-    Ok(())
+    })
 }
 
-/// Outlines of the worn bearing and pin (wear magnified) over their nominal circles, in mm. The
-/// figure is square, its side the smaller of `size`.
+/// Outlines of the worn bearing and pin (wear magnified) over their nominal circles (grey), in
+/// mm, each in its own body frame.
 pub fn worn_outline(
     path: impl AsRef<Path>,
     title: &str,
@@ -318,7 +326,7 @@ pub fn worn_outline(
 }
 
 /// Path of the pin centre relative to the bearing centre (`e = r_pin − r_bearing`, m), inside
-/// the clearance circle; drawn in µm. The figure is square.
+/// the clearance circle; drawn in µm.
 pub fn journal_path(
     path: impl AsRef<Path>,
     title: &str,
