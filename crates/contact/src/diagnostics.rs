@@ -23,7 +23,9 @@ pub struct ContactDiagnostics {
     pub bearing_radius: f64,
     /// Local (possibly worn) pin radius in the contact direction (m).
     pub pin_radius: f64,
-    /// Normal relative velocity `v_n = dδ/dt` (m/s), positive when penetrating.
+    /// Normal relative velocity `v_n = dδ/dt` (m/s), positive when penetrating. It is the
+    /// material-point velocity `(v_j^Q − v_i^Q)·n`: exactly `dδ/dt` for round surfaces; on a worn
+    /// one it leaves out the profile sweeping past the contact direction (see `joint`).
     pub normal_velocity: f64,
     /// Tangential relative velocity `v_t` of the pin on the bearing (m/s).
     pub tangential_velocity: f64,
