@@ -425,6 +425,9 @@ impl WearSpec {
     }
 }
 
+/// Upper bound on wear grid cells (a typo like 1e9 would otherwise exhaust memory later).
+pub const MAX_WEAR_CELLS: usize = 1_000_000;
+
 fn wear_cells() -> usize {
     1000
 }
@@ -507,6 +510,9 @@ impl Default for Solver {
         }
     }
 }
+
+/// Arm (m) converting the default position tolerance into the default angle tolerance.
+const REFERENCE_ARM: f64 = 1.0;
 
 /// Absolute tolerances with the defaults resolved against a scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -733,7 +739,7 @@ impl Scene {
         });
         Tolerances {
             position,
-            angle: self.solver.atol_angle.unwrap_or(position / 1.0),
+            angle: self.solver.atol_angle.unwrap_or(position / REFERENCE_ARM),
             velocity: self.solver.atol_velocity,
         }
     }
@@ -1022,8 +1028,12 @@ impl Validator {
                 self.number(&format!("{q}.hardness"), h, true);
             }
             self.number(&format!("{q}.width"), w.width, true);
-            if w.cells < 8 {
-                self.push(format!("{q}.cells"), w.cells, "need at least 8 cells");
+            if !(8..=MAX_WEAR_CELLS).contains(&w.cells) {
+                self.push(
+                    format!("{q}.cells"),
+                    w.cells,
+                    format!("must lie in 8..={MAX_WEAR_CELLS}"),
+                );
             }
         }
     }
