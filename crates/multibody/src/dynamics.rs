@@ -1,0 +1,892 @@
+//! Forward dynamics on diffsol: options, the stepping loop (output by interpolation, hooks,
+//! events, energy audit) and the run report.
+//!
+//! Jacobian strategy: diffsol's closure interface asks for Jacobian–vector products and
+//! assembles the dense Jacobian from `2n` of them at one `(t, y)`. The jac-vec closure
+//! therefore keeps the dense exact Jacobian of the last `(t, y)` it saw (interior mutability)
+//! and answers each product from it: one LU of `[M Φ_qᵀ; Φ_q 0]` and `2n` triangular solves per
+//! Jacobian instead of `2n` right-hand sides, each with its own LU. Figures in the crate docs.
+
+use std::cell::RefCell;
+use std::time::{Duration, Instant};
+
+use diffsol::{
+    NalgebraContext, NalgebraLU, NalgebraMat, NalgebraVec, OdeBuilder, OdeEquationsImplicit,
+    OdeSolverMethod, OdeSolverProblem, OdeSolverStopReason, Vector, VectorCommon,
+};
+use nalgebra::DMatrix;
+
+use crate::constraints::ConstraintOwner;
+use crate::error::SimulationError;
+use crate::force::ForceElement;
+use crate::system::{Baumgarte, Evaluator, State, System};
+
+/// Time integrator (all from diffsol).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Integrator {
+    /// Variable-order BDF (orders 1–5), the stiff default (the paper's `ode15s` is similar).
+    #[default]
+    Bdf,
+    /// TR-BDF2, an L-stable SDIRK method of order 2.
+    TrBdf2,
+    /// ESDIRK3(4), an L-stable SDIRK method of order 3.
+    Esdirk34,
+    /// Tsitouras 5(4), explicit: cheapest per step, for non-stiff runs.
+    Tsit45,
+}
+
+/// How the implicit integrators get `∂f/∂y`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum JacobianMethod {
+    /// Exact, from the differentiated augmented system (default).
+    #[default]
+    Exact,
+    /// Forward differences of the right-hand side: the reference for measuring the savings.
+    FiniteDifference,
+}
+
+/// Absolute tolerances per kind of state variable. Positions should be scaled to the
+/// smallest length that matters (e.g. a joint clearance, MODEL.md §8), not to the coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AbsoluteTolerances {
+    /// m
+    pub position: f64,
+    /// rad
+    pub angle: f64,
+    /// m/s
+    pub velocity: f64,
+    /// rad/s
+    pub angular_velocity: f64,
+}
+
+impl Default for AbsoluteTolerances {
+    /// 1e-8 m, 1e-8 rad, 1e-6 m/s, 1e-6 rad/s: well below the micrometre scale of clearance
+    /// penetrations for mechanisms about a metre in size.
+    fn default() -> Self {
+        Self {
+            position: 1e-8,
+            angle: 1e-8,
+            velocity: 1e-6,
+            angular_velocity: 1e-6,
+        }
+    }
+}
+
+impl AbsoluteTolerances {
+    /// The same tolerance for every variable.
+    pub fn uniform(value: f64) -> Self {
+        Self {
+            position: value,
+            angle: value,
+            velocity: value,
+            angular_velocity: value,
+        }
+    }
+}
+
+/// When to report the state.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OutputTimes {
+    /// Every `dt` from the start time to the end time, both included.
+    Every(f64),
+    /// At these times (sorted, within the run).
+    At(Vec<f64>),
+}
+
+/// Options of a dynamic simulation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulationOptions {
+    pub t_end: f64,
+    pub integrator: Integrator,
+    /// Relative tolerance, default 1e-6.
+    pub rtol: f64,
+    pub atol: AbsoluteTolerances,
+    pub baumgarte: Baumgarte,
+    /// Default: every 1e-4 s.
+    pub output: OutputTimes,
+    pub jacobian: JacobianMethod,
+    /// Keep every output frame in [`SimulationResult::trajectory`] (an observer can record
+    /// selectively instead). Default true.
+    pub record_trajectory: bool,
+    /// Integrate the work of drivers and non-conservative elements. Default true.
+    pub energy_audit: bool,
+    /// diffsol's limit on Newton failures, counted over the whole run (not per step):
+    /// default 1 000 000 so long runs with contact do not abort.
+    pub max_nonlinear_solver_failures: usize,
+    /// diffsol's limit on consecutive error-test failures, default 40.
+    pub max_error_test_failures: usize,
+    /// Smallest step diffsol may take before giving up, default 1e-14 s.
+    pub min_step: f64,
+}
+
+impl SimulationOptions {
+    /// Defaults (BDF, rtol 1e-6, output every 1e-4 s) for a run ending at `t_end`.
+    pub fn until(t_end: f64) -> Self {
+        Self {
+            t_end,
+            integrator: Integrator::default(),
+            rtol: 1e-6,
+            atol: AbsoluteTolerances::default(),
+            baumgarte: Baumgarte::default(),
+            output: OutputTimes::Every(1e-4),
+            jacobian: JacobianMethod::default(),
+            record_trajectory: true,
+            energy_audit: true,
+            max_nonlinear_solver_failures: 1_000_000,
+            max_error_test_failures: 40,
+            min_step: 1e-14,
+        }
+    }
+
+    fn output_times(&self, t0: f64) -> Result<Vec<f64>, SimulationError> {
+        let invalid = |m: String| Err(SimulationError::InvalidOptions(m));
+        if !self.t_end.is_finite() || self.t_end <= t0 {
+            return invalid(format!(
+                "end time {} must be finite and after the start {t0}",
+                self.t_end
+            ));
+        }
+        let positive = [
+            ("rtol", self.rtol),
+            ("position atol", self.atol.position),
+            ("angle atol", self.atol.angle),
+            ("velocity atol", self.atol.velocity),
+            ("angular velocity atol", self.atol.angular_velocity),
+            ("min_step", self.min_step),
+        ];
+        if let Some((name, value)) = positive.iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
+            return invalid(format!("{name} must be positive and finite, got {value}"));
+        }
+        match &self.output {
+            OutputTimes::Every(dt) => {
+                if !(dt.is_finite() && *dt > 0.0) {
+                    return invalid(format!("output interval must be positive, got {dt}"));
+                }
+                let count = ((self.t_end - t0) / dt * (1.0 + 1e-12)).floor() as usize;
+                Ok((0..=count)
+                    .map(|i| (t0 + i as f64 * dt).min(self.t_end))
+                    .collect())
+            }
+            OutputTimes::At(times) => {
+                let sorted = times.windows(2).all(|w| w[0] <= w[1]);
+                let inside = times.iter().all(|t| *t >= t0 && *t <= self.t_end);
+                if !sorted || !inside {
+                    return invalid("output times must be sorted and within the run".into());
+                }
+                Ok(times.clone())
+            }
+        }
+    }
+}
+
+/// One output time, handed to the [`Observer`].
+pub struct Frame<'a> {
+    pub t: f64,
+    pub q: &'a [f64],
+    pub qd: &'a [f64],
+    pub qdd: &'a [f64],
+    /// Lagrange multipliers in the order of [`System::constraint_labels`].
+    pub lambda: &'a [f64],
+    /// The force elements, for custom outputs (e.g. a contact force).
+    pub elements: &'a [Box<dyn ForceElement>],
+}
+
+/// Receives every output frame and progress reports during a run. Both methods default to
+/// doing nothing; `()` is the observer that ignores everything.
+pub trait Observer {
+    fn output(&mut self, _frame: &Frame<'_>) {}
+    /// Called after every accepted step.
+    fn progress(&mut self, _t: f64, _t_end: f64) {}
+}
+
+impl Observer for () {}
+
+/// Integrator statistics of one run.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SolverStatistics {
+    pub steps: usize,
+    /// Steps rejected by the local error test.
+    pub rejected_steps: usize,
+    pub nonlinear_solver_failures: usize,
+    pub nonlinear_iterations: usize,
+    /// Right-hand-side evaluations made by the integrator (including those of
+    /// finite-difference Jacobians).
+    pub rhs_evaluations: usize,
+    /// Dense Jacobians computed (exact or by finite differences).
+    pub jacobian_evaluations: usize,
+    /// Jacobian-vector products requested by diffsol (answered from the cached Jacobian).
+    pub jacobian_vector_products: usize,
+    /// Factorizations of the iteration matrix (diffsol's linear-solver setups).
+    pub factorizations: usize,
+    pub smallest_step: f64,
+    pub largest_step: f64,
+    pub events: usize,
+    pub wall_time: Duration,
+}
+
+/// Largest constraint violation seen at output times and accepted steps.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct ConstraintDrift {
+    /// max |Φ| (m or rad)
+    pub position: f64,
+    /// max |Φ̇| (m/s or rad/s)
+    pub velocity: f64,
+}
+
+/// Energy balance `ΔT = Σ W_elements + Σ W_drivers + residual`; ideal joints do no work, so
+/// the residual measures integration error and constraint drift.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct EnergyAudit {
+    pub initial_kinetic: f64,
+    pub final_kinetic: f64,
+    /// Work of each force element (conservative ones as `−ΔV`), by name.
+    pub element_work: Vec<(String, f64)>,
+    /// Potential energy of conservative elements at start and end, by name.
+    pub potential: Vec<(String, f64, f64)>,
+    /// Work of each driver, from its multiplier: `∫ λ_d Φ_t,d dt`, by name.
+    pub driver_work: Vec<(String, f64)>,
+    pub residual: f64,
+}
+
+impl EnergyAudit {
+    /// Residual relative to the largest energy term, for tolerances.
+    pub fn relative_residual(&self) -> f64 {
+        let scale = self
+            .element_work
+            .iter()
+            .chain(&self.driver_work)
+            .map(|(_, w)| w.abs())
+            .chain([self.initial_kinetic.abs(), self.final_kinetic.abs()])
+            .chain(
+                self.potential
+                    .iter()
+                    .flat_map(|(_, a, b)| [a.abs(), b.abs()]),
+            )
+            .fold(f64::MIN_POSITIVE, f64::max);
+        self.residual.abs() / scale
+    }
+}
+
+/// States at the output times, stored flat: frame `i` of `q` is `q[i*n..(i+1)*n]`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Trajectory {
+    pub times: Vec<f64>,
+    pub q: Vec<f64>,
+    pub qd: Vec<f64>,
+    pub qdd: Vec<f64>,
+    pub lambda: Vec<f64>,
+    pub coordinates: usize,
+    pub constraints: usize,
+}
+
+impl Trajectory {
+    pub fn len(&self) -> usize {
+        self.times.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.times.is_empty()
+    }
+    pub fn q(&self, frame: usize) -> &[f64] {
+        &self.q[frame * self.coordinates..(frame + 1) * self.coordinates]
+    }
+    pub fn qd(&self, frame: usize) -> &[f64] {
+        &self.qd[frame * self.coordinates..(frame + 1) * self.coordinates]
+    }
+    pub fn qdd(&self, frame: usize) -> &[f64] {
+        &self.qdd[frame * self.coordinates..(frame + 1) * self.coordinates]
+    }
+    pub fn lambda(&self, frame: usize) -> &[f64] {
+        &self.lambda[frame * self.constraints..(frame + 1) * self.constraints]
+    }
+}
+
+/// An event located during the run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EventRecord {
+    pub t: f64,
+    pub element: usize,
+    pub index: usize,
+}
+
+/// Everything a run reports. The force elements stay in the [`System`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SimulationResult {
+    pub final_state: State,
+    pub trajectory: Trajectory,
+    pub statistics: SolverStatistics,
+    pub drift: ConstraintDrift,
+    pub energy: Option<EnergyAudit>,
+    pub events: Vec<EventRecord>,
+}
+
+/// The dense Jacobian of the last `(t, y)` diffsol asked about.
+struct JacobianCache<'s> {
+    evaluator: Evaluator<'s>,
+    method: JacobianMethod,
+    t: f64,
+    y: Vec<f64>,
+    valid: bool,
+    matrix: DMatrix<f64>,
+    products: usize,
+}
+
+/// Shared state of one run: what the closures read and the loop updates.
+struct Run<'s, 'o> {
+    system: &'s System,
+    options: &'s SimulationOptions,
+    elements: &'s RefCell<Vec<Box<dyn ForceElement>>>,
+    jacobian_cache: &'s RefCell<JacobianCache<'s>>,
+    /// Evaluator for outputs, energy quadrature and restarts (not the integrator's).
+    evaluator: Evaluator<'s>,
+    observer: &'o mut dyn Observer,
+    final_state: Option<State>,
+    /// Copy of the state after the last accepted step.
+    current: Vec<f64>,
+    output_times: Vec<f64>,
+    next_output: usize,
+    event_owner: Vec<(usize, usize)>,
+    trajectory: Trajectory,
+    drift: ConstraintDrift,
+    statistics: SolverStatistics,
+    events: Vec<EventRecord>,
+    /// Work of non-conservative elements and drivers, integrated step by step.
+    element_work: Vec<f64>,
+    driver_work: Vec<f64>,
+    scratch: Vec<f64>,
+    singular: &'s RefCell<Option<(f64, String)>>,
+}
+
+impl System {
+    /// Integrates the equations of motion from the assembled `initial` state to
+    /// `options.t_end`. The force elements are lent to the integrator and are back in the
+    /// system afterwards (also on error), with whatever their hooks accumulated.
+    pub fn simulate(
+        &mut self,
+        initial: &State,
+        options: &SimulationOptions,
+        observer: &mut dyn Observer,
+    ) -> Result<SimulationResult, SimulationError> {
+        let n = self.coordinate_count();
+        if initial.q.len() != n || initial.qd.len() != n {
+            return Err(crate::error::AssemblyError::WrongLength {
+                expected: n,
+                actual: initial.q.len().min(initial.qd.len()),
+            }
+            .into());
+        }
+        let elements = RefCell::new(std::mem::take(&mut self.elements));
+        let result = self.run(initial, options, observer, &elements);
+        self.elements = elements.into_inner();
+        result
+    }
+
+    fn run(
+        &self,
+        initial: &State,
+        options: &SimulationOptions,
+        observer: &mut dyn Observer,
+        elements: &RefCell<Vec<Box<dyn ForceElement>>>,
+    ) -> Result<SimulationResult, SimulationError> {
+        let started = Instant::now();
+        let output_times = options.output_times(initial.t)?;
+        let n = self.coordinate_count();
+        let m = self.constraint_count();
+        let event_owner: Vec<(usize, usize)> = elements
+            .borrow()
+            .iter()
+            .enumerate()
+            .flat_map(|(e, element)| (0..element.event_count()).map(move |i| (e, i)))
+            .collect();
+        let y0: Vec<f64> = initial.q.iter().chain(&initial.qd).copied().collect();
+        let atol: Vec<f64> = (0..2 * n)
+            .map(|i| match (i >= n, i % 3 == 2) {
+                (false, false) => options.atol.position,
+                (false, true) => options.atol.angle,
+                (true, false) => options.atol.velocity,
+                (true, true) => options.atol.angular_velocity,
+            })
+            .collect();
+
+        let singular = RefCell::new(None);
+        let rhs_evaluator = RefCell::new(self.evaluator(options.baumgarte));
+        let cache = RefCell::new(JacobianCache {
+            evaluator: self.evaluator(options.baumgarte),
+            method: options.jacobian,
+            t: f64::NAN,
+            y: vec![0.0; 2 * n],
+            valid: false,
+            matrix: DMatrix::zeros(2 * n, 2 * n),
+            products: 0,
+        });
+        let rhs = |y: &[f64], _p: &[f64], t: f64, dy: &mut [f64]| {
+            let elements = elements.borrow();
+            if let Err(dependent) = rhs_evaluator.borrow_mut().rhs(&elements, t, y, dy) {
+                singular.borrow_mut().get_or_insert((t, dependent));
+            }
+        };
+        let jacobian_vector = |y: &[f64], _p: &[f64], t: f64, v: &[f64], jv: &mut [f64]| {
+            let mut cache = cache.borrow_mut();
+            let cache = &mut *cache;
+            cache.products += 1;
+            if !(cache.valid && cache.t == t && cache.y == y) {
+                let elements = elements.borrow();
+                let result =
+                    match cache.method {
+                        JacobianMethod::Exact => {
+                            cache.evaluator.jacobian(&elements, t, y, &mut cache.matrix)
+                        }
+                        JacobianMethod::FiniteDifference => cache
+                            .evaluator
+                            .finite_difference_jacobian(&elements, t, y, &mut cache.matrix),
+                    };
+                if let Err(dependent) = result {
+                    cache.matrix.fill(f64::NAN);
+                    singular.borrow_mut().get_or_insert((t, dependent));
+                }
+                cache.t = t;
+                cache.y.copy_from_slice(y);
+                cache.valid = true;
+            }
+            for (r, out) in jv.iter_mut().enumerate() {
+                *out = (0..v.len()).map(|c| cache.matrix[(r, c)] * v[c]).sum();
+            }
+        };
+        let init = |_p: &[f64], _t: f64, y: &mut [f64]| y.copy_from_slice(&y0);
+        let builder = OdeBuilder::<NalgebraMat<f64>>::new()
+            .t0(initial.t)
+            .rtol(options.rtol)
+            .atol(atol)
+            .rhs_implicit(&rhs, &jacobian_vector)
+            .init(&init, 2 * n);
+
+        let mut run = Run {
+            system: self,
+            options,
+            elements,
+            jacobian_cache: &cache,
+            evaluator: self.evaluator(options.baumgarte),
+            observer,
+            final_state: None,
+            current: y0.clone(),
+            output_times,
+            next_output: 0,
+            event_owner,
+            trajectory: Trajectory {
+                coordinates: n,
+                constraints: m,
+                ..Trajectory::default()
+            },
+            drift: ConstraintDrift::default(),
+            statistics: SolverStatistics {
+                smallest_step: f64::INFINITY,
+                ..SolverStatistics::default()
+            },
+            events: Vec::new(),
+            element_work: vec![0.0; elements.borrow().len()],
+            driver_work: vec![0.0; self.driver_names().len()],
+            scratch: vec![0.0; n],
+            singular: &singular,
+        };
+        let initial_potential = run.potentials(initial.t, &initial.q);
+        while run.next_output < run.output_times.len()
+            && run.output_times[run.next_output] <= initial.t
+        {
+            run.emit_frame(initial.t, &y0)?;
+        }
+        run.track_drift(initial.t, &y0);
+
+        let event_count = run.event_owner.len();
+        if event_count == 0 {
+            let problem = builder
+                .build()
+                .map_err(|e| integrator_error(initial.t, e))?;
+            let problem = configure(problem, options);
+            run.integrate(&problem)?;
+        } else {
+            let roots = |y: &[f64], _p: &[f64], t: f64, g: &mut [f64]| {
+                let (q, qd) = y.split_at(n);
+                let mut offset = 0;
+                for element in elements.borrow().iter() {
+                    let count = element.event_count();
+                    element.event_functions(t, q, qd, &mut g[offset..offset + count]);
+                    offset += count;
+                }
+            };
+            let problem = builder
+                .root(&roots, event_count)
+                .build()
+                .map_err(|e| integrator_error(initial.t, e))?;
+            let problem = configure(problem, options);
+            run.integrate(&problem)?;
+        }
+
+        let mut statistics = run.statistics.clone();
+        let events = std::mem::take(&mut run.events);
+        let final_state = run.final_state.take().unwrap_or_else(|| initial.clone());
+        let energy = options
+            .energy_audit
+            .then(|| run.energy_audit(initial, &final_state, &initial_potential));
+        let trajectory = std::mem::take(&mut run.trajectory);
+        let drift = run.drift;
+        drop(run);
+        let cache = cache.borrow();
+        let rhs_evaluator = rhs_evaluator.borrow();
+        statistics.rhs_evaluations =
+            rhs_evaluator.rhs_evaluations + cache.evaluator.rhs_evaluations;
+        statistics.jacobian_evaluations = cache.evaluator.jacobian_evaluations;
+        statistics.jacobian_vector_products = cache.products;
+        statistics.events = events.len();
+        statistics.wall_time = started.elapsed();
+        Ok(SimulationResult {
+            final_state,
+            trajectory,
+            statistics,
+            drift,
+            energy,
+            events,
+        })
+    }
+}
+
+fn integrator_error(t: f64, error: diffsol::DiffsolError) -> SimulationError {
+    SimulationError::Integrator {
+        t,
+        message: error.to_string(),
+    }
+}
+
+fn configure<Eqn>(
+    mut problem: OdeSolverProblem<Eqn>,
+    options: &SimulationOptions,
+) -> OdeSolverProblem<Eqn>
+where
+    Eqn: diffsol::OdeEquations<T = f64>,
+{
+    problem.ode_options.max_nonlinear_solver_failures = options.max_nonlinear_solver_failures;
+    problem.ode_options.max_error_test_failures = options.max_error_test_failures;
+    problem.ode_options.min_timestep = options.min_step;
+    problem
+}
+
+/// Gauss–Legendre nodes and weights on [0, 1], exact for polynomials of degree 5.
+const GAUSS_NODES: [(f64, f64); 3] = [
+    (0.112_701_665_379_258_3, 5.0 / 18.0),
+    (0.5, 8.0 / 18.0),
+    (0.887_298_334_620_741_7, 5.0 / 18.0),
+];
+
+impl Run<'_, '_> {
+    fn integrate<Eqn>(&mut self, problem: &OdeSolverProblem<Eqn>) -> Result<(), SimulationError>
+    where
+        Eqn: OdeEquationsImplicit<
+                T = f64,
+                V = NalgebraVec<f64>,
+                M = NalgebraMat<f64>,
+                C = NalgebraContext,
+            >,
+    {
+        let t0 = problem.t0;
+        let error = |e| integrator_error(t0, e);
+        match self.options.integrator {
+            Integrator::Bdf => self.step_loop(problem.bdf::<NalgebraLU<f64>>().map_err(error)?),
+            Integrator::TrBdf2 => {
+                self.step_loop(problem.tr_bdf2::<NalgebraLU<f64>>().map_err(error)?)
+            }
+            Integrator::Esdirk34 => {
+                self.step_loop(problem.esdirk34::<NalgebraLU<f64>>().map_err(error)?)
+            }
+            Integrator::Tsit45 => self.step_loop(problem.tsit45().map_err(error)?),
+        }
+    }
+
+    fn failure(&self, t: f64, error: diffsol::DiffsolError) -> SimulationError {
+        match self.singular.borrow_mut().take() {
+            Some((t, dependent)) => SimulationError::Singular { t, dependent },
+            None => integrator_error(t, error),
+        }
+    }
+
+    fn step_loop<'a, Eqn, S>(&mut self, mut solver: S) -> Result<(), SimulationError>
+    where
+        Eqn: OdeEquationsImplicit<
+                T = f64,
+                V = NalgebraVec<f64>,
+                M = NalgebraMat<f64>,
+                C = NalgebraContext,
+            > + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let t_end = self.options.t_end;
+        let n = self.system.coordinate_count();
+        let mut t_previous = solver.state().t;
+        solver
+            .set_stop_time(t_end)
+            .map_err(|e| integrator_error(t_previous, e))?;
+        let mut interpolated = solver.state().y.clone();
+        let outcome = loop {
+            let reason = match solver.step() {
+                Ok(reason) => reason,
+                Err(e) => break Err(self.failure(solver.state().t, e)),
+            };
+            // A singular matrix met in a rejected trial step is not a failure.
+            self.singular.borrow_mut().take();
+            let (t_now, root) = match reason {
+                OdeSolverStopReason::RootFound(t_root, index) => (t_root, Some(index)),
+                _ => (solver.state().t, None),
+            };
+            if let Err(e) = self.process_interval(&solver, t_previous, t_now, &mut interpolated) {
+                break Err(e);
+            }
+            if root.is_some()
+                && let Err(e) = solver.state_mut_back(t_now)
+            {
+                break Err(integrator_error(t_now, e));
+            }
+            self.current
+                .copy_from_slice(solver.state().y.inner().as_slice());
+            let step = t_now - t_previous;
+            if step > 0.0 {
+                self.statistics.smallest_step = self.statistics.smallest_step.min(step);
+                self.statistics.largest_step = self.statistics.largest_step.max(step);
+            }
+            {
+                let (q, qd) = self.current.split_at(n);
+                for element in self.elements.borrow_mut().iter_mut() {
+                    element.on_accepted_step(t_previous, t_now, q, qd);
+                }
+            }
+            let current = std::mem::take(&mut self.current);
+            self.track_drift(t_now, &current);
+            self.current = current;
+            if let Some(index) = root {
+                self.handle_event(&mut solver, t_now, index);
+            }
+            self.jacobian_cache.borrow_mut().valid = false;
+            self.observer.progress(t_now, t_end);
+            t_previous = t_now;
+            if matches!(reason, OdeSolverStopReason::TstopReached) {
+                break Ok(());
+            }
+        };
+        let diffsol_statistics = solver.get_statistics();
+        let statistics = &mut self.statistics;
+        statistics.steps = diffsol_statistics.number_of_steps;
+        statistics.rejected_steps = diffsol_statistics.number_of_error_test_failures;
+        statistics.nonlinear_solver_failures = diffsol_statistics.number_of_nonlinear_solver_fails;
+        statistics.nonlinear_iterations = diffsol_statistics.number_of_nonlinear_solver_iterations;
+        statistics.factorizations = diffsol_statistics.number_of_linear_solver_setups;
+        let (q, qd) = self.current.split_at(n);
+        self.final_state = Some(State {
+            t: t_previous,
+            q: q.to_vec(),
+            qd: qd.to_vec(),
+        });
+        outcome
+    }
+
+    /// Lets the element owning root `index` react, then restarts the integrator from the
+    /// (unchanged) state with a freshly evaluated derivative, since the force law may change.
+    fn handle_event<'a, Eqn, S>(&mut self, solver: &mut S, t: f64, index: usize)
+    where
+        Eqn: OdeEquationsImplicit<
+                T = f64,
+                V = NalgebraVec<f64>,
+                M = NalgebraMat<f64>,
+                C = NalgebraContext,
+            > + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        let n = self.system.coordinate_count();
+        let Some(&(element, local)) = self.event_owner.get(index) else {
+            return;
+        };
+        {
+            let (q, qd) = self.current.split_at(n);
+            if let Some(e) = self.elements.borrow_mut().get_mut(element) {
+                e.on_event(local, t, q, qd);
+            }
+        }
+        self.events.push(EventRecord {
+            t,
+            element,
+            index: local,
+        });
+        let state = solver.state_mut();
+        let elements = self.elements.borrow();
+        // A singular system shows up as NaN here and fails the next step with a clear error.
+        if let Err(dependent) = self.evaluator.rhs(
+            &elements,
+            t,
+            state.y.inner().as_slice(),
+            state.dy.inner_mut().as_mut_slice(),
+        ) {
+            self.singular.borrow_mut().get_or_insert((t, dependent));
+        }
+    }
+
+    /// Output frames and energy quadrature over the accepted step `(t_start, t_end]`, from the
+    /// integrator's interpolant.
+    fn process_interval<'a, Eqn, S>(
+        &mut self,
+        solver: &S,
+        t_start: f64,
+        t_end: f64,
+        y: &mut NalgebraVec<f64>,
+    ) -> Result<(), SimulationError>
+    where
+        Eqn: OdeEquationsImplicit<
+                T = f64,
+                V = NalgebraVec<f64>,
+                M = NalgebraMat<f64>,
+                C = NalgebraContext,
+            > + 'a,
+        S: OdeSolverMethod<'a, Eqn>,
+    {
+        while self.next_output < self.output_times.len()
+            && self.output_times[self.next_output] <= t_end
+        {
+            let t = self.output_times[self.next_output];
+            solver
+                .interpolate_inplace(t, y)
+                .map_err(|e| integrator_error(t, e))?;
+            let values = y.inner().as_slice().to_vec();
+            self.emit_frame(t, &values)?;
+        }
+        if self.options.energy_audit && t_end > t_start && self.needs_quadrature() {
+            for (node, weight) in GAUSS_NODES {
+                let t = t_start + node * (t_end - t_start);
+                solver
+                    .interpolate_inplace(t, y)
+                    .map_err(|e| integrator_error(t, e))?;
+                let values = y.inner().as_slice().to_vec();
+                self.accumulate_power(t, &values, weight * (t_end - t_start));
+            }
+        }
+        Ok(())
+    }
+
+    fn needs_quadrature(&self) -> bool {
+        !self.driver_work.is_empty()
+            || self.elements.borrow().iter().any(|e| {
+                e.potential_energy(0.0, &self.current[..self.system.coordinate_count()])
+                    .is_none()
+            })
+    }
+
+    fn accumulate_power(&mut self, t: f64, y: &[f64], weight: f64) {
+        let n = self.system.coordinate_count();
+        let (q, qd) = y.split_at(n);
+        let elements = self.elements.borrow();
+        for (work, element) in self.element_work.iter_mut().zip(elements.iter()) {
+            if element.potential_energy(t, q).is_some() {
+                continue;
+            }
+            self.scratch.fill(0.0);
+            element.add_forces(t, q, qd, &mut self.scratch);
+            *work += weight * self.scratch.iter().zip(qd).map(|(f, v)| f * v).sum::<f64>();
+        }
+        if self.driver_work.is_empty()
+            || self
+                .evaluator
+                .solve_accelerations(&elements, t, q, qd)
+                .is_err()
+        {
+            return;
+        }
+        let lambda = self.evaluator.multipliers();
+        for (k, owner) in self.system.constraint_owners().iter().enumerate() {
+            if let ConstraintOwner::Driver(driver) = owner {
+                self.driver_work[driver.0] +=
+                    weight * lambda[k] * self.evaluator.local(k).time_rate;
+            }
+        }
+    }
+
+    fn emit_frame(&mut self, t: f64, y: &[f64]) -> Result<(), SimulationError> {
+        let n = self.system.coordinate_count();
+        let (q, qd) = y.split_at(n);
+        let elements = self.elements.borrow();
+        self.evaluator
+            .solve_accelerations(&elements, t, q, qd)
+            .map_err(|dependent| SimulationError::Singular { t, dependent })?;
+        let frame = Frame {
+            t,
+            q,
+            qd,
+            qdd: self.evaluator.accelerations(),
+            lambda: self.evaluator.multipliers(),
+            elements: &elements,
+        };
+        self.observer.output(&frame);
+        if self.options.record_trajectory {
+            let trajectory = &mut self.trajectory;
+            trajectory.times.push(t);
+            trajectory.q.extend_from_slice(q);
+            trajectory.qd.extend_from_slice(qd);
+            trajectory.qdd.extend_from_slice(frame.qdd);
+            trajectory.lambda.extend_from_slice(frame.lambda);
+        }
+        self.next_output += 1;
+        drop(elements);
+        self.track_drift(t, y);
+        Ok(())
+    }
+
+    fn track_drift(&mut self, t: f64, y: &[f64]) {
+        let (q, qd) = y.split_at(self.system.coordinate_count());
+        let (position, velocity) = self.system.constraint_violation(t, q, qd);
+        self.drift.position = self.drift.position.max(position);
+        self.drift.velocity = self.drift.velocity.max(velocity);
+    }
+
+    fn potentials(&self, t: f64, q: &[f64]) -> Vec<Option<f64>> {
+        self.elements
+            .borrow()
+            .iter()
+            .map(|e| e.potential_energy(t, q))
+            .collect()
+    }
+
+    fn energy_audit(
+        &self,
+        initial: &State,
+        last: &State,
+        initial_potential: &[Option<f64>],
+    ) -> EnergyAudit {
+        let final_potential = self.potentials(last.t, &last.q);
+        let elements = self.elements.borrow();
+        let mut audit = EnergyAudit {
+            initial_kinetic: self.system.kinetic_energy(&initial.qd),
+            final_kinetic: self.system.kinetic_energy(&last.qd),
+            ..EnergyAudit::default()
+        };
+        for (k, element) in elements.iter().enumerate() {
+            let work = match (
+                initial_potential.get(k).copied().flatten(),
+                final_potential[k],
+            ) {
+                (Some(v0), Some(v1)) => {
+                    audit.potential.push((element.name().to_string(), v0, v1));
+                    v0 - v1
+                }
+                _ => self.element_work[k],
+            };
+            audit.element_work.push((element.name().to_string(), work));
+        }
+        audit.driver_work = self
+            .system
+            .driver_names()
+            .iter()
+            .cloned()
+            .zip(self.driver_work.iter().copied())
+            .collect();
+        let total_work: f64 = audit
+            .element_work
+            .iter()
+            .chain(&audit.driver_work)
+            .map(|(_, w)| w)
+            .sum();
+        audit.residual = audit.final_kinetic - audit.initial_kinetic - total_work;
+        audit
+    }
+}

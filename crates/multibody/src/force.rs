@@ -1,0 +1,138 @@
+//! Force elements: everything that is not an ideal constraint enters the equations of motion
+//! through [`ForceElement`] — gravity, springs, and (in other crates) clearance joints.
+
+use std::any::Any;
+
+use nalgebra::DMatrix;
+
+use crate::model::{BodyId, Model};
+
+/// Index of a force element in the order it was added to a [`crate::System`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ElementId(pub usize);
+
+/// A source of generalized forces `G_e(t, q, q̇)` with exact partial derivatives.
+///
+/// The integrator reads elements (`&self`) inside the right-hand side and its Jacobian, and
+/// mutates them (`&mut self`) only between steps, through the hooks. Everything but
+/// [`ForceElement::add_forces`] has a default, so a simple element is a few lines; see the
+/// crate docs for an example. `Any` is a supertrait so a caller can get its concrete element
+/// back after a run ([`crate::System::element`]) to read what it accumulated.
+pub trait ForceElement: Any {
+    /// Shown in reports and energy audits.
+    fn name(&self) -> &str;
+
+    /// Adds this element's generalized forces to `forces` (length `n`; per body `(F_x, F_y,
+    /// M)` with the moment about the centroid).
+    fn add_forces(&self, t: f64, q: &[f64], qd: &[f64], forces: &mut [f64]);
+
+    /// Adds `∂G_e/∂q` and `∂G_e/∂q̇`. The default adds nothing, which is exact only for forces
+    /// that depend on time alone (like gravity); anything else must implement it, or the
+    /// implicit integrators lose their Newton convergence.
+    fn add_partials(&self, _t: f64, _q: &[f64], _qd: &[f64], _partials: &mut ForcePartials<'_>) {}
+
+    /// Potential energy, for conservative elements. When `Some`, the energy audit books this
+    /// element's work as `−ΔV` (exact); otherwise it integrates the power `G_e·q̇` over each
+    /// accepted step.
+    fn potential_energy(&self, _t: f64, _q: &[f64]) -> Option<f64> {
+        None
+    }
+
+    /// Called once per accepted step, at its end, in step order (record contact onset
+    /// velocities, accumulate wear, ...). `t_previous` is the start of the step.
+    fn on_accepted_step(&mut self, _t_previous: f64, _t: f64, _q: &[f64], _qd: &[f64]) {}
+
+    /// Number of event (root) functions this element has.
+    fn event_count(&self) -> usize {
+        0
+    }
+
+    /// Writes the `event_count()` event functions; the integrator lands a step where one
+    /// changes sign and then calls [`ForceElement::on_event`].
+    fn event_functions(&self, _t: f64, _q: &[f64], _qd: &[f64], _values: &mut [f64]) {}
+
+    /// Called at the located event `index` (local to this element). The integrator restarts
+    /// from this state afterwards, so the element may switch its force law here.
+    fn on_event(&mut self, _index: usize, _t: f64, _q: &[f64], _qd: &[f64]) {}
+}
+
+/// Where a force element adds its partial derivatives `∂G/∂q` and `∂G/∂q̇` (both `n × n`).
+pub struct ForcePartials<'a> {
+    pub(crate) d_dq: &'a mut DMatrix<f64>,
+    pub(crate) d_dqd: &'a mut DMatrix<f64>,
+}
+
+impl ForcePartials<'_> {
+    /// Adds `value` to `∂G_row/∂q_column`.
+    pub fn add_dq(&mut self, row: usize, column: usize, value: f64) {
+        self.d_dq[(row, column)] += value;
+    }
+
+    /// Adds `value` to `∂G_row/∂q̇_column`.
+    pub fn add_dqd(&mut self, row: usize, column: usize, value: f64) {
+        self.d_dqd[(row, column)] += value;
+    }
+
+    /// Adds the partials of a force acting on two bodies (`None` = ground, skipped), given as
+    /// the 6×12 Jacobian of `(F_x, F_y, M)` of body `a` then body `b` with respect to
+    /// `(q_a, q_b, q̇_a, q̇_b)` — the layout of a two-body contact Jacobian.
+    pub fn add_pair(&mut self, bodies: [Option<BodyId>; 2], jacobian: &[[f64; 12]; 6]) {
+        for (row_body, rows) in bodies.iter().zip([0, 3]) {
+            let Some(row_body) = row_body else { continue };
+            for (column_body, columns) in bodies.iter().zip([0, 3]) {
+                let Some(column_body) = column_body else {
+                    continue;
+                };
+                for r in 0..3 {
+                    for c in 0..3 {
+                        let row = 3 * row_body.0 + r;
+                        let column = 3 * column_body.0 + c;
+                        self.d_dq[(row, column)] += jacobian[rows + r][columns + c];
+                        self.d_dqd[(row, column)] += jacobian[rows + r][6 + columns + c];
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Uniform gravity `g` acting at every centroid. Conservative, so it reports its potential.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Gravity {
+    acceleration: [f64; 2],
+    masses: Vec<f64>,
+}
+
+impl Gravity {
+    /// Gravity of acceleration `g = (g_x, g_y)` on every body of `model` (e.g. `[0.0, -9.81]`).
+    pub fn new(model: &Model, acceleration: [f64; 2]) -> Self {
+        Self {
+            acceleration,
+            masses: model.bodies().iter().map(|b| b.mass).collect(),
+        }
+    }
+}
+
+impl ForceElement for Gravity {
+    fn name(&self) -> &str {
+        "gravity"
+    }
+
+    fn add_forces(&self, _t: f64, _q: &[f64], _qd: &[f64], forces: &mut [f64]) {
+        for (body, mass) in forces.chunks_exact_mut(3).zip(&self.masses) {
+            body[0] += mass * self.acceleration[0];
+            body[1] += mass * self.acceleration[1];
+        }
+    }
+
+    fn potential_energy(&self, _t: f64, q: &[f64]) -> Option<f64> {
+        Some(
+            -q.chunks_exact(3)
+                .zip(&self.masses)
+                .map(|(body, mass)| {
+                    mass * (self.acceleration[0] * body[0] + self.acceleration[1] * body[1])
+                })
+                .sum::<f64>(),
+        )
+    }
+}

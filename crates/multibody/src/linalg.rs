@@ -1,0 +1,173 @@
+//! A dense LU factorization with partial pivoting that works in preallocated storage.
+//!
+//! nalgebra's `LU` allocates its permutation on every factorization; the right-hand side of the
+//! equations of motion factors the augmented matrix once per call, so it uses this instead.
+
+use nalgebra::DMatrix;
+
+/// LU factors of a square matrix, kept in place together with the row permutation.
+#[derive(Debug, Clone)]
+pub(crate) struct DenseLu {
+    factors: DMatrix<f64>,
+    pivots: Vec<usize>,
+}
+
+/// The pivot that was too small, i.e. the elimination step where the matrix proved singular.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct SingularPivot {
+    pub column: usize,
+}
+
+impl DenseLu {
+    pub fn new(size: usize) -> Self {
+        Self {
+            factors: DMatrix::zeros(size, size),
+            pivots: vec![0; size],
+        }
+    }
+
+    /// Factors `matrix` (copied, so the caller keeps it). A pivot below `relative_tolerance`
+    /// times the largest entry of the matrix counts as singular.
+    pub fn factor(
+        &mut self,
+        matrix: &DMatrix<f64>,
+        relative_tolerance: f64,
+    ) -> Result<(), SingularPivot> {
+        self.factors.copy_from(matrix);
+        let size = self.factors.nrows();
+        let scale = matrix.amax().max(f64::MIN_POSITIVE);
+        let a = &mut self.factors;
+        for k in 0..size {
+            let mut pivot_row = k;
+            let mut pivot_abs = a[(k, k)].abs();
+            for r in (k + 1)..size {
+                let value = a[(r, k)].abs();
+                if value > pivot_abs {
+                    pivot_abs = value;
+                    pivot_row = r;
+                }
+            }
+            // A NaN pivot fails this test too, which is what we want.
+            if pivot_abs.is_nan() || pivot_abs <= relative_tolerance * scale {
+                return Err(SingularPivot { column: k });
+            }
+            self.pivots[k] = pivot_row;
+            if pivot_row != k {
+                a.swap_rows(k, pivot_row);
+            }
+            let inverse_pivot = 1.0 / a[(k, k)];
+            for r in (k + 1)..size {
+                a[(r, k)] *= inverse_pivot;
+            }
+            for c in (k + 1)..size {
+                let upper = a[(k, c)];
+                if upper != 0.0 {
+                    for r in (k + 1)..size {
+                        let lower = a[(r, k)];
+                        a[(r, c)] -= lower * upper;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves `A x = b` in place, with `A` the last matrix factored successfully.
+    pub fn solve_in_place(&self, b: &mut [f64]) {
+        let a = &self.factors;
+        let size = a.nrows();
+        for k in 0..size {
+            b.swap(k, self.pivots[k]);
+        }
+        for c in 0..size {
+            let value = b[c];
+            if value != 0.0 {
+                for r in (c + 1)..size {
+                    b[r] -= a[(r, c)] * value;
+                }
+            }
+        }
+        for c in (0..size).rev() {
+            b[c] /= a[(c, c)];
+            let value = b[c];
+            if value != 0.0 {
+                for r in 0..c {
+                    b[r] -= a[(r, c)] * value;
+                }
+            }
+        }
+    }
+
+    /// Solves for every column of `b` in place.
+    pub fn solve_columns_in_place(&self, b: &mut DMatrix<f64>) {
+        let rows = b.nrows();
+        for column in b.as_mut_slice().chunks_mut(rows) {
+            self.solve_in_place(column);
+        }
+    }
+}
+
+/// Indices of rows of `matrix` (m×n) that are linear combinations of earlier rows, found by
+/// Gaussian elimination with column pivoting over the rows in order. Used to name the constraints
+/// that make a constraint Jacobian rank deficient.
+pub(crate) fn dependent_rows(matrix: &DMatrix<f64>, relative_tolerance: f64) -> Vec<usize> {
+    let mut work = matrix.clone();
+    let (rows, cols) = work.shape();
+    let scale = matrix.amax().max(f64::MIN_POSITIVE);
+    let mut used_columns = vec![false; cols];
+    let mut dependent = Vec::new();
+    for r in 0..rows {
+        let mut best = None;
+        let mut best_abs = relative_tolerance * scale;
+        for c in 0..cols {
+            if !used_columns[c] && work[(r, c)].abs() > best_abs {
+                best_abs = work[(r, c)].abs();
+                best = Some(c);
+            }
+        }
+        let Some(c) = best else {
+            dependent.push(r);
+            continue;
+        };
+        used_columns[c] = true;
+        let pivot = work[(r, c)];
+        for below in (r + 1)..rows {
+            let factor = work[(below, c)] / pivot;
+            if factor != 0.0 {
+                for k in 0..cols {
+                    let value = work[(r, k)];
+                    work[(below, k)] -= factor * value;
+                }
+            }
+        }
+    }
+    dependent
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn solves_a_permuted_system() {
+        let a = DMatrix::from_row_slice(3, 3, &[0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 4.0]);
+        let x = [1.0, -2.0, 0.5];
+        let mut b: Vec<f64> = (0..3)
+            .map(|r| (0..3).map(|c| a[(r, c)] * x[c]).sum())
+            .collect();
+        let mut lu = DenseLu::new(3);
+        lu.factor(&a, 1e-14).expect("nonsingular");
+        lu.solve_in_place(&mut b);
+        for (got, want) in b.iter().zip(x) {
+            assert!((got - want).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn reports_singular_and_dependent_rows() {
+        let a = DMatrix::from_row_slice(3, 3, &[1.0, 2.0, 3.0, 2.0, 4.0, 6.0, 0.0, 1.0, 1.0]);
+        let mut lu = DenseLu::new(3);
+        assert!(lu.factor(&a, 1e-12).is_err());
+        assert_eq!(dependent_rows(&a, 1e-12), vec![1]);
+    }
+}

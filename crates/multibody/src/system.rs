@@ -1,0 +1,724 @@
+//! A compiled mechanism with its force elements: the equations of motion, their exact
+//! Jacobian, assembly and kinematic analysis.
+
+use nalgebra::DMatrix;
+
+use crate::constraints::{ConstraintOwner, Constraints, LocalDerivatives};
+use crate::error::{AssemblyError, KinematicsError, ModelError};
+use crate::force::{ElementId, ForceElement, ForcePartials};
+use crate::linalg::{DenseLu, dependent_rows};
+use crate::model::{Body, BodyId, Joint, Model};
+
+/// Relative pivot size below which a matrix counts as singular.
+const SINGULAR_PIVOT: f64 = 1e-12;
+/// Newton iterations of position analysis stop when every `|Φ_k|` is below this (m or rad).
+const POSITION_TOLERANCE: f64 = 1e-12;
+/// Position analysis fails if after its iterations some `|Φ_k|` is still above this.
+const POSITION_ACCEPTANCE: f64 = 1e-9;
+const MAX_NEWTON_ITERATIONS: usize = 50;
+
+/// A configuration that satisfies the constraints: positions and velocities at time `t`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct State {
+    pub t: f64,
+    pub q: Vec<f64>,
+    pub qd: Vec<f64>,
+}
+
+/// Baumgarte stabilisation of the acceleration constraint:
+/// `Φ_q q̈ = γ − 2αΦ̇ − β²Φ`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Baumgarte {
+    pub alpha: f64,
+    pub beta: f64,
+}
+
+impl Default for Baumgarte {
+    /// `α = β = 50`, as in the paper.
+    fn default() -> Self {
+        Self {
+            alpha: 50.0,
+            beta: 50.0,
+        }
+    }
+}
+
+impl Baumgarte {
+    /// No stabilisation: the plain acceleration equation (kinematic analysis).
+    pub const NONE: Self = Self {
+        alpha: 0.0,
+        beta: 0.0,
+    };
+}
+
+/// A validated mechanism, ready for analysis.
+pub struct System {
+    bodies: Vec<Body>,
+    joints: Vec<Joint>,
+    driver_names: Vec<String>,
+    constraints: Constraints,
+    /// Diagonal of the (constant) mass matrix: `(m, m, J)` per body.
+    mass: Vec<f64>,
+    pub(crate) elements: Vec<Box<dyn ForceElement>>,
+    initial_guess: (Vec<f64>, Vec<f64>),
+}
+
+impl std::fmt::Debug for System {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("System")
+            .field("bodies", &self.bodies.len())
+            .field("constraints", &self.constraints.labels())
+            .field(
+                "elements",
+                &self.elements.iter().map(|e| e.name()).collect::<Vec<_>>(),
+            )
+            .finish()
+    }
+}
+
+impl System {
+    /// Compiles `model` into constraint equations.
+    pub fn new(mut model: Model) -> Result<Self, ModelError> {
+        if model.bodies.is_empty() {
+            return Err(ModelError::Empty);
+        }
+        let driver_names = model.drivers.iter().map(|d| d.name.clone()).collect();
+        let initial_guess = model.initial_guess();
+        let constraints = Constraints::compile(&mut model);
+        let mass = model
+            .bodies
+            .iter()
+            .flat_map(|b| [b.mass, b.mass, b.inertia])
+            .collect();
+        Ok(Self {
+            bodies: model.bodies,
+            joints: model.joints,
+            driver_names,
+            constraints,
+            mass,
+            elements: Vec::new(),
+            initial_guess,
+        })
+    }
+
+    /// Adds a force element; the returned id gives it back with [`System::element`].
+    pub fn add_element(&mut self, element: Box<dyn ForceElement>) -> ElementId {
+        self.elements.push(element);
+        ElementId(self.elements.len() - 1)
+    }
+
+    /// The element `id` as its concrete type, e.g. to read wear accumulated during a run.
+    pub fn element<T: ForceElement>(&self, id: ElementId) -> Option<&T> {
+        let element: &dyn std::any::Any = self.elements.get(id.0)?.as_ref();
+        element.downcast_ref()
+    }
+
+    /// Mutable access to element `id` as its concrete type (e.g. to update a worn surface
+    /// between runs).
+    pub fn element_mut<T: ForceElement>(&mut self, id: ElementId) -> Option<&mut T> {
+        let element: &mut dyn std::any::Any = self.elements.get_mut(id.0)?.as_mut();
+        element.downcast_mut()
+    }
+
+    pub fn elements(&self) -> &[Box<dyn ForceElement>] {
+        &self.elements
+    }
+
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
+    }
+
+    pub fn driver_names(&self) -> &[String] {
+        &self.driver_names
+    }
+
+    /// `n`: three per body.
+    pub fn coordinate_count(&self) -> usize {
+        self.mass.len()
+    }
+
+    /// `m`: scalar constraint equations (joints and drivers).
+    pub fn constraint_count(&self) -> usize {
+        self.constraints.len()
+    }
+
+    /// Name of each scalar constraint equation, in the order of `Φ` and `λ`.
+    pub fn constraint_labels(&self) -> &[String] {
+        self.constraints.labels()
+    }
+
+    /// The joint or driver each scalar constraint equation belongs to.
+    pub fn constraint_owners(&self) -> &[ConstraintOwner] {
+        self.constraints.owners()
+    }
+
+    /// Degrees of freedom, `n − m` (assuming independent constraints).
+    pub fn degrees_of_freedom(&self) -> isize {
+        self.coordinate_count() as isize - self.constraint_count() as isize
+    }
+
+    /// The mass-matrix diagonal `(m, m, J)` per body.
+    pub fn mass_diagonal(&self) -> &[f64] {
+        &self.mass
+    }
+
+    /// Positions and velocities of the bodies as given in the model (not yet assembled).
+    pub fn initial_guess(&self) -> (Vec<f64>, Vec<f64>) {
+        self.initial_guess.clone()
+    }
+
+    pub(crate) fn constraints(&self) -> &Constraints {
+        &self.constraints
+    }
+
+    /// Kinetic energy `½ q̇ᵀ M q̇`.
+    pub fn kinetic_energy(&self, qd: &[f64]) -> f64 {
+        0.5 * self
+            .mass
+            .iter()
+            .zip(qd)
+            .map(|(m, v)| m * v * v)
+            .sum::<f64>()
+    }
+
+    /// Largest `|Φ_k|` and `|Φ̇_k|` at a state: how far it has drifted off the constraints.
+    pub fn constraint_violation(&self, t: f64, q: &[f64], qd: &[f64]) -> (f64, f64) {
+        let mut max_phi: f64 = 0.0;
+        let mut max_phi_dot: f64 = 0.0;
+        for k in 0..self.constraints.len() {
+            let d = self.constraints.local(k, q, qd, t);
+            max_phi = max_phi.max(d.value.abs());
+            let rate = local_dot(&d, self.constraints.slots(k), qd) + d.time_rate;
+            max_phi_dot = max_phi_dot.max(rate.abs());
+        }
+        (max_phi, max_phi_dot)
+    }
+
+    /// Generalized constraint force `−Φ_qᵀλ` that the equations of `owner` exert on `body`:
+    /// `(F_x, F_y, M)`, the moment about the body's centroid. For a revolute joint this is the
+    /// joint reaction on that body.
+    pub fn reaction(
+        &self,
+        owner: ConstraintOwner,
+        body: BodyId,
+        t: f64,
+        q: &[f64],
+        lambda: &[f64],
+    ) -> [f64; 3] {
+        let zero = vec![0.0; q.len()];
+        let mut force = [0.0; 3];
+        for (k, _) in self
+            .constraints
+            .owners()
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| **o == owner)
+        {
+            let d = self.constraints.local(k, q, &zero, t);
+            for (slot, index) in self.constraints.slots(k).iter().enumerate() {
+                if let Some(index) = *index
+                    && index / 3 == body.0
+                {
+                    force[index % 3] -= lambda[k] * d.grad[slot];
+                }
+            }
+        }
+        force
+    }
+
+    fn check_length(&self, values: &[f64], what: &'static str) -> Result<(), AssemblyError> {
+        if values.len() != self.coordinate_count() {
+            return Err(AssemblyError::WrongLength {
+                expected: self.coordinate_count(),
+                actual: values.len(),
+            });
+        }
+        if !values.iter().all(|v| v.is_finite()) {
+            return Err(AssemblyError::NonFinite { what });
+        }
+        Ok(())
+    }
+
+    /// Assembly: Newton–Raphson (least-norm steps) from `q_guess` onto `Φ(q, t) = 0`, then the
+    /// velocities closest to `qd_guess` that satisfy `Φ_q q̇ = −Φ_t`.
+    pub fn assemble(
+        &self,
+        t: f64,
+        q_guess: &[f64],
+        qd_guess: &[f64],
+    ) -> Result<State, AssemblyError> {
+        self.check_length(q_guess, "position guess")?;
+        self.check_length(qd_guess, "velocity guess")?;
+        let (n, m) = (self.coordinate_count(), self.constraint_count());
+        if m > n {
+            return Err(AssemblyError::Overconstrained {
+                equations: m,
+                coordinates: n,
+            });
+        }
+        let mut q = q_guess.to_vec();
+        let mut projector = Projector::new(n, m);
+        let mut converged = false;
+        for _ in 0..MAX_NEWTON_ITERATIONS {
+            projector.evaluate(self, t, &q)?;
+            if projector
+                .residual
+                .iter()
+                .all(|r| r.abs() <= POSITION_TOLERANCE)
+            {
+                converged = true;
+                break;
+            }
+            let step = projector.least_norm(&projector.residual.clone());
+            for (qi, dqi) in q.iter_mut().zip(step) {
+                *qi -= dqi;
+            }
+            if !q.iter().all(|v| v.is_finite()) {
+                break;
+            }
+        }
+        if !converged {
+            projector.evaluate_residual(self, t, &q);
+            let residual = projector
+                .residual
+                .iter()
+                .fold(0.0_f64, |a, r| a.max(r.abs()));
+            if residual.is_nan() || residual > POSITION_ACCEPTANCE {
+                return Err(self.not_converged(t, &projector.residual, residual));
+            }
+            projector.evaluate(self, t, &q)?;
+        }
+        // Velocities: q̇ = q̇₀ − Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ (Φ_q q̇₀ + Φ_t).
+        let mut velocity_error = vec![0.0; m];
+        for (k, error) in velocity_error.iter_mut().enumerate() {
+            let d = self.constraints.local(k, &q, qd_guess, t);
+            *error = local_dot(&d, self.constraints.slots(k), qd_guess) + d.time_rate;
+        }
+        let correction = projector.least_norm(&velocity_error);
+        let qd = qd_guess
+            .iter()
+            .zip(correction)
+            .map(|(v, c)| v - c)
+            .collect();
+        Ok(State { t, q, qd })
+    }
+
+    fn not_converged(&self, t: f64, residual: &[f64], max: f64) -> AssemblyError {
+        let mut order: Vec<usize> = (0..residual.len()).collect();
+        order.sort_by(|a, b| residual[*b].abs().total_cmp(&residual[*a].abs()));
+        let worst = order
+            .iter()
+            .take(4)
+            .map(|&k| format!("{} = {:.3e}", self.constraints.labels()[k], residual[k]))
+            .collect::<Vec<_>>()
+            .join(", ");
+        AssemblyError::NotConverged {
+            t,
+            iterations: MAX_NEWTON_ITERATIONS,
+            residual: max,
+            worst,
+        }
+    }
+
+    pub(crate) fn dependent_constraints(&self, phi_q: &DMatrix<f64>) -> String {
+        dependent_rows(phi_q, 1e-10)
+            .into_iter()
+            .map(|k| self.constraints.labels()[k].clone())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// Kinematic analysis of a mechanism driven in every degree of freedom: positions,
+    /// velocities, accelerations and multipliers at each of `times`, from the constraints
+    /// alone. Each time starts Newton from the previous solution (the first from `q_guess`),
+    /// so closely spaced times follow one assembly branch. Force elements enter the
+    /// multipliers through `M q̈ + Φ_qᵀλ = G`.
+    pub fn kinematics(
+        &self,
+        times: &[f64],
+        q_guess: &[f64],
+    ) -> Result<KinematicSolution, KinematicsError> {
+        let (n, m) = (self.coordinate_count(), self.constraint_count());
+        if n != m {
+            return Err(KinematicsError::NotFullyDriven {
+                coordinates: n,
+                equations: m,
+            });
+        }
+        let zero = vec![0.0; n];
+        let mut solution = KinematicSolution {
+            times: Vec::with_capacity(times.len()),
+            q: Vec::with_capacity(times.len() * n),
+            qd: Vec::with_capacity(times.len() * n),
+            qdd: Vec::with_capacity(times.len() * n),
+            lambda: Vec::with_capacity(times.len() * m),
+            coordinates: n,
+            constraints: m,
+        };
+        let mut evaluator = self.evaluator(Baumgarte::NONE);
+        let mut guess = q_guess.to_vec();
+        for &t in times {
+            let state = self.assemble(t, &guess, &zero)?;
+            evaluator
+                .solve_accelerations(&self.elements, t, &state.q, &state.qd)
+                .map_err(|dependent| AssemblyError::RankDeficient { t, dependent })?;
+            solution.times.push(t);
+            solution.q.extend_from_slice(&state.q);
+            solution.qd.extend_from_slice(&state.qd);
+            solution.qdd.extend_from_slice(evaluator.accelerations());
+            solution.lambda.extend_from_slice(evaluator.multipliers());
+            guess = state.q;
+        }
+        Ok(solution)
+    }
+
+    /// An evaluator of the right-hand side and its exact Jacobian, with its own workspace.
+    pub fn evaluator(&self, baumgarte: Baumgarte) -> Evaluator<'_> {
+        Evaluator::new(self, baumgarte)
+    }
+}
+
+/// `Φ_q q̇` of one equation, from its local gradient.
+pub(crate) fn local_dot(
+    d: &LocalDerivatives,
+    slots: &crate::constraints::Slots,
+    values: &[f64],
+) -> f64 {
+    slots
+        .iter()
+        .zip(d.grad)
+        .filter_map(|(slot, g)| slot.map(|index| g * values[index]))
+        .sum()
+}
+
+/// Position-level workspace: `Φ`, `Φ_q` and the factors of `Φ_q Φ_qᵀ`.
+struct Projector {
+    residual: Vec<f64>,
+    phi_q: DMatrix<f64>,
+    normal: DMatrix<f64>,
+    lu: DenseLu,
+}
+
+impl Projector {
+    fn new(n: usize, m: usize) -> Self {
+        Self {
+            residual: vec![0.0; m],
+            phi_q: DMatrix::zeros(m, n),
+            normal: DMatrix::zeros(m, m),
+            lu: DenseLu::new(m),
+        }
+    }
+
+    fn evaluate_residual(&mut self, system: &System, t: f64, q: &[f64]) {
+        let zero = vec![0.0; q.len()];
+        for (k, r) in self.residual.iter_mut().enumerate() {
+            *r = system.constraints.local(k, q, &zero, t).value;
+        }
+    }
+
+    /// `Φ`, `Φ_q` and the LU of `Φ_q Φ_qᵀ`; a rank-deficient `Φ_q` is an error naming the
+    /// dependent constraints.
+    fn evaluate(&mut self, system: &System, t: f64, q: &[f64]) -> Result<(), AssemblyError> {
+        let zero = vec![0.0; q.len()];
+        self.phi_q.fill(0.0);
+        for k in 0..self.residual.len() {
+            let d = system.constraints.local(k, q, &zero, t);
+            self.residual[k] = d.value;
+            for (slot, index) in system.constraints.slots(k).iter().enumerate() {
+                if let Some(index) = *index {
+                    self.phi_q[(k, index)] += d.grad[slot];
+                }
+            }
+        }
+        self.normal = &self.phi_q * self.phi_q.transpose();
+        if self.lu.factor(&self.normal, SINGULAR_PIVOT).is_err() {
+            return Err(AssemblyError::RankDeficient {
+                t,
+                dependent: system.dependent_constraints(&self.phi_q),
+            });
+        }
+        Ok(())
+    }
+
+    /// `Φ_qᵀ (Φ_q Φ_qᵀ)⁻¹ r`: the smallest change of `q` (or `q̇`) that removes `r` to first order.
+    fn least_norm(&self, r: &[f64]) -> Vec<f64> {
+        let mut mu = r.to_vec();
+        self.lu.solve_in_place(&mut mu);
+        let mu = nalgebra::DVector::from_vec(mu);
+        (self.phi_q.transpose() * mu).as_slice().to_vec()
+    }
+}
+
+/// Results of a kinematic analysis, stored flat: frame `i` of `q` is `q[i*n..(i+1)*n]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct KinematicSolution {
+    pub times: Vec<f64>,
+    pub q: Vec<f64>,
+    pub qd: Vec<f64>,
+    pub qdd: Vec<f64>,
+    /// Lagrange multipliers, `m` per frame, in the order of [`System::constraint_labels`].
+    pub lambda: Vec<f64>,
+    pub coordinates: usize,
+    pub constraints: usize,
+}
+
+impl KinematicSolution {
+    pub fn q(&self, frame: usize) -> &[f64] {
+        &self.q[frame * self.coordinates..(frame + 1) * self.coordinates]
+    }
+    pub fn qd(&self, frame: usize) -> &[f64] {
+        &self.qd[frame * self.coordinates..(frame + 1) * self.coordinates]
+    }
+    pub fn qdd(&self, frame: usize) -> &[f64] {
+        &self.qdd[frame * self.coordinates..(frame + 1) * self.coordinates]
+    }
+    pub fn lambda(&self, frame: usize) -> &[f64] {
+        &self.lambda[frame * self.constraints..(frame + 1) * self.constraints]
+    }
+}
+
+/// Evaluates `ẏ = f(t, y)` for `y = (q, q̇)` and its exact Jacobian, in preallocated storage
+/// (no allocation per call).
+pub struct Evaluator<'s> {
+    system: &'s System,
+    baumgarte: Baumgarte,
+    n: usize,
+    m: usize,
+    locals: Vec<LocalDerivatives>,
+    phi_q: DMatrix<f64>,
+    augmented: DMatrix<f64>,
+    lu: DenseLu,
+    /// `[q̈; λ]` after a solve.
+    solution: Vec<f64>,
+    d_dq: DMatrix<f64>,
+    d_dqd: DMatrix<f64>,
+    /// Right-hand sides of the differentiated augmented system, `(n+m) × 2n`.
+    derivative_rhs: DMatrix<f64>,
+    /// Scratch vector of length `n`.
+    work: Vec<f64>,
+    /// RHS evaluations (including those of finite differences).
+    pub(crate) rhs_evaluations: usize,
+    /// Jacobian evaluations.
+    pub(crate) jacobian_evaluations: usize,
+}
+
+impl<'s> Evaluator<'s> {
+    fn new(system: &'s System, baumgarte: Baumgarte) -> Self {
+        let (n, m) = (system.coordinate_count(), system.constraint_count());
+        Self {
+            system,
+            baumgarte,
+            n,
+            m,
+            locals: vec![LocalDerivatives::default(); m],
+            phi_q: DMatrix::zeros(m, n),
+            augmented: DMatrix::zeros(n + m, n + m),
+            lu: DenseLu::new(n + m),
+            solution: vec![0.0; n + m],
+            d_dq: DMatrix::zeros(n, n),
+            d_dqd: DMatrix::zeros(n, n),
+            derivative_rhs: DMatrix::zeros(n + m, 2 * n),
+            work: vec![0.0; n],
+            rhs_evaluations: 0,
+            jacobian_evaluations: 0,
+        }
+    }
+
+    pub(crate) fn local(&self, k: usize) -> &LocalDerivatives {
+        &self.locals[k]
+    }
+
+    /// `q̈` of the last successful solve.
+    pub fn accelerations(&self) -> &[f64] {
+        &self.solution[..self.n]
+    }
+
+    /// `λ` of the last successful solve.
+    pub fn multipliers(&self) -> &[f64] {
+        &self.solution[self.n..]
+    }
+
+    /// Solves `[M Φ_qᵀ; Φ_q 0] [q̈; λ] = [G; γ*]`. On a singular matrix returns the names of
+    /// the dependent constraints.
+    // Local slots index several arrays at once (gradient, Hessian, global map).
+    #[allow(clippy::needless_range_loop)]
+    pub fn solve_accelerations(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+    ) -> Result<(), String> {
+        let (n, m) = (self.n, self.m);
+        let constraints = self.system.constraints();
+        let Baumgarte { alpha, beta } = self.baumgarte;
+        self.phi_q.fill(0.0);
+        self.augmented.fill(0.0);
+        self.solution[..n].fill(0.0);
+        for element in elements {
+            element.add_forces(t, q, qd, &mut self.solution[..n]);
+        }
+        for k in 0..m {
+            let d = constraints.local(k, q, qd, t);
+            let slots = constraints.slots(k);
+            let mut phi_dot = d.time_rate;
+            let mut quadratic = 0.0;
+            for a in 0..6 {
+                let Some(ia) = slots[a] else { continue };
+                self.phi_q[(k, ia)] += d.grad[a];
+                phi_dot += d.grad[a] * qd[ia];
+                for b in 0..6 {
+                    if let Some(ib) = slots[b] {
+                        quadratic += d.hess[a][b] * qd[ia] * qd[ib];
+                    }
+                }
+            }
+            let gamma = -quadratic - d.time_acceleration;
+            self.solution[n + k] = gamma - 2.0 * alpha * phi_dot - beta * beta * d.value;
+            self.locals[k] = d;
+        }
+        for i in 0..n {
+            self.augmented[(i, i)] = self.system.mass[i];
+        }
+        for k in 0..m {
+            for i in 0..n {
+                let value = self.phi_q[(k, i)];
+                self.augmented[(n + k, i)] = value;
+                self.augmented[(i, n + k)] = value;
+            }
+        }
+        if self.lu.factor(&self.augmented, SINGULAR_PIVOT).is_err() {
+            return Err(self.system.dependent_constraints(&self.phi_q));
+        }
+        self.lu.solve_in_place(&mut self.solution);
+        Ok(())
+    }
+
+    /// `ẏ = (q̇, q̈)`. A singular augmented matrix yields NaN (so the integrator rejects the
+    /// step) and an `Err` naming the dependent constraints.
+    pub fn rhs(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        y: &[f64],
+        dy: &mut [f64],
+    ) -> Result<(), String> {
+        self.rhs_evaluations += 1;
+        let n = self.n;
+        let (q, qd) = y.split_at(n);
+        let result = self.solve_accelerations(elements, t, q, qd);
+        dy[..n].copy_from_slice(qd);
+        match result {
+            Ok(()) => dy[n..].copy_from_slice(&self.solution[..n]),
+            Err(_) => dy[n..].fill(f64::NAN),
+        }
+        result
+    }
+
+    /// Exact Jacobian `∂f/∂y` (`2n × 2n`) from the differentiated augmented system, reusing
+    /// the single LU of `[M Φ_qᵀ; Φ_q 0]` for all `2n` columns.
+    #[allow(clippy::needless_range_loop)]
+    pub fn jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        y: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), String> {
+        self.jacobian_evaluations += 1;
+        let n = self.n;
+        let (q, qd) = y.split_at(n);
+        jacobian.fill(0.0);
+        for i in 0..n {
+            jacobian[(i, n + i)] = 1.0;
+        }
+        if let Err(e) = self.solve_accelerations(elements, t, q, qd) {
+            jacobian.fill(f64::NAN);
+            return Err(e);
+        }
+        self.d_dq.fill(0.0);
+        self.d_dqd.fill(0.0);
+        let mut partials = ForcePartials {
+            d_dq: &mut self.d_dq,
+            d_dqd: &mut self.d_dqd,
+        };
+        for element in elements {
+            element.add_partials(t, q, qd, &mut partials);
+        }
+        let Baumgarte { alpha, beta } = self.baumgarte;
+        let constraints = self.system.constraints();
+        let rhs = &mut self.derivative_rhs;
+        // Top block: ∂G/∂q − ∂(Φ_qᵀλ)/∂q | ∂G/∂q̇.
+        for r in 0..n {
+            for c in 0..n {
+                rhs[(r, c)] = self.d_dq[(r, c)];
+                rhs[(r, n + c)] = self.d_dqd[(r, c)];
+            }
+        }
+        // w = q̈ + 2αq̇, so that −∂(Φ_q q̈)/∂q − 2α∂(Φ_q q̇)/∂q = −∂(Φ_q w)/∂q.
+        for (w, (a, v)) in self.work.iter_mut().zip(self.solution[..n].iter().zip(qd)) {
+            *w = a + 2.0 * alpha * v;
+        }
+        for (k, d) in self.locals.iter().enumerate() {
+            let lambda = self.solution[n + k];
+            let slots = constraints.slots(k);
+            let row = n + k;
+            for c in 0..2 * n {
+                rhs[(row, c)] = 0.0;
+            }
+            for a in 0..6 {
+                let Some(ia) = slots[a] else { continue };
+                let mut h_w = 0.0;
+                let mut h_qd = 0.0;
+                for b in 0..6 {
+                    let Some(ib) = slots[b] else { continue };
+                    h_w += d.hess[a][b] * self.work[ib];
+                    h_qd += d.hess[a][b] * qd[ib];
+                    rhs[(ia, ib)] -= lambda * d.hess[a][b];
+                }
+                // Bottom block, q columns: ∂γ/∂q − ∂(Φ_q w)/∂q − β²Φ_q.
+                rhs[(row, ia)] += -d.third_vv[a] - h_w - beta * beta * d.grad[a];
+                // q̇ columns: ∂γ/∂q̇ − 2αΦ_q.
+                rhs[(row, n + ia)] += -2.0 * h_qd - 2.0 * alpha * d.grad[a];
+            }
+        }
+        self.lu.solve_columns_in_place(rhs);
+        for c in 0..2 * n {
+            for r in 0..n {
+                jacobian[(n + r, c)] = rhs[(r, c)];
+            }
+        }
+        Ok(())
+    }
+
+    /// Forward-difference Jacobian (`2n + 1` right-hand sides), the reference the exact one
+    /// is measured against.
+    pub fn finite_difference_jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        y: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), String> {
+        self.jacobian_evaluations += 1;
+        let size = y.len();
+        let mut base = vec![0.0; size];
+        let mut shifted = vec![0.0; size];
+        let mut y_work = y.to_vec();
+        self.rhs(elements, t, y, &mut base)?;
+        for c in 0..size {
+            let step = f64::EPSILON.sqrt() * y[c].abs().max(1.0);
+            y_work[c] = y[c] + step;
+            self.rhs(elements, t, &y_work, &mut shifted)?;
+            y_work[c] = y[c];
+            for r in 0..size {
+                jacobian[(r, c)] = (shifted[r] - base[r]) / step;
+            }
+        }
+        Ok(())
+    }
+}
