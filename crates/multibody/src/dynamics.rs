@@ -353,6 +353,8 @@ struct Run<'s, 'o> {
     element_work: Vec<f64>,
     driver_work: Vec<f64>,
     scratch: Vec<f64>,
+    /// An interpolated state, as a plain slice.
+    frame_buffer: Vec<f64>,
     singular: &'s RefCell<Option<(f64, String)>>,
 }
 
@@ -485,6 +487,7 @@ impl System {
             element_work: vec![0.0; elements.borrow().len()],
             driver_work: vec![0.0; self.driver_names().len()],
             scratch: vec![0.0; n],
+            frame_buffer: vec![0.0; 2 * n],
             singular: &singular,
         };
         let initial_potential = run.potentials(initial.t, &initial.q);
@@ -749,8 +752,11 @@ impl Run<'_, '_> {
             solver
                 .interpolate_inplace(t, y)
                 .map_err(|e| integrator_error(t, e))?;
-            let values = y.inner().as_slice().to_vec();
-            self.emit_frame(t, &values)?;
+            let mut values = std::mem::take(&mut self.frame_buffer);
+            values.copy_from_slice(y.inner().as_slice());
+            let emitted = self.emit_frame(t, &values);
+            self.frame_buffer = values;
+            emitted?;
         }
         if self.options.energy_audit && t_end > t_start && self.needs_quadrature() {
             for (node, weight) in GAUSS_NODES {
@@ -758,8 +764,10 @@ impl Run<'_, '_> {
                 solver
                     .interpolate_inplace(t, y)
                     .map_err(|e| integrator_error(t, e))?;
-                let values = y.inner().as_slice().to_vec();
+                let mut values = std::mem::take(&mut self.frame_buffer);
+                values.copy_from_slice(y.inner().as_slice());
                 self.accumulate_power(t, &values, weight * (t_end - t_start));
+                self.frame_buffer = values;
             }
         }
         Ok(())

@@ -1,6 +1,106 @@
-//! Planar constrained rigid-body dynamics.
+//! Planar constrained rigid-body dynamics: bodies, ideal joints, drivers and force elements;
+//! assembly, kinematic analysis, and forward dynamics integrated by diffsol.
 //!
-//! Placeholder docs; filled in below.
+//! # Model
+//! Coordinates are `q = (x_k, y_k, θ_k)` per body (centroid and angle), state `y = (q, q̇)`.
+//! A [`Model`] holds [`Body`]s (mass, centroidal inertia, approximate pose), ideal joints
+//! (revolute between two [`Anchor`]s — a body-fixed or ground point —, prismatic with or
+//! without locked rotation) and driving constraints on a coordinate or a joint
+//! ([`DriveTarget`]) following a [`DriveFunction`] with exact derivatives ([`Constant`],
+//! [`Ramp`], [`Harmonic`], or your own). Every `add_*` validates at once and returns a
+//! [`ModelError`] naming the item. [`System::new`] compiles the model; force elements are added
+//! to the system.
+//!
+//! # Analyses
+//! - [`System::assemble`]: Newton position analysis from the model's poses, then consistent
+//!   velocities; [`AssemblyError`] names the constraints involved (non-convergence with the
+//!   residual, rank loss with the dependent equations).
+//! - [`System::kinematics`]: for a mechanism with no degree of freedom left, positions,
+//!   velocities, accelerations and multipliers at the requested times, without integration.
+//! - [`System::simulate`]: `M q̈ + Φ_qᵀλ = G`, `Φ_q q̈ = γ − 2αΦ̇ − β²Φ` ([`Baumgarte`], α = β
+//!   = 50 by default), integrated by diffsol ([`Integrator`]: BDF by default, TR-BDF2,
+//!   ESDIRK34, Tsit45) with output at requested times by interpolation. The result carries
+//!   [`SolverStatistics`], [`ConstraintDrift`], the multipliers of every frame (joint reactions:
+//!   [`System::reaction`]) and an [`EnergyAudit`]. An [`Observer`] sees every output frame and
+//!   every accepted step.
+//!
+//! # Force elements
+//! Anything that is not an ideal constraint is a [`ForceElement`]: it adds generalized forces
+//! and their partials `∂G/∂q`, `∂G/∂q̇` (the exact Jacobian needs them), and may have hooks
+//! called on accepted steps, event functions on which steps land, and a potential energy.
+//! [`Gravity`] is one; a two-body element (e.g. a clearance joint) reports its 6×12 Jacobian
+//! through [`ForcePartials::add_pair`]. A system without some kind of element pays nothing for
+//! it. During a run the elements are read by the right-hand side and mutated between steps;
+//! afterwards they are back in the system ([`System::element`] returns the concrete type).
+//!
+//! ```
+//! use multibody::*;
+//!
+//! /// A rotary damper on one body: moment −c θ̇.
+//! struct RotaryDamper { body: BodyId, c: f64 }
+//!
+//! impl ForceElement for RotaryDamper {
+//!     fn name(&self) -> &str { "rotary damper" }
+//!     fn add_forces(&self, _t: f64, _q: &[f64], qd: &[f64], g: &mut [f64]) {
+//!         let k = self.body.coordinate(Coordinate::Theta);
+//!         g[k] -= self.c * qd[k];
+//!     }
+//!     fn add_partials(&self, _t: f64, _q: &[f64], _qd: &[f64], p: &mut ForcePartials<'_>) {
+//!         let k = self.body.coordinate(Coordinate::Theta);
+//!         p.add_dqd(k, k, -self.c);
+//!     }
+//! }
+//!
+//! # fn main() -> Result<(), Box<dyn std::error::Error>> {
+//! // A 1 m rod pinned at one end, released horizontal.
+//! let mut model = Model::new();
+//! let rod = model.add_body(Body::new("rod", 2.0, 2.0 / 12.0, [0.5, 0.0, 0.0]))?;
+//! model.add_revolute("pin", Anchor::ground(0.0, 0.0), Anchor::on(rod, -0.5, 0.0))?;
+//! let gravity = Gravity::new(&model, [0.0, -9.81]);
+//! let mut system = System::new(model)?;
+//! system.add_element(Box::new(gravity));
+//! let damper = system.add_element(Box::new(RotaryDamper { body: rod, c: 0.5 }));
+//!
+//! let (q, qd) = system.initial_guess();
+//! let start = system.assemble(0.0, &q, &qd)?;
+//! let mut options = SimulationOptions::until(1.0);
+//! options.output = OutputTimes::Every(0.01);
+//! let result = system.simulate(&start, &options, &mut ())?;
+//!
+//! assert_eq!(result.trajectory.len(), 101);
+//! assert!(result.drift.position < 1e-6);
+//! let energy = result.energy.expect("audited by default");
+//! assert!(energy.relative_residual() < 1e-3);
+//! assert!(system.element::<RotaryDamper>(damper).is_some());
+//! # Ok(())
+//! # }
+//! ```
+//!
+//! # Exact Jacobian, and what it saves
+//! Differentiating the augmented system gives
+//! `K [dq̈; dλ] = [∂G − ∂(Φ_qᵀλ); ∂γ* − ∂(Φ_q q̈)]` with `K = [M Φ_qᵀ; Φ_q 0]`, so all `2n`
+//! columns reuse the one LU of `K` that the right-hand side needs anyway. Each constraint
+//! equation supplies its gradient, Hessian and third derivative contracted with `q̇` (simple
+//! trigonometric terms for planar point constraints). diffsol's closure API wants
+//! Jacobian–vector products and assembles the dense matrix from `2n` of them at one `(t, y)`;
+//! the closure caches the dense Jacobian of the last `(t, y)` and answers every product from
+//! it (implementing diffsol's equation traits with `jacobian_inplace` would do the same with
+//! ~150 more lines and no measured gain at this size, see DIFFSOL-NOTES).
+//!
+//! Measured on the slider-crank example (`n = 9`, 18 states, 2 cores, release build): one RHS
+//! 2.5 µs; one Jacobian exact 7.6 µs vs forward differences 47 µs (6×); a 4 s run (1 568 BDF
+//! steps, 37 Jacobians serving 666 products) needs 2 662 RHS evaluations with the exact
+//! Jacobian vs 3 365 with finite differences, 11.6 ms vs 13.1 ms of integrator time. The
+//! saving grows with `n` (exact: one LU + `2n` solves; differences: `2n` LUs) and with the
+//! cost of the force elements (differences evaluate every element `2n` more times).
+//! Output frames cost one augmented solve each (for `q̈` and `λ`): at the default 1e-4 s
+//! interval they, not the integration, dominate that run (146 ms in all).
+//!
+//! # Tolerances
+//! `rtol` 1e-6 and [`AbsoluteTolerances`] per kind of variable (positions, angles, velocities,
+//! angular velocities; defaults 1e-8 m, 1e-8 rad, 1e-6 m/s, 1e-6 rad/s). With clearance joints
+//! scale the position tolerance to the clearance (MODEL.md §8). diffsol counts Newton failures
+//! over the whole run, so the default limit is raised to 10⁶.
 
 mod constraints;
 pub mod drive;

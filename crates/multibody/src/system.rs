@@ -500,6 +500,10 @@ pub struct Evaluator<'s> {
     derivative_rhs: DMatrix<f64>,
     /// Scratch vector of length `n`.
     work: Vec<f64>,
+    /// Finite-difference scratch (length `2n` each): `f(y)`, `f(y + h e_c)`, `y + h e_c`.
+    fd_base: Vec<f64>,
+    fd_shifted: Vec<f64>,
+    fd_y: Vec<f64>,
     /// RHS evaluations (including those of finite differences).
     pub(crate) rhs_evaluations: usize,
     /// Jacobian evaluations.
@@ -523,6 +527,9 @@ impl<'s> Evaluator<'s> {
             d_dqd: DMatrix::zeros(n, n),
             derivative_rhs: DMatrix::zeros(n + m, 2 * n),
             work: vec![0.0; n],
+            fd_base: vec![0.0; 2 * n],
+            fd_shifted: vec![0.0; 2 * n],
+            fd_y: vec![0.0; 2 * n],
             rhs_evaluations: 0,
             jacobian_evaluations: 0,
         }
@@ -706,19 +713,26 @@ impl<'s> Evaluator<'s> {
     ) -> Result<(), String> {
         self.jacobian_evaluations += 1;
         let size = y.len();
-        let mut base = vec![0.0; size];
-        let mut shifted = vec![0.0; size];
-        let mut y_work = y.to_vec();
-        self.rhs(elements, t, y, &mut base)?;
+        let mut base = std::mem::take(&mut self.fd_base);
+        let mut shifted = std::mem::take(&mut self.fd_shifted);
+        let mut y_work = std::mem::take(&mut self.fd_y);
+        y_work.copy_from_slice(y);
+        let mut result = self.rhs(elements, t, y, &mut base);
         for c in 0..size {
+            if result.is_err() {
+                break;
+            }
             let step = f64::EPSILON.sqrt() * y[c].abs().max(1.0);
             y_work[c] = y[c] + step;
-            self.rhs(elements, t, &y_work, &mut shifted)?;
+            result = self.rhs(elements, t, &y_work, &mut shifted);
             y_work[c] = y[c];
             for r in 0..size {
                 jacobian[(r, c)] = (shifted[r] - base[r]) / step;
             }
         }
-        Ok(())
+        self.fd_base = base;
+        self.fd_shifted = shifted;
+        self.fd_y = y_work;
+        result
     }
 }
