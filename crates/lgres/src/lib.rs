@@ -3,8 +3,9 @@
 //! This crate holds the serde scene format and its validation ([`scene`]), the shipped scenes
 //! and the paper's studies ([`scenes`]: the landing-gear retraction/extension system of Ma,
 //! Jiang & Yin, *Aerospace* 2026, its variants, and a slider-crank), atomic output writers
-//! ([`output`]) and figures ([`plot`]). The adapter from a scene to `multibody` with `contact`
-//! and `wear` force elements comes when those crates are ready.
+//! ([`output`]) and figures ([`plot`]). [`build`] turns a scene into a `multibody` system whose
+//! clearance joints are [`clearance::ClearanceForce`] elements (the `contact` kernel, with `wear`
+//! accumulation when a joint wears).
 //!
 //! ```
 //! use lgres::scene::BodyRef;
@@ -22,6 +23,8 @@
 //! # Ok::<(), lgres::scene::SceneError>(())
 //! ```
 
+pub mod build;
+pub mod clearance;
 pub mod output;
 pub mod plot;
 pub mod scene;
