@@ -20,6 +20,7 @@ use crate::constraints::ConstraintOwner;
 use crate::error::SimulationError;
 use crate::force::ForceElement;
 use crate::system::{Baumgarte, Evaluator, State, System};
+use crate::trajectory::Trajectory;
 
 /// Time integrator (all from diffsol).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -239,6 +240,8 @@ pub struct ConstraintDrift {
 pub struct EnergyAudit {
     pub initial_kinetic: f64,
     pub final_kinetic: f64,
+    /// Largest kinetic energy seen at output times and step ends.
+    pub peak_kinetic: f64,
     /// Work of each force element (conservative ones as `−ΔV`), by name.
     pub element_work: Vec<(String, f64)>,
     /// Potential energy of conservative elements at start and end, by name.
@@ -264,39 +267,6 @@ impl EnergyAudit {
             )
             .fold(f64::MIN_POSITIVE, f64::max);
         self.residual.abs() / scale
-    }
-}
-
-/// States at the output times, stored flat: frame `i` of `q` is `q[i*n..(i+1)*n]`.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct Trajectory {
-    pub times: Vec<f64>,
-    pub q: Vec<f64>,
-    pub qd: Vec<f64>,
-    pub qdd: Vec<f64>,
-    pub lambda: Vec<f64>,
-    pub coordinates: usize,
-    pub constraints: usize,
-}
-
-impl Trajectory {
-    pub fn len(&self) -> usize {
-        self.times.len()
-    }
-    pub fn is_empty(&self) -> bool {
-        self.times.is_empty()
-    }
-    pub fn q(&self, frame: usize) -> &[f64] {
-        &self.q[frame * self.coordinates..(frame + 1) * self.coordinates]
-    }
-    pub fn qd(&self, frame: usize) -> &[f64] {
-        &self.qd[frame * self.coordinates..(frame + 1) * self.coordinates]
-    }
-    pub fn qdd(&self, frame: usize) -> &[f64] {
-        &self.qdd[frame * self.coordinates..(frame + 1) * self.coordinates]
-    }
-    pub fn lambda(&self, frame: usize) -> &[f64] {
-        &self.lambda[frame * self.constraints..(frame + 1) * self.constraints]
     }
 }
 
@@ -347,6 +317,7 @@ struct Run<'s, 'o> {
     event_owner: Vec<(usize, usize)>,
     trajectory: Trajectory,
     drift: ConstraintDrift,
+    peak_kinetic: f64,
     statistics: SolverStatistics,
     events: Vec<EventRecord>,
     /// Work of non-conservative elements and drivers, integrated step by step.
@@ -479,6 +450,7 @@ impl System {
                 ..Trajectory::default()
             },
             drift: ConstraintDrift::default(),
+            peak_kinetic: 0.0,
             statistics: SolverStatistics {
                 smallest_step: f64::INFINITY,
                 ..SolverStatistics::default()
@@ -843,6 +815,7 @@ impl Run<'_, '_> {
     fn track_drift(&mut self, t: f64, y: &[f64]) {
         let (q, qd) = y.split_at(self.system.coordinate_count());
         let (position, velocity) = self.system.constraint_violation(t, q, qd);
+        self.peak_kinetic = self.peak_kinetic.max(self.system.kinetic_energy(qd));
         self.drift.position = self.drift.position.max(position);
         self.drift.velocity = self.drift.velocity.max(velocity);
     }
@@ -866,6 +839,7 @@ impl Run<'_, '_> {
         let mut audit = EnergyAudit {
             initial_kinetic: self.system.kinetic_energy(&initial.qd),
             final_kinetic: self.system.kinetic_energy(&last.qd),
+            peak_kinetic: self.peak_kinetic,
             ..EnergyAudit::default()
         };
         for (k, element) in elements.iter().enumerate() {

@@ -110,13 +110,13 @@ mod force;
 mod linalg;
 mod model;
 mod system;
+mod trajectory;
 
 pub use constraints::ConstraintOwner;
 pub use drive::{Constant, DriveFunction, Harmonic, Ramp};
 pub use dynamics::{
     AbsoluteTolerances, ConstraintDrift, EnergyAudit, EventRecord, Frame, Integrator,
     JacobianMethod, Observer, OutputTimes, SimulationOptions, SimulationResult, SolverStatistics,
-    Trajectory,
 };
 pub use error::{AssemblyError, KinematicsError, ModelError, SimulationError};
 pub use force::{ElementId, ForceElement, ForcePartials, Gravity};
@@ -124,4 +124,5 @@ pub use model::{
     Anchor, Body, BodyId, Coordinate, DriveTarget, Driver, DriverId, Joint, JointId, Model,
     RotationLock,
 };
-pub use system::{Baumgarte, Evaluator, KinematicSolution, State, System};
+pub use system::{Baumgarte, Evaluator, State, System};
+pub use trajectory::Trajectory;

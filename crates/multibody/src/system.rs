@@ -8,6 +8,7 @@ use crate::error::{AssemblyError, KinematicsError, ModelError};
 use crate::force::{ElementId, ForceElement, ForcePartials};
 use crate::linalg::{DenseLu, dependent_rows};
 use crate::model::{Body, BodyId, Joint, Model};
+use crate::trajectory::Trajectory;
 
 /// Relative pivot size below which a matrix counts as singular.
 const SINGULAR_PIVOT: f64 = 1e-12;
@@ -341,7 +342,7 @@ impl System {
         &self,
         times: &[f64],
         q_guess: &[f64],
-    ) -> Result<KinematicSolution, KinematicsError> {
+    ) -> Result<Trajectory, KinematicsError> {
         let (n, m) = (self.coordinate_count(), self.constraint_count());
         if n != m {
             return Err(KinematicsError::NotFullyDriven {
@@ -350,14 +351,10 @@ impl System {
             });
         }
         let zero = vec![0.0; n];
-        let mut solution = KinematicSolution {
-            times: Vec::with_capacity(times.len()),
-            q: Vec::with_capacity(times.len() * n),
-            qd: Vec::with_capacity(times.len() * n),
-            qdd: Vec::with_capacity(times.len() * n),
-            lambda: Vec::with_capacity(times.len() * m),
+        let mut solution = Trajectory {
             coordinates: n,
             constraints: m,
+            ..Trajectory::default()
         };
         let mut evaluator = self.evaluator(Baumgarte::NONE);
         let mut guess = q_guess.to_vec();
@@ -450,34 +447,6 @@ impl Projector {
         self.lu.solve_in_place(&mut mu);
         let mu = nalgebra::DVector::from_vec(mu);
         (self.phi_q.transpose() * mu).as_slice().to_vec()
-    }
-}
-
-/// Results of a kinematic analysis, stored flat: frame `i` of `q` is `q[i*n..(i+1)*n]`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct KinematicSolution {
-    pub times: Vec<f64>,
-    pub q: Vec<f64>,
-    pub qd: Vec<f64>,
-    pub qdd: Vec<f64>,
-    /// Lagrange multipliers, `m` per frame, in the order of [`System::constraint_labels`].
-    pub lambda: Vec<f64>,
-    pub coordinates: usize,
-    pub constraints: usize,
-}
-
-impl KinematicSolution {
-    pub fn q(&self, frame: usize) -> &[f64] {
-        &self.q[frame * self.coordinates..(frame + 1) * self.coordinates]
-    }
-    pub fn qd(&self, frame: usize) -> &[f64] {
-        &self.qd[frame * self.coordinates..(frame + 1) * self.coordinates]
-    }
-    pub fn qdd(&self, frame: usize) -> &[f64] {
-        &self.qdd[frame * self.coordinates..(frame + 1) * self.coordinates]
-    }
-    pub fn lambda(&self, frame: usize) -> &[f64] {
-        &self.lambda[frame * self.constraints..(frame + 1) * self.constraints]
     }
 }
 
