@@ -17,7 +17,7 @@ use diffsol::{
 use nalgebra::DMatrix;
 
 use crate::constraints::ConstraintOwner;
-use crate::error::SimulationError;
+use crate::error::{EvaluationError, SimulationError};
 use crate::force::ForceElement;
 use crate::system::{Baumgarte, Evaluator, State, System};
 use crate::trajectory::Trajectory;
@@ -326,7 +326,8 @@ struct Run<'s, 'o> {
     scratch: Vec<f64>,
     /// An interpolated state, as a plain slice.
     frame_buffer: Vec<f64>,
-    singular: &'s RefCell<Option<(f64, String)>>,
+    /// The first evaluation failure since the last accepted step.
+    singular: &'s RefCell<Option<(f64, EvaluationError)>>,
 }
 
 impl System {
@@ -393,8 +394,8 @@ impl System {
         });
         let rhs = |y: &[f64], _p: &[f64], t: f64, dy: &mut [f64]| {
             let elements = elements.borrow();
-            if let Err(dependent) = rhs_evaluator.borrow_mut().rhs(&elements, t, y, dy) {
-                singular.borrow_mut().get_or_insert((t, dependent));
+            if let Err(error) = rhs_evaluator.borrow_mut().rhs(&elements, t, y, dy) {
+                singular.borrow_mut().get_or_insert((t, error));
             }
         };
         let jacobian_vector = |y: &[f64], _p: &[f64], t: f64, v: &[f64], jv: &mut [f64]| {
@@ -412,9 +413,9 @@ impl System {
                             .evaluator
                             .finite_difference_jacobian(&elements, t, y, &mut cache.matrix),
                     };
-                if let Err(dependent) = result {
+                if let Err(error) = result {
                     cache.matrix.fill(f64::NAN);
-                    singular.borrow_mut().get_or_insert((t, dependent));
+                    singular.borrow_mut().get_or_insert((t, error));
                 }
                 cache.t = t;
                 cache.y.copy_from_slice(y);
@@ -576,7 +577,7 @@ impl Run<'_, '_> {
 
     fn failure(&self, t: f64, error: diffsol::DiffsolError) -> SimulationError {
         match self.singular.borrow_mut().take() {
-            Some((t, dependent)) => SimulationError::Singular { t, dependent },
+            Some((t, error)) => SimulationError::Evaluation { t, error },
             None => integrator_error(t, error),
         }
     }
@@ -689,13 +690,13 @@ impl Run<'_, '_> {
         let state = solver.state_mut();
         let elements = self.elements.borrow();
         // A singular system shows up as NaN here and fails the next step with a clear error.
-        if let Err(dependent) = self.evaluator.rhs(
+        if let Err(error) = self.evaluator.rhs(
             &elements,
             t,
             state.y.inner().as_slice(),
             state.dy.inner_mut().as_mut_slice(),
         ) {
-            self.singular.borrow_mut().get_or_insert((t, dependent));
+            self.singular.borrow_mut().get_or_insert((t, error));
         }
     }
 
@@ -788,7 +789,7 @@ impl Run<'_, '_> {
         let elements = self.elements.borrow();
         self.evaluator
             .solve_accelerations(&elements, t, q, qd)
-            .map_err(|dependent| SimulationError::Singular { t, dependent })?;
+            .map_err(|error| SimulationError::Evaluation { t, error })?;
         let frame = Frame {
             t,
             q,
@@ -814,7 +815,7 @@ impl Run<'_, '_> {
 
     fn track_drift(&mut self, t: f64, y: &[f64]) {
         let (q, qd) = y.split_at(self.system.coordinate_count());
-        let (position, velocity) = self.system.constraint_violation(t, q, qd);
+        let (position, velocity) = self.system.violation(t, q, qd);
         self.peak_kinetic = self.peak_kinetic.max(self.system.kinetic_energy(qd));
         self.drift.position = self.drift.position.max(position);
         self.drift.velocity = self.drift.velocity.max(velocity);

@@ -46,14 +46,6 @@ pub enum ModelError {
     NonFiniteDrive { driver: String, value: f64 },
     #[error("the model has no bodies")]
     Empty,
-    #[error(
-        "force element '{element}' is sized for {expected} coordinates, the model has {actual}"
-    )]
-    ElementSize {
-        element: String,
-        expected: usize,
-        actual: usize,
-    },
 }
 
 /// Failure to find a configuration (or velocities) that satisfies the constraints.
@@ -86,6 +78,22 @@ pub enum AssemblyError {
     NonFinite { what: &'static str },
 }
 
+/// Failure to evaluate the equations of motion at one state.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum EvaluationError {
+    #[error(
+        "the augmented matrix [M Φ_qᵀ; Φ_q 0] is singular: constraints [{dependent}] depend on \
+         the others (singular position or redundant constraints)"
+    )]
+    Singular { dependent: String },
+    #[error("{what} has length {actual}, expected {expected}")]
+    WrongLength {
+        what: &'static str,
+        expected: usize,
+        actual: usize,
+    },
+}
+
 /// Failure of a kinematic analysis.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum KinematicsError {
@@ -99,6 +107,8 @@ pub enum KinematicsError {
     },
     #[error(transparent)]
     Assembly(#[from] AssemblyError),
+    #[error("at t = {t}: {error}")]
+    Evaluation { t: f64, error: EvaluationError },
 }
 
 /// Failure of a dynamic simulation.
@@ -108,11 +118,8 @@ pub enum SimulationError {
     Assembly(#[from] AssemblyError),
     #[error("invalid simulation option: {0}")]
     InvalidOptions(String),
-    #[error(
-        "the augmented matrix [M Φ_qᵀ; Φ_q 0] became singular at t = {t} (constraints \
-         [{dependent}] dependent): the mechanism reached a singular position"
-    )]
-    Singular { t: f64, dependent: String },
+    #[error("at t = {t}: {error}")]
+    Evaluation { t: f64, error: EvaluationError },
     #[error("the integrator failed at t = {t}: {message}")]
     Integrator { t: f64, message: String },
 }

@@ -48,11 +48,14 @@ pub trait ForceElement: Any {
     }
 
     /// Writes the `event_count()` event functions; the integrator lands a step where one
-    /// changes sign and then calls [`ForceElement::on_event`].
+    /// changes sign and then calls [`ForceElement::on_event`]. The count must not change
+    /// during a run.
     fn event_functions(&self, _t: f64, _q: &[f64], _qd: &[f64], _values: &mut [f64]) {}
 
     /// Called at the located event `index` (local to this element). The integrator restarts
-    /// from this state afterwards, so the element may switch its force law here.
+    /// from this state afterwards, so the element may switch its force law here. The event
+    /// function is ~0 at the restart and may report the same crossing again: decide the new
+    /// regime from the state (e.g. the sign of the approach velocity), do not just toggle.
     fn on_event(&mut self, _index: usize, _t: f64, _q: &[f64], _qd: &[f64]) {}
 }
 
@@ -63,7 +66,9 @@ pub struct ForcePartials<'a> {
 }
 
 impl ForcePartials<'_> {
-    /// Adds `value` to `∂G_row/∂q_column`.
+    /// Adds `value` to `∂G_row/∂q_column`. Indices are coordinate indices (`3 × body +
+    /// coordinate`, see [`BodyId::coordinate`]); out-of-range indices are a bug in the element
+    /// and panic.
     pub fn add_dq(&mut self, row: usize, column: usize, value: f64) {
         self.d_dq[(row, column)] += value;
     }
@@ -105,10 +110,19 @@ pub struct Gravity {
 
 impl Gravity {
     /// Gravity of acceleration `g = (g_x, g_y)` on every body of `model` (e.g. `[0.0, -9.81]`).
+    /// Build it after the last body is added.
     pub fn new(model: &Model, acceleration: [f64; 2]) -> Self {
         Self {
             acceleration,
             masses: model.bodies().iter().map(|b| b.mass).collect(),
+        }
+    }
+
+    /// The same, for the bodies of a compiled system.
+    pub fn for_system(system: &crate::System, acceleration: [f64; 2]) -> Self {
+        Self {
+            acceleration,
+            masses: system.bodies().iter().map(|b| b.mass).collect(),
         }
     }
 }

@@ -118,7 +118,7 @@ pub use dynamics::{
     AbsoluteTolerances, ConstraintDrift, EnergyAudit, EventRecord, Frame, Integrator,
     JacobianMethod, Observer, OutputTimes, SimulationOptions, SimulationResult, SolverStatistics,
 };
-pub use error::{AssemblyError, KinematicsError, ModelError, SimulationError};
+pub use error::{AssemblyError, EvaluationError, KinematicsError, ModelError, SimulationError};
 pub use force::{ElementId, ForceElement, ForcePartials, Gravity};
 pub use model::{
     Anchor, Body, BodyId, Coordinate, DriveTarget, Driver, DriverId, Joint, JointId, Model,

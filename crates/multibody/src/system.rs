@@ -4,7 +4,7 @@
 use nalgebra::DMatrix;
 
 use crate::constraints::{ConstraintOwner, Constraints, LocalDerivatives};
-use crate::error::{AssemblyError, KinematicsError, ModelError};
+use crate::error::{AssemblyError, EvaluationError, KinematicsError, ModelError};
 use crate::force::{ElementId, ForceElement, ForcePartials};
 use crate::linalg::{DenseLu, dependent_rows};
 use crate::model::{Body, BodyId, Joint, Model};
@@ -187,7 +187,19 @@ impl System {
     }
 
     /// Largest `|Φ_k|` and `|Φ̇_k|` at a state: how far it has drifted off the constraints.
-    pub fn constraint_violation(&self, t: f64, q: &[f64], qd: &[f64]) -> (f64, f64) {
+    pub fn constraint_violation(
+        &self,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+    ) -> Result<(f64, f64), EvaluationError> {
+        let n = self.coordinate_count();
+        check_len("q", q, n)?;
+        check_len("q̇", qd, n)?;
+        Ok(self.violation(t, q, qd))
+    }
+
+    pub(crate) fn violation(&self, t: f64, q: &[f64], qd: &[f64]) -> (f64, f64) {
         let mut max_phi: f64 = 0.0;
         let mut max_phi_dot: f64 = 0.0;
         for k in 0..self.constraints.len() {
@@ -209,7 +221,9 @@ impl System {
         t: f64,
         q: &[f64],
         lambda: &[f64],
-    ) -> [f64; 3] {
+    ) -> Result<[f64; 3], EvaluationError> {
+        check_len("q", q, self.coordinate_count())?;
+        check_len("λ", lambda, self.constraint_count())?;
         let zero = vec![0.0; q.len()];
         let mut force = [0.0; 3];
         for (k, _) in self
@@ -228,7 +242,7 @@ impl System {
                 }
             }
         }
-        force
+        Ok(force)
     }
 
     fn check_length(&self, values: &[f64], what: &'static str) -> Result<(), AssemblyError> {
@@ -362,7 +376,7 @@ impl System {
             let state = self.assemble(t, &guess, &zero)?;
             evaluator
                 .solve_accelerations(&self.elements, t, &state.q, &state.qd)
-                .map_err(|dependent| AssemblyError::RankDeficient { t, dependent })?;
+                .map_err(|error| KinematicsError::Evaluation { t, error })?;
             solution.times.push(t);
             solution.q.extend_from_slice(&state.q);
             solution.qd.extend_from_slice(&state.qd);
@@ -390,6 +404,18 @@ pub(crate) fn local_dot(
         .zip(d.grad)
         .filter_map(|(slot, g)| slot.map(|index| g * values[index]))
         .sum()
+}
+
+fn check_len(what: &'static str, values: &[f64], expected: usize) -> Result<(), EvaluationError> {
+    if values.len() == expected {
+        Ok(())
+    } else {
+        Err(EvaluationError::WrongLength {
+            what,
+            expected,
+            actual: values.len(),
+        })
+    }
 }
 
 /// Position-level workspace: `Φ`, `Φ_q` and the factors of `Φ_q Φ_qᵀ`.
@@ -528,8 +554,10 @@ impl<'s> Evaluator<'s> {
         t: f64,
         q: &[f64],
         qd: &[f64],
-    ) -> Result<(), String> {
+    ) -> Result<(), EvaluationError> {
         let (n, m) = (self.n, self.m);
+        check_len("q", q, n)?;
+        check_len("q̇", qd, n)?;
         let constraints = self.system.constraints();
         let Baumgarte { alpha, beta } = self.baumgarte;
         self.phi_q.fill(0.0);
@@ -568,7 +596,9 @@ impl<'s> Evaluator<'s> {
             }
         }
         if self.lu.factor(&self.augmented, SINGULAR_PIVOT).is_err() {
-            return Err(self.system.dependent_constraints(&self.phi_q));
+            return Err(EvaluationError::Singular {
+                dependent: self.system.dependent_constraints(&self.phi_q),
+            });
         }
         self.lu.solve_in_place(&mut self.solution);
         Ok(())
@@ -582,9 +612,11 @@ impl<'s> Evaluator<'s> {
         t: f64,
         y: &[f64],
         dy: &mut [f64],
-    ) -> Result<(), String> {
+    ) -> Result<(), EvaluationError> {
         self.rhs_evaluations += 1;
         let n = self.n;
+        check_len("y", y, 2 * n)?;
+        check_len("ẏ", dy, 2 * n)?;
         let (q, qd) = y.split_at(n);
         let result = self.solve_accelerations(elements, t, q, qd);
         dy[..n].copy_from_slice(qd);
@@ -604,9 +636,11 @@ impl<'s> Evaluator<'s> {
         t: f64,
         y: &[f64],
         jacobian: &mut DMatrix<f64>,
-    ) -> Result<(), String> {
+    ) -> Result<(), EvaluationError> {
         self.jacobian_evaluations += 1;
         let n = self.n;
+        check_len("y", y, 2 * n)?;
+        check_len("Jacobian rows", jacobian.as_slice(), 4 * n * n)?;
         let (q, qd) = y.split_at(n);
         jacobian.fill(0.0);
         for i in 0..n {
@@ -679,8 +713,10 @@ impl<'s> Evaluator<'s> {
         t: f64,
         y: &[f64],
         jacobian: &mut DMatrix<f64>,
-    ) -> Result<(), String> {
+    ) -> Result<(), EvaluationError> {
         self.jacobian_evaluations += 1;
+        check_len("y", y, 2 * self.n)?;
+        check_len("Jacobian rows", jacobian.as_slice(), 4 * self.n * self.n)?;
         let size = y.len();
         let mut base = std::mem::take(&mut self.fd_base);
         let mut shifted = std::mem::take(&mut self.fd_shifted);

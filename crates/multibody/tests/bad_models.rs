@@ -274,3 +274,56 @@ fn bad_options_and_state_lengths_are_errors() {
     // The elements are back after a failed run.
     assert_eq!(system.elements().len(), 1);
 }
+
+#[test]
+fn driving_through_a_singular_position_is_an_error_not_a_panic() {
+    // With crank = rod, at φ = 90° the rod folds onto the crank and the slider reaches the
+    // pivot: Φ_q loses rank there (a bifurcation point).
+    let mechanism = SliderCrank { r: 0.2, l: 0.2 };
+    let (mut model, joint) = mechanism.model(0.5);
+    model
+        .add_driver(
+            "motor",
+            DriveTarget::JointAngle(joint),
+            Box::new(multibody::Ramp {
+                initial: 0.5,
+                rate: 1.0,
+            }),
+        )
+        .expect("valid");
+    let mut system = with_gravity(model);
+    let singular_time = PI / 2.0 - 0.5;
+    let (q, qd) = system.initial_guess();
+    let error = system
+        .kinematics(&[0.0, 0.5, 1.0, singular_time], &q)
+        .expect_err("singular position");
+    assert!(
+        matches!(
+            error,
+            KinematicsError::Assembly(AssemblyError::RankDeficient { .. })
+        ),
+        "{error}"
+    );
+    let start = system
+        .assemble(0.0, &q, &qd)
+        .expect("assembles away from the singularity");
+    let mut options = SimulationOptions::until(2.0);
+    options.output = OutputTimes::At(vec![singular_time]);
+    // The output frame at the singular time needs q̈ and λ there, which do not exist.
+    let outcome = system.simulate(&start, &options, &mut ());
+    assert!(
+        matches!(
+            outcome,
+            Err(SimulationError::Evaluation {
+                error: multibody::EvaluationError::Singular { .. },
+                ..
+            })
+        ),
+        "{outcome:?}"
+    );
+    assert_eq!(
+        system.elements().len(),
+        1,
+        "elements back after the failure"
+    );
+}

@@ -68,13 +68,15 @@ fn hanging_body_reaction_equals_weight() {
         .simulate(&start, &options, &mut ())
         .expect("integrates");
     for frame in 0..result.trajectory.len() {
-        let reaction = system.reaction(
-            ConstraintOwner::Joint(JointId(0)),
-            BodyId(0),
-            result.trajectory.times[frame],
-            result.trajectory.q(frame),
-            result.trajectory.lambda(frame),
-        );
+        let reaction = system
+            .reaction(
+                ConstraintOwner::Joint(JointId(0)),
+                BodyId(0),
+                result.trajectory.times[frame],
+                result.trajectory.q(frame),
+                result.trajectory.lambda(frame),
+            )
+            .expect("lengths match");
         // Statics: the pin holds the weight exactly; the body stays at rest, so only the
         // integrator's roundoff can show (1e-9 N of 34 N).
         assert!(reaction[0].abs() < 1e-9, "{reaction:?}");
