@@ -119,6 +119,11 @@ pub struct SimulationOptions {
     pub max_error_test_failures: usize,
     /// Smallest step diffsol may take before giving up, default 1e-14 s.
     pub min_step: f64,
+    /// Largest step, default none. diffsol has no such option; it is enforced with moving
+    /// stop times (the step is shortened, the method keeps its order). Events are found from
+    /// sign changes between step ends, so an element whose event could begin and end within
+    /// one step (a brief impact) needs a bound here.
+    pub max_step: Option<f64>,
 }
 
 impl SimulationOptions {
@@ -137,6 +142,7 @@ impl SimulationOptions {
             max_nonlinear_solver_failures: 1_000_000,
             max_error_test_failures: 40,
             min_step: 1e-14,
+            max_step: None,
         }
     }
 
@@ -155,6 +161,7 @@ impl SimulationOptions {
             ("velocity atol", self.atol.velocity),
             ("angular velocity atol", self.atol.angular_velocity),
             ("min_step", self.min_step),
+            ("max_step", self.max_step.unwrap_or(1.0)),
         ];
         if let Some((name, value)) = positive.iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
             return invalid(format!("{name} must be positive and finite, got {value}"));
@@ -576,6 +583,15 @@ impl Run<'_, '_> {
         }
     }
 
+    /// The end of the run, or one maximal step ahead (never leaving a sliver before the end).
+    fn next_stop(&self, t: f64) -> f64 {
+        let t_end = self.options.t_end;
+        match self.options.max_step {
+            Some(h) if t + 1.001 * h < t_end => t + h,
+            _ => t_end,
+        }
+    }
+
     fn failure(&self, t: f64, error: diffsol::DiffsolError) -> SimulationError {
         match self.singular.borrow_mut().take() {
             Some((t, error)) => SimulationError::Evaluation { t, error },
@@ -596,11 +612,11 @@ impl Run<'_, '_> {
         let t_end = self.options.t_end;
         let n = self.system.coordinate_count();
         let mut t_previous = solver.state().t;
-        solver
-            .set_stop_time(t_end)
-            .map_err(|e| integrator_error(t_previous, e))?;
         let mut interpolated = solver.state().y.clone();
         let outcome = loop {
+            if let Err(e) = solver.set_stop_time(self.next_stop(t_previous)) {
+                break Err(integrator_error(t_previous, e));
+            }
             let reason = match solver.step() {
                 Ok(reason) => reason,
                 Err(e) => break Err(self.failure(solver.state().t, e)),
@@ -641,7 +657,8 @@ impl Run<'_, '_> {
             self.jacobian_cache.borrow_mut().valid = false;
             self.observer.progress(t_now, t_end);
             t_previous = t_now;
-            if matches!(reason, OdeSolverStopReason::TstopReached) {
+            let at_end = t_now >= t_end - 1e-12 * t_end.abs().max(1.0);
+            if matches!(reason, OdeSolverStopReason::TstopReached) && at_end {
                 break Ok(());
             }
         };

@@ -189,3 +189,36 @@ fn events_land_on_the_bottom_passage_and_hooks_see_every_step() {
     }
     assert_eq!(result.events.len(), element.passages.len());
 }
+
+#[test]
+fn max_step_bounds_every_step_without_changing_the_answer() {
+    let run = |max_step: Option<f64>| {
+        let mut system = with_gravity(pendulum(1.0, 1.0, -PI / 2.0 + 1.0));
+        let (q, qd) = system.initial_guess();
+        let start = system.assemble(0.0, &q, &qd).expect("assembles");
+        let mut options = tight(2.0);
+        options.max_step = max_step;
+        system
+            .simulate(&start, &options, &mut ())
+            .expect("integrates")
+    };
+    let free = run(None);
+    let bounded = run(Some(2e-3));
+    assert!(free.statistics.largest_step > 2e-3, "{:?}", free.statistics);
+    assert!(
+        bounded.statistics.largest_step <= 2e-3 * (1.0 + 1e-9),
+        "{:?}",
+        bounded.statistics
+    );
+    assert!(bounded.statistics.steps >= 1000);
+    // Both at rtol 1e-8: the final states agree to ~1e-7.
+    let difference = free
+        .final_state
+        .q
+        .iter()
+        .zip(&bounded.final_state.q)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(difference < 1e-6, "{difference:e}");
+    assert_eq!(bounded.final_state.t, 2.0);
+}
