@@ -1,13 +1,18 @@
 //! `wearsim`: the command line of the worn-clearance-joint toolkit.
 //!
-//! Thin by design: it parses arguments, loads and validates scenes through `lgres`, prints and
-//! maps errors to exit codes (0 success, 1 could not run, 2 bad input). `run` and `study` stop
-//! after validation until `lgres` is wired to the `multibody`, `contact` and `wear` crates.
+//! Thin by design: it parses arguments, loads and validates scenes through `lgres`, runs them
+//! with [`lgres::run::run_scene`], writes the outputs with [`lgres::artifacts`], shows progress
+//! bars and maps errors to exit codes (0 success, 1 could not run, 2 bad input). `study` stops
+//! after validation (not wired yet).
+
+mod progress;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
+use lgres::output::OutputError;
+use lgres::run::{RunError, RunOptions, RunOutcome};
 use lgres::scene::{self, Scene, SceneError};
 use lgres::scenes;
 
@@ -39,7 +44,15 @@ struct Overrides {
     /// Relative tolerance (scene: solver.rtol).
     #[arg(long, global = true, allow_negative_numbers = true)]
     rtol: Option<f64>,
+    /// Simulated cycles per wear stage K (scene: run.cycles_per_stage, the paper's 100). The
+    /// amplification is rescaled so a stage still stands for the scene's K × amplification
+    /// cycles. `run` defaults to 1 so it finishes in seconds; give 100 for the paper's staging.
+    #[arg(long, global = true, value_name = "K")]
+    cycles_per_stage: Option<u32>,
 }
+
+/// K used by `run` when `--cycles-per-stage` is not given: quick, see [`Overrides`].
+const QUICK_CYCLES_PER_STAGE: u32 = 1;
 
 #[derive(Subcommand)]
 enum Command {
@@ -82,6 +95,12 @@ enum CliError {
     /// Neither a built-in name nor an existing file.
     #[error("no built-in scene and no file named {0:?} (see `wearsim scenes`)")]
     NoSuchScene(String),
+    /// The run failed, or its scene does not assemble.
+    #[error(transparent)]
+    Run(#[from] RunError),
+    /// An output could not be written.
+    #[error(transparent)]
+    Output(#[from] OutputError),
     /// Simulation is not available yet.
     #[error(
         "{what}: scene valid, but simulation is not wired yet (the multibody, contact and wear \
@@ -95,7 +114,8 @@ impl CliError {
     fn exit_code(&self) -> u8 {
         match self {
             CliError::Scene(_) | CliError::NoSuchScene(_) => 2,
-            CliError::NotWired { .. } => 1,
+            CliError::Run(e) if e.is_bad_input() => 2,
+            CliError::Run(_) | CliError::Output(_) | CliError::NotWired { .. } => 1,
         }
     }
 }
@@ -206,16 +226,128 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
         t.velocity,
         s.cycle_period().map_or("-".into(), |p| format!("{p:.6}"))
     );
-    println!("  assembly (rank, initial consistency) is checked once the multibody wiring lands.");
+    let check = lgres::run::check_assembly(&s)?;
+    println!(
+        "  assembly at t = 0: ok, {} coordinates, {} constraint equations, {} degrees of freedom \
+         (clearance joints as force elements); largest joint-centre move from the file's poses \
+         {:.3e} m",
+        check.coordinates, check.constraints, check.degrees_of_freedom, check.largest_move
+    );
     Ok(())
 }
 
 fn run(spec: &str, o: &Overrides) -> Result<(), CliError> {
-    let loaded = load(spec, o)?;
-    Err(CliError::NotWired {
-        what: format!("run {}", loaded.name),
-        out: out_dir(o, &loaded.name),
-    })
+    let Loaded { name, scene } = load(spec, o)?;
+    let out = out_dir(o, &name);
+    let options = RunOptions {
+        cycles_per_stage: Some(o.cycles_per_stage.unwrap_or(QUICK_CYCLES_PER_STAGE)),
+        ..RunOptions::default()
+    };
+    let mut bars = progress::Bars::new();
+    let outcome = lgres::run::run_scene(&name, &scene, &options, &mut bars)?;
+    drop(bars);
+    let files = lgres::artifacts::write_run(&outcome, &out)?;
+    print_summary(&outcome, &out, files.len());
+    Ok(())
+}
+
+/// The one-screen summary at the end of a run.
+fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
+    let s = &outcome.summary;
+    println!("scene {}: {}", s.scene, s.description);
+    let r = &s.response;
+    println!(
+        "response: {} cycle(s) of {:.3} s; peaks are statistics of per-cycle maxima",
+        r.cycles, s.period_s
+    );
+    for j in &r.joints {
+        let (a, b) = (&j.normal_force_all, &j.normal_force_after_transient);
+        println!(
+            "  joint {}: peak F_n {:.2} kN (all), {:.2} kN after {} s (median of {} cycle peaks \
+             {:.2} kN, range {:.2}–{:.2} kN); max penetration {:.2} µm; dissipation/cycle: \
+             friction {:.3} J, all {:.3} J",
+            j.name,
+            a.max * 1e-3,
+            b.max * 1e-3,
+            s.transient_window_s,
+            b.cycles,
+            b.cycle_median * 1e-3,
+            b.cycle_min * 1e-3,
+            b.cycle_max * 1e-3,
+            j.max_penetration_m * 1e6,
+            j.friction_dissipation_per_cycle_j,
+            j.contact_dissipation_per_cycle_j
+        );
+    }
+    let d = &r.deviation_after_transient;
+    println!(
+        "  {} vs ideal after {} s: |Δx| {:.1} µm, |Δy| {:.1} µm, |Δv| {:.4}/{:.4} m/s, |Δa| \
+         {:.1}/{:.1} m/s²",
+        s.response_body,
+        s.transient_window_s,
+        d.x_m * 1e6,
+        d.y_m * 1e6,
+        d.vx_m_s,
+        d.vy_m_s,
+        d.ax_m_s2,
+        d.ay_m_s2
+    );
+    if let Some(n) = &r.numerics {
+        println!(
+            "  integrator: {} steps ({} rejected), {} events, drift {:.1e} m, energy residual \
+             {:.2e} J ({:.1e} relative), {:.1} s",
+            n.steps,
+            n.rejected_steps,
+            n.events,
+            n.drift_position,
+            n.energy_residual_j,
+            n.energy_relative_residual,
+            n.wall_time_s
+        );
+    }
+    if let Some(w) = &s.wear {
+        println!(
+            "wear: {} stage(s), K = {} cycles per stage (scene: {}), ×{:.0} so a stage stands for \
+             {:.3e} cycles; {}; sub-steps {:?}; {:.1} s",
+            w.stages,
+            w.cycles_per_stage,
+            w.scene_cycles_per_stage,
+            w.amplification,
+            w.cycles_represented_per_stage,
+            w.extrapolation,
+            w.substeps_per_stage,
+            w.wall_time_s
+        );
+        for j in &w.joints {
+            println!(
+                "  joint {}: bearing peak {:.1} µm at {:.0}°, pin peak {:.1} µm at {:.0}°",
+                j.name,
+                j.bearing_peak_depth_m * 1e6,
+                j.bearing_peak_angle_deg,
+                j.pin_peak_depth_m * 1e6,
+                j.pin_peak_angle_deg
+            );
+        }
+        for text in &w.warnings {
+            println!("  {text}");
+        }
+    }
+    if let Some(r) = &s.worn_response {
+        for j in &r.joints {
+            println!(
+                "worn response, joint {}: peak F_n after {} s {:.2} kN (median {:.2} kN)",
+                j.name,
+                s.transient_window_s,
+                j.normal_force_after_transient.max * 1e-3,
+                j.normal_force_after_transient.cycle_median * 1e-3
+            );
+        }
+    }
+    println!(
+        "wrote {files} files to {} in {:.1} s total",
+        out.display(),
+        s.wall_time_s
+    );
 }
 
 fn study(which: StudyName, o: &Overrides) -> Result<(), CliError> {

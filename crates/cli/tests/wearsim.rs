@@ -57,14 +57,23 @@ fn unknown_key_is_rejected_with_its_line() {
 }
 
 #[test]
-fn overrides_are_validated_and_run_says_not_wired() {
+fn overrides_are_validated_and_study_says_not_wired() {
     let o = wearsim(&["check", "lgres", "--rtol", "-1"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("solver.rtol"));
 
-    let o = wearsim(&["run"]);
-    assert_eq!(o.status.code(), Some(1));
-    assert!(stderr(&o).contains("not wired yet"), "{}", stderr(&o));
+    let out = std::env::temp_dir().join(format!("wearsim-ideal-{}", std::process::id()));
+    let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    for file in [
+        "summary.json",
+        "response.csv",
+        "scene.toml",
+        "response_y.png",
+    ] {
+        assert!(out.join(file).is_file(), "{file} missing");
+    }
+    std::fs::remove_dir_all(&out).unwrap();
 
     let o = wearsim(&["study", "all"]);
     assert_eq!(o.status.code(), Some(1));

@@ -23,9 +23,11 @@
 //! # Ok::<(), lgres::scene::SceneError>(())
 //! ```
 
+pub mod artifacts;
 pub mod build;
 pub mod clearance;
 pub mod output;
 pub mod plot;
+pub mod run;
 pub mod scene;
 pub mod scenes;

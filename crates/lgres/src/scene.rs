@@ -526,7 +526,7 @@ pub struct Tolerances {
 }
 
 /// How long to run and how to stage wear.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RunSettings {
     /// Drive cycles of the response run (before any wear).
@@ -554,6 +554,10 @@ pub struct RunSettings {
     /// Start-up window excluded from peak statistics, s.
     #[serde(default = "transient_window")]
     pub transient_window: f64,
+    /// Body whose centroid response is recorded and compared with the ideal mechanism;
+    /// default: `rod3` if the scene has one, else the last body.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub response_body: Option<String>,
 }
 
 fn one() -> u32 {
@@ -583,6 +587,7 @@ impl Default for RunSettings {
             adaptive_extrapolation: true,
             max_clearance_change: max_clearance_change(),
             transient_window: transient_window(),
+            response_body: None,
         }
     }
 }
@@ -727,6 +732,21 @@ impl Scene {
         self.run
             .period
             .or_else(|| self.drivers.iter().find_map(|d| d.law.period()))
+    }
+
+    /// Index of the body whose response is recorded (see [`RunSettings::response_body`]).
+    pub fn response_body(&self) -> Option<usize> {
+        match &self.run.response_body {
+            Some(name) => match self.resolve(name)? {
+                BodyRef::Body(k) => Some(k),
+                BodyRef::Ground => None,
+            },
+            None => self
+                .bodies
+                .iter()
+                .position(|b| b.name == "rod3")
+                .or(self.bodies.len().checked_sub(1)),
+        }
     }
 
     /// Absolute tolerances with defaults resolved (see [`Solver`]).
@@ -1083,6 +1103,11 @@ impl Validator {
         let f = r.max_clearance_change;
         if self.number("run.max_clearance_change", f, true) && f > 1.0 {
             self.push("run.max_clearance_change", f, "must lie in (0, 1]");
+        }
+        if let Some(name) = &r.response_body
+            && !matches!(s.resolve(name), Some(BodyRef::Body(_)))
+        {
+            self.push("run.response_body", name, "no body of this name");
         }
         if self.number("run.transient_window", r.transient_window, false)
             && r.transient_window < 0.0

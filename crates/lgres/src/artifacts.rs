@@ -1,0 +1,251 @@
+//! The files of one run, written atomically with [`crate::output`] and drawn with
+//! [`crate::plot`]: CSV time series, per-stage wear grids, `summary.json`, the resolved
+//! `scene.toml` and PNG figures.
+
+use std::path::{Path, PathBuf};
+
+use crate::output::{Column, OutputError, write_atomic, write_csv, write_json};
+use crate::plot::{self, DEFAULT_SIZE, Figure, Series};
+use crate::run::{Response, RunOutcome};
+
+const QUANTITIES: [(&str, &str, &str); 6] = [
+    ("x", "m", "x displacement"),
+    ("y", "m", "y displacement"),
+    ("vx", "m/s", "x velocity"),
+    ("vy", "m/s", "y velocity"),
+    ("ax", "m/s^2", "x acceleration"),
+    ("ay", "m/s^2", "y acceleration"),
+];
+
+/// Writes every output of `outcome` into `dir`; returns the files written, in order.
+pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    let mut files = Vec::new();
+    let body = &outcome.summary.response_body;
+    files.extend(response_files(&outcome.response, body, dir, "")?);
+    if let Some(worn) = &outcome.worn_response {
+        files.extend(response_files(worn, body, dir, "_worn")?);
+    }
+    for joint in &outcome.wear {
+        for (k, stage) in joint.stages.iter().enumerate() {
+            let (bearing, pin) = (stage.bearing().depth(), stage.pin().depth());
+            let angle: Vec<f64> = (0..bearing.len())
+                .map(|c| plot::cell_angle_deg(c, bearing.len()))
+                .collect();
+            let path = dir.join(format!("wear_{}_stage{}.csv", joint.name, k + 1));
+            files.push(write_csv(
+                &path,
+                &[
+                    (col("angle", "deg"), &angle),
+                    (col("bearing_depth", "m"), bearing),
+                    (col("pin_depth", "m"), pin),
+                ],
+            )?);
+        }
+        if joint.stages.is_empty() {
+            continue;
+        }
+        let labels: Vec<(String, &[f64])> = joint
+            .stages
+            .iter()
+            .enumerate()
+            .flat_map(|(k, s)| {
+                [
+                    (format!("bearing, stage {}", k + 1), s.bearing().depth()),
+                    (format!("pin, stage {}", k + 1), s.pin().depth()),
+                ]
+            })
+            .collect();
+        let surfaces: Vec<(&str, &[f64])> = labels.iter().map(|(l, d)| (l.as_str(), *d)).collect();
+        let path = dir.join(format!("wear_{}.png", joint.name));
+        plot::wear_depth(
+            &path,
+            &format!("Wear depth at joint {} (body frames)", joint.name),
+            DEFAULT_SIZE,
+            &surfaces,
+        )?;
+        files.push(path);
+        if let Some(last) = joint.stages.last() {
+            let peak = last.bearing().peak().0.max(last.pin().peak().0);
+            let clearance = joint.bearing_radius - joint.pin_radius;
+            // Draw the deepest wear at about the clearance's width, at least true to scale.
+            let exaggeration = if peak > 0.0 {
+                (clearance / peak).max(1.0).round()
+            } else {
+                1.0
+            };
+            let path = dir.join(format!("worn_outline_{}.png", joint.name));
+            plot::worn_outline(
+                &path,
+                &format!("Worn surfaces at joint {} after the last stage", joint.name),
+                (900, 650),
+                &plot::WornJoint {
+                    bearing_radius: joint.bearing_radius,
+                    pin_radius: joint.pin_radius,
+                    bearing_wear: last.bearing().depth(),
+                    pin_wear: last.pin().depth(),
+                    exaggeration,
+                },
+            )?;
+            files.push(path);
+        }
+    }
+    let path = dir.join("summary.json");
+    write_json(&path, &outcome.summary)?;
+    files.push(path);
+    let path = dir.join("scene.toml");
+    write_atomic(&path, outcome.scene.to_toml().as_bytes())?;
+    files.push(path);
+    Ok(files)
+}
+
+fn col<'a>(name: &'a str, unit: &'a str) -> Column<'a> {
+    Column { name, unit }
+}
+
+/// `response{suffix}.csv`, `contact{suffix}.csv` and their figures.
+fn response_files(
+    r: &Response,
+    body: &str,
+    dir: &Path,
+    suffix: &str,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let mut files = Vec::new();
+    let (sim, ideal) = (r.motion.series(), r.ideal.series());
+    let deviation: Vec<Vec<f64>> = sim
+        .iter()
+        .zip(&ideal)
+        .map(|(a, b)| a.iter().zip(*b).map(|(x, y)| x - y).collect())
+        .collect();
+    let names: Vec<[String; 3]> = QUANTITIES
+        .iter()
+        .map(|(q, _, _)| [q.to_string(), format!("ideal_{q}"), format!("dev_{q}")])
+        .collect();
+    let mut columns = vec![(col("t", "s"), r.times.as_slice())];
+    for (k, (_, unit, _)) in QUANTITIES.iter().enumerate() {
+        columns.push((col(&names[k][0], unit), sim[k]));
+        columns.push((col(&names[k][1], unit), ideal[k]));
+        columns.push((col(&names[k][2], unit), &deviation[k]));
+    }
+    files.push(write_csv(
+        dir.join(format!("response{suffix}.csv")),
+        &columns,
+    )?);
+
+    if !r.contact.is_empty() {
+        let names: Vec<[String; 8]> = r
+            .contact
+            .iter()
+            .map(|c| {
+                [
+                    "Fn",
+                    "Ft",
+                    "delta",
+                    "e",
+                    "ex",
+                    "ey",
+                    "ex_bearing",
+                    "ey_bearing",
+                ]
+                .map(|q| format!("{}_{q}", c.name))
+            })
+            .collect();
+        let mut columns = vec![(col("t", "s"), r.times.as_slice())];
+        for (c, n) in r.contact.iter().zip(&names) {
+            let units = ["N", "N", "m", "m", "m", "m", "m", "m"];
+            let data: [&[f64]; 8] = [
+                &c.normal_force,
+                &c.friction_force,
+                &c.penetration,
+                &c.eccentricity,
+                &c.ex,
+                &c.ey,
+                &c.ex_bearing,
+                &c.ey_bearing,
+            ];
+            for k in 0..8 {
+                columns.push((col(&n[k], units[k]), data[k]));
+            }
+        }
+        files.push(write_csv(
+            dir.join(format!("contact{suffix}.csv")),
+            &columns,
+        )?);
+    }
+
+    let worn = if suffix.is_empty() {
+        ""
+    } else {
+        " (worn joints)"
+    };
+    if suffix.is_empty() || r.contact.is_empty() {
+        for (k, (q, unit, label)) in QUANTITIES.iter().enumerate() {
+            let path = dir.join(format!("response_{q}{suffix}.png"));
+            let title = format!("{body} centroid {label}: clearance vs ideal{worn}");
+            let y_label = format!("{q} ({unit})");
+            plot::line_chart(
+                &path,
+                &Figure {
+                    title: &title,
+                    x_label: "t (s)",
+                    y_label: &y_label,
+                    size: DEFAULT_SIZE,
+                },
+                &[
+                    Series {
+                        label: "with clearance",
+                        x: &r.times,
+                        y: sim[k],
+                    },
+                    Series {
+                        label: "ideal",
+                        x: &r.times,
+                        y: ideal[k],
+                    },
+                ],
+            )?;
+            files.push(path);
+        }
+    }
+    for c in &r.contact {
+        let path = dir.join(format!("contact_force_{}{suffix}.png", c.name));
+        let title = format!("Contact force at joint {}{worn}", c.name);
+        let kn: Vec<f64> = c.normal_force.iter().map(|f| f * 1e-3).collect();
+        let kt: Vec<f64> = c.friction_force.iter().map(|f| f * 1e-3).collect();
+        plot::line_chart(
+            &path,
+            &Figure {
+                title: &title,
+                x_label: "t (s)",
+                y_label: "force (kN)",
+                size: DEFAULT_SIZE,
+            },
+            &[
+                Series {
+                    label: "normal",
+                    x: &r.times,
+                    y: &kn,
+                },
+                Series {
+                    label: "friction",
+                    x: &r.times,
+                    y: &kt,
+                },
+            ],
+        )?;
+        files.push(path);
+        let path = dir.join(format!("journal_{}{suffix}.png", c.name));
+        plot::journal_path(
+            &path,
+            &format!(
+                "Journal centre at joint {} in the bearing frame{worn}",
+                c.name
+            ),
+            (900, 650),
+            &c.ex_bearing,
+            &c.ey_bearing,
+            c.clearance,
+        )?;
+        files.push(path);
+    }
+    Ok(files)
+}

@@ -1,0 +1,1005 @@
+//! One run of a scene: the response over `cycles` drive periods against the ideal mechanism,
+//! then the wear stages, with every summary number kept in memory ([`RunOutcome`]).
+//!
+//! [`run_scene`] is what the CLI's `run` calls and what a study loop can call repeatedly; it
+//! writes nothing (see [`crate::artifacts`]) and reports progress through [`Progress`].
+//!
+//! - **Response run**: assembled from the scene's initial poses (pins concentric), integrated
+//!   over `run.cycles` periods on unworn surfaces, sampled every `solver.output_interval`.
+//! - **Reference**: the all-ideal mechanism ([`Scene::idealized`]) by kinematic analysis at the
+//!   same times. A scene without active clearance joints runs this kinematic path only.
+//! - **Wear stages** ([`wear::run_stage`]): each sub-step rebuilds the system on the current
+//!   (frozen) worn surfaces and integrates `run.transient_window + K` periods, gathering wear
+//!   over the last `K` only: the concentric start-up impact (MODEL §8) is not amplified, and a
+//!   periodic drive makes any `K` consecutive periods `K` full cycles. After the stages the
+//!   response is simulated once more on the worn surfaces.
+//! - **Peaks** are statistics over cycles, with and without the start-up window (MODEL §8:
+//!   the clearance dynamics are chaotic, single peaks are not reproducible).
+
+use std::time::Instant;
+
+use multibody::{
+    AbsoluteTolerances, AssemblyError, Baumgarte, Frame, Integrator, KinematicsError, Observer,
+    OutputTimes, SimulationError, SimulationOptions, SimulationResult,
+};
+use serde::Serialize;
+use wear::{Extrapolation, StagePlan, StageWear, StagingError, WornJoint};
+
+use crate::build::{BuildError, Built, JointHandle, Surfaces, build, unworn_joints};
+use crate::clearance::WornClearanceForce;
+use crate::scene::{self, Scene};
+
+/// Receives progress; every method defaults to doing nothing (`()` ignores everything).
+pub trait Progress {
+    /// A new phase of `cycles` drive periods starts (e.g. `"response"`, `"stage 1.2"`).
+    fn phase(&mut self, _label: &str, _cycles: f64) {}
+    /// Position within the current phase, in periods.
+    fn advance(&mut self, _cycles: f64) {}
+    /// The current phase is done.
+    fn finish(&mut self) {}
+    /// A note or warning for the user (e.g. a single-jump extrapolation warning).
+    fn note(&mut self, _text: &str) {}
+}
+
+impl Progress for () {}
+
+/// Overrides of the scene's run settings.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct RunOptions {
+    /// Simulated cycles per wear stage `K` instead of `run.cycles_per_stage`; the
+    /// amplification is rescaled so a stage still stands for `K_scene × amplification` cycles.
+    pub cycles_per_stage: Option<u32>,
+    /// Skip the response run on the worn surfaces after the stages.
+    pub skip_worn_response: bool,
+}
+
+/// Why a run failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The scene does not make a valid system (field named).
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// The initial poses do not assemble.
+    #[error(
+        "{what}: the initial poses (bodies[*].x, y, theta_deg) do not assemble at t = 0: {source}"
+    )]
+    Assembly {
+        /// Which system.
+        what: String,
+        /// Cause, naming the constraints.
+        source: AssemblyError,
+    },
+    /// The ideal mechanism's kinematic analysis failed.
+    #[error("kinematic analysis of the ideal mechanism: {0}")]
+    Kinematics(#[from] KinematicsError),
+    /// The integrator failed.
+    #[error("{what}: {source}")]
+    Simulation {
+        /// Which run.
+        what: String,
+        /// Cause.
+        source: SimulationError,
+    },
+    /// Wear staging failed (e.g. a pin worn through, too many sub-steps).
+    #[error("wear staging: {0}")]
+    Wear(#[from] wear::WearError),
+    /// The scene has no drive period (validation normally catches this).
+    #[error("run.period: no drive period; give run.period")]
+    NoPeriod,
+    /// The scene has no body to record.
+    #[error("run.response_body: no body to record")]
+    NoResponseBody,
+    /// A run produced a non-finite value.
+    #[error("{what}: the solution became non-finite (NaN or infinite) at t = {t}")]
+    NonFinite {
+        /// Which run.
+        what: String,
+        /// First bad output time.
+        t: f64,
+    },
+}
+
+impl RunError {
+    /// Whether the scene itself is at fault (exit code 2) rather than the run (1).
+    pub fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            RunError::Build(_)
+                | RunError::Assembly { .. }
+                | RunError::NoPeriod
+                | RunError::NoResponseBody
+        )
+    }
+}
+
+/// Centroid motion of one body at the output times.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Motion {
+    /// x, m.
+    pub x: Vec<f64>,
+    /// y, m.
+    pub y: Vec<f64>,
+    /// ẋ, m/s.
+    pub vx: Vec<f64>,
+    /// ẏ, m/s.
+    pub vy: Vec<f64>,
+    /// ẍ, m/s².
+    pub ax: Vec<f64>,
+    /// ÿ, m/s².
+    pub ay: Vec<f64>,
+}
+
+impl Motion {
+    fn push(&mut self, k: usize, q: &[f64], qd: &[f64], qdd: &[f64]) {
+        let i = 3 * k;
+        self.x.push(q[i]);
+        self.y.push(q[i + 1]);
+        self.vx.push(qd[i]);
+        self.vy.push(qd[i + 1]);
+        self.ax.push(qdd[i]);
+        self.ay.push(qdd[i + 1]);
+    }
+
+    /// The six series in the order x, y, vx, vy, ax, ay.
+    pub fn series(&self) -> [&[f64]; 6] {
+        [&self.x, &self.y, &self.vx, &self.vy, &self.ax, &self.ay]
+    }
+}
+
+/// Contact history of one clearance joint at the output times.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ContactSeries {
+    /// Joint name.
+    pub name: String,
+    /// Nominal clearance, m.
+    pub clearance: f64,
+    /// Normal force `F_n`, N.
+    pub normal_force: Vec<f64>,
+    /// Signed friction force along the tangent, N.
+    pub friction_force: Vec<f64>,
+    /// Penetration `δ` (negative: free), m.
+    pub penetration: Vec<f64>,
+    /// Eccentricity `|e|`, m.
+    pub eccentricity: Vec<f64>,
+    /// Journal-centre offset `e = r_pin − r_bearing` in the global frame, m.
+    pub ex: Vec<f64>,
+    /// See `ex`.
+    pub ey: Vec<f64>,
+    /// The same offset in the bearing body's frame (where the bearing wears), m.
+    pub ex_bearing: Vec<f64>,
+    /// See `ex_bearing`.
+    pub ey_bearing: Vec<f64>,
+}
+
+/// One simulated response with its reference.
+#[derive(Debug, Clone, Default)]
+pub struct Response {
+    /// Output times, s.
+    pub times: Vec<f64>,
+    /// The recorded body (with clearance).
+    pub motion: Motion,
+    /// The ideal mechanism at the same times.
+    pub ideal: Motion,
+    /// Per active clearance joint.
+    pub contact: Vec<ContactSeries>,
+}
+
+/// Wear of one joint after each stage.
+#[derive(Debug, Clone)]
+pub struct JointWearHistory {
+    /// Joint name.
+    pub name: String,
+    /// Nominal bearing radius, m.
+    pub bearing_radius: f64,
+    /// Nominal pin radius, m.
+    pub pin_radius: f64,
+    /// The joint after stage 1, 2, … (cumulative surfaces).
+    pub stages: Vec<WornJoint>,
+}
+
+/// Statistics of per-cycle peaks.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct PeakStats {
+    /// Largest value over the whole window, N.
+    pub max: f64,
+    /// Cycles with samples in the window.
+    pub cycles: usize,
+    /// Median of the per-cycle peaks, N.
+    pub cycle_median: f64,
+    /// Smallest per-cycle peak, N.
+    pub cycle_min: f64,
+    /// Largest per-cycle peak, N (equals `max`).
+    pub cycle_max: f64,
+    /// Interquartile range of the per-cycle peaks, N.
+    pub cycle_iqr: f64,
+}
+
+/// Contact summary of one joint in one response run.
+#[derive(Debug, Clone, Serialize)]
+pub struct JointSummary {
+    /// Joint name.
+    pub name: String,
+    /// Nominal clearance, m.
+    pub clearance_m: f64,
+    /// Normal-force peaks over all output samples.
+    pub normal_force_all: PeakStats,
+    /// Normal-force peaks after the start-up window `run.transient_window`.
+    pub normal_force_after_transient: PeakStats,
+    /// Largest penetration, m.
+    pub max_penetration_m: f64,
+    /// Largest eccentricity, m.
+    pub max_eccentricity_m: f64,
+    /// Friction work per cycle (dissipated, ≥ 0), J, from `ClearanceForce::friction_work`.
+    pub friction_dissipation_per_cycle_j: f64,
+    /// Work done on the joint per cycle by its whole contact force (damping + friction, net of
+    /// the small elastic energy stored at the end), J, from the energy audit.
+    pub contact_dissipation_per_cycle_j: f64,
+}
+
+/// Largest deviation of the recorded body from the ideal mechanism.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct Deviation {
+    /// m.
+    pub x_m: f64,
+    /// m.
+    pub y_m: f64,
+    /// m/s.
+    pub vx_m_s: f64,
+    /// m/s.
+    pub vy_m_s: f64,
+    /// m/s².
+    pub ax_m_s2: f64,
+    /// m/s².
+    pub ay_m_s2: f64,
+}
+
+/// Integrator statistics, drift and energy balance of one dynamic run.
+#[derive(Debug, Clone, Serialize)]
+pub struct Numerics {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected steps.
+    pub rejected_steps: usize,
+    /// Right-hand-side evaluations.
+    pub rhs_evaluations: usize,
+    /// Jacobian evaluations.
+    pub jacobian_evaluations: usize,
+    /// Factorizations.
+    pub factorizations: usize,
+    /// Smallest step, s.
+    pub smallest_step_s: f64,
+    /// Largest step, s.
+    pub largest_step_s: f64,
+    /// Located events (contact onsets and separations).
+    pub events: usize,
+    /// Largest |Φ|, m or rad.
+    pub drift_position: f64,
+    /// Largest |Φ̇|, m/s or rad/s.
+    pub drift_velocity: f64,
+    /// Energy-balance residual, J.
+    pub energy_residual_j: f64,
+    /// Residual relative to the largest energy term.
+    pub energy_relative_residual: f64,
+    /// Solver wall time, s.
+    pub wall_time_s: f64,
+}
+
+/// Summary of one response run.
+#[derive(Debug, Clone, Serialize)]
+pub struct ResponseSummary {
+    /// Simulated cycles.
+    pub cycles: u32,
+    /// Duration, s.
+    pub duration_s: f64,
+    /// Per active clearance joint.
+    pub joints: Vec<JointSummary>,
+    /// Peak deviation of the recorded body from the ideal mechanism (whole run).
+    pub deviation: Deviation,
+    /// The same after the start-up window.
+    pub deviation_after_transient: Deviation,
+    /// Energy dissipated per cycle by all clearance joints, J (energy audit).
+    pub dissipated_per_cycle_j: f64,
+    /// Of which friction, J (`ClearanceForce::friction_work`).
+    pub friction_per_cycle_j: f64,
+    /// The rest: normal-force damping, J (difference of the two above).
+    pub damping_per_cycle_j: f64,
+    /// Integrator numbers (absent for the kinematic path).
+    pub numerics: Option<Numerics>,
+}
+
+/// Wear of one joint at the end of all stages.
+#[derive(Debug, Clone, Serialize)]
+pub struct JointWearSummary {
+    /// Joint name.
+    pub name: String,
+    /// Peak bearing depth `h` (radius grew by h/2), m.
+    pub bearing_peak_depth_m: f64,
+    /// Body-frame angle of the bearing peak, deg.
+    pub bearing_peak_angle_deg: f64,
+    /// Peak pin depth, m.
+    pub pin_peak_depth_m: f64,
+    /// Body-frame angle of the pin peak, deg.
+    pub pin_peak_angle_deg: f64,
+    /// Bearing ranges with depth ≥ half the peak, `[start, end]` deg, deepest first.
+    pub bearing_ranges_deg: Vec<[f64; 2]>,
+    /// Pin ranges with depth ≥ half the peak, deg.
+    pub pin_ranges_deg: Vec<[f64; 2]>,
+}
+
+/// How the wear stages were run.
+#[derive(Debug, Clone, Serialize)]
+pub struct WearSummary {
+    /// Stages.
+    pub stages: u32,
+    /// Simulated cycles per stage `K` actually used.
+    pub cycles_per_stage: u32,
+    /// `K` the scene asks for (the paper: 100).
+    pub scene_cycles_per_stage: u32,
+    /// Amplification used (rescaled when `K` differs from the scene's).
+    pub amplification: f64,
+    /// Drive cycles one stage stands for (`K × amplification`).
+    pub cycles_represented_per_stage: f64,
+    /// Start of wear accumulation in each K-cycle run (start-up skipped), s.
+    pub wear_start_s: f64,
+    /// `adaptive` or `single-jump`.
+    pub extrapolation: String,
+    /// K-cycle simulations per stage (sub-steps).
+    pub substeps_per_stage: Vec<usize>,
+    /// Single-jump warnings.
+    pub warnings: Vec<String>,
+    /// Per wearing joint, after the last stage.
+    pub joints: Vec<JointWearSummary>,
+    /// Wall time of the stages, s.
+    pub wall_time_s: f64,
+}
+
+/// What `summary.json` holds.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// Scene name.
+    pub scene: String,
+    /// Scene description.
+    pub description: String,
+    /// Body whose response is recorded.
+    pub response_body: String,
+    /// Drive period, s.
+    pub period_s: f64,
+    /// Start-up window excluded from the `after_transient` statistics, s.
+    pub transient_window_s: f64,
+    /// How the ideal reference was computed.
+    pub reference: String,
+    /// The response on the initial (unworn) surfaces.
+    pub response: ResponseSummary,
+    /// Wear stages, if any ran.
+    pub wear: Option<WearSummary>,
+    /// The response on the worn surfaces after the last stage.
+    pub worn_response: Option<ResponseSummary>,
+    /// Total wall time, s.
+    pub wall_time_s: f64,
+}
+
+/// Everything a run produced.
+#[derive(Debug, Clone)]
+pub struct RunOutcome {
+    /// The scene as run (overrides applied).
+    pub scene: Scene,
+    /// The numbers.
+    pub summary: Summary,
+    /// The response on unworn surfaces.
+    pub response: Response,
+    /// The response on the worn surfaces after the stages.
+    pub worn_response: Option<Response>,
+    /// Wear per wearing joint.
+    pub wear: Vec<JointWearHistory>,
+}
+
+/// What [`check_assembly`] found.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct AssemblyCheck {
+    /// Coordinates (3 per body).
+    pub coordinates: usize,
+    /// Constraint equations (clearance joints are force elements, not constraints).
+    pub constraints: usize,
+    /// `coordinates − constraints`.
+    pub degrees_of_freedom: isize,
+    /// Largest coordinate change assembly made to the file's initial poses (m or rad).
+    pub largest_move: f64,
+}
+
+/// Builds the scene's system and assembles it at t = 0 from the file's initial poses.
+pub fn check_assembly(scene: &Scene) -> Result<AssemblyCheck, RunError> {
+    let built = build(scene, Surfaces::default())?;
+    let state = assemble(&built, "assembly check")?;
+    let (q0, _) = built.system.initial_guess();
+    Ok(AssemblyCheck {
+        coordinates: built.system.coordinate_count(),
+        constraints: built.system.constraint_count(),
+        degrees_of_freedom: built.system.degrees_of_freedom(),
+        largest_move: q0
+            .iter()
+            .zip(&state.q)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max),
+    })
+}
+
+/// Simulates `scene` (see the module docs); `name` labels the summary.
+pub fn run_scene(
+    name: &str,
+    scene: &Scene,
+    options: &RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<RunOutcome, RunError> {
+    let started = Instant::now();
+    let mut scene = scene.clone();
+    let scene_k = scene.run.cycles_per_stage;
+    if let Some(k) = options.cycles_per_stage.filter(|k| *k > 0) {
+        scene.run.amplification *= f64::from(scene_k) / f64::from(k);
+        scene.run.cycles_per_stage = k;
+    }
+    let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
+    let body = scene.response_body().ok_or(RunError::NoResponseBody)?;
+    let cycles = scene.run.cycles.max(1);
+    let t_end = period * f64::from(cycles);
+    let times = output_times(t_end, scene.solver.output_interval);
+
+    progress.phase("ideal mechanism", f64::from(cycles));
+    let ideal_scene = scene.idealized();
+    let ideal_built = build(&ideal_scene, Surfaces::default())?;
+    let (q0, _) = ideal_built.system.initial_guess();
+    let kin = ideal_built.system.kinematics(&times, &q0)?;
+    let mut ideal = Motion::default();
+    for f in 0..kin.times.len() {
+        ideal.push(body, kin.q(f), kin.qd(f), kin.qdd(f));
+    }
+    progress.finish();
+
+    let active = scene.active_clearance_joints().count() > 0;
+    let mut wear_history = Vec::new();
+    let (response, response_summary, wear_summary, worn) = if !active {
+        let response = Response {
+            times: times.clone(),
+            motion: ideal.clone(),
+            ideal,
+            contact: Vec::new(),
+        };
+        let summary = summarize(&scene, &response, None, None, cycles, t_end);
+        (response, summary, None, None)
+    } else {
+        let (response, summary) = respond(&scene, &[], &times, &ideal, body, progress, "response")?;
+        let mut wear_summary = None;
+        let mut worn = None;
+        let unworn = unworn_joints(&scene)?;
+        if scene.run.wear_stages > 0 && unworn.iter().any(Option::is_some) {
+            let (history, mut ws, surfaces) = stages(&scene, &unworn, period, progress)?;
+            ws.scene_cycles_per_stage = scene_k;
+            wear_history = history;
+            wear_summary = Some(ws);
+            if !options.skip_worn_response {
+                worn = Some(respond(
+                    &scene,
+                    &surfaces,
+                    &times,
+                    &ideal,
+                    body,
+                    progress,
+                    "worn response",
+                )?);
+            }
+        }
+        (response, summary, wear_summary, worn)
+    };
+    let summary = Summary {
+        scene: name.to_string(),
+        description: scene.description.clone(),
+        response_body: scene.bodies[body].name.clone(),
+        period_s: period,
+        transient_window_s: scene.run.transient_window,
+        reference: "kinematic analysis of the scene with every clearance joint ideal, at the \
+                    output times"
+            .into(),
+        response: response_summary,
+        wear: wear_summary,
+        worn_response: worn.as_ref().map(|(_, s)| s.clone()),
+        wall_time_s: started.elapsed().as_secs_f64(),
+    };
+    Ok(RunOutcome {
+        scene,
+        summary,
+        response,
+        worn_response: worn.map(|(r, _)| r),
+        wear: wear_history,
+    })
+}
+
+fn output_times(t_end: f64, dt: f64) -> Vec<f64> {
+    let count = (t_end / dt * (1.0 + 1e-12)).floor() as usize;
+    (0..=count).map(|i| (i as f64 * dt).min(t_end)).collect()
+}
+
+/// Simulation options from the scene's solver settings.
+fn options(scene: &Scene, t_end: f64, output: OutputTimes, record: bool) -> SimulationOptions {
+    let tol = scene.tolerances();
+    let mut o = SimulationOptions::until(t_end);
+    o.integrator = match scene.solver.integrator {
+        scene::Integrator::Bdf => Integrator::Bdf,
+        scene::Integrator::TrBdf2 => Integrator::TrBdf2,
+        scene::Integrator::Esdirk34 => Integrator::Esdirk34,
+        scene::Integrator::Tsit45 => Integrator::Tsit45,
+    };
+    o.rtol = scene.solver.rtol;
+    o.atol = AbsoluteTolerances {
+        position: tol.position,
+        angle: tol.angle,
+        velocity: tol.velocity,
+        angular_velocity: tol.velocity,
+    };
+    o.baumgarte = Baumgarte {
+        alpha: scene.solver.baumgarte_alpha,
+        beta: scene.solver.baumgarte_beta,
+    };
+    o.output = output;
+    o.record_trajectory = record;
+    o
+}
+
+/// Records the response body and the contact state at output frames; forwards progress.
+struct Recorder<'a> {
+    body: usize,
+    joints: &'a [JointHandle],
+    period: f64,
+    times: Vec<f64>,
+    motion: Motion,
+    contact: Vec<ContactSeries>,
+    progress: &'a mut dyn Progress,
+    record: bool,
+}
+
+impl Observer for Recorder<'_> {
+    fn output(&mut self, frame: &Frame<'_>) {
+        if !self.record {
+            return;
+        }
+        self.times.push(frame.t);
+        self.motion.push(self.body, frame.q, frame.qd, frame.qdd);
+        for (series, handle) in self.contact.iter_mut().zip(self.joints) {
+            let d = handle
+                .probe(frame.elements)
+                .map(|p| p.contact(frame.q, frame.qd).diagnostics)
+                .unwrap_or_default();
+            series.normal_force.push(d.normal_force);
+            series.friction_force.push(d.friction_force);
+            series.penetration.push(d.penetration);
+            series.eccentricity.push(d.eccentricity);
+            let (s, c) = d.contact_angle.sin_cos();
+            series.ex.push(d.eccentricity * c);
+            series.ey.push(d.eccentricity * s);
+            let (s, c) = d.bearing_angle.sin_cos();
+            series.ex_bearing.push(d.eccentricity * c);
+            series.ey_bearing.push(d.eccentricity * s);
+        }
+    }
+
+    fn progress(&mut self, t: f64, _t_end: f64) {
+        self.progress.advance(t / self.period);
+    }
+}
+
+/// Assemble `built` from the scene's initial poses at t = 0.
+fn assemble(built: &Built, what: &str) -> Result<multibody::State, RunError> {
+    let (q0, qd0) = built.system.initial_guess();
+    built
+        .system
+        .assemble(0.0, &q0, &qd0)
+        .map_err(|source| RunError::Assembly {
+            what: what.to_string(),
+            source,
+        })
+}
+
+/// The response run on `worn` surfaces (empty: round) with its summary.
+fn respond(
+    scene: &Scene,
+    worn: &[Option<WornJoint>],
+    times: &[f64],
+    ideal: &Motion,
+    body: usize,
+    progress: &mut dyn Progress,
+    what: &str,
+) -> Result<(Response, ResponseSummary), RunError> {
+    let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
+    let t_end = times.last().copied().unwrap_or(period);
+    let cycles = scene.run.cycles.max(1);
+    let mut built = build(
+        scene,
+        Surfaces {
+            worn,
+            accumulate_from: None,
+        },
+    )?;
+    let state = assemble(&built, what)?;
+    let opts = options(scene, t_end, OutputTimes::At(times.to_vec()), false);
+    progress.phase(what, f64::from(cycles));
+    let joints = built.joints.clone();
+    let mut recorder = Recorder {
+        body,
+        joints: &joints,
+        period,
+        times: Vec::with_capacity(times.len()),
+        motion: Motion::default(),
+        contact: joints
+            .iter()
+            .map(|j| ContactSeries {
+                name: j.name.clone(),
+                clearance: j.clearance,
+                ..Default::default()
+            })
+            .collect(),
+        progress,
+        record: true,
+    };
+    let result = built
+        .system
+        .simulate(&state, &opts, &mut recorder)
+        .map_err(|source| RunError::Simulation {
+            what: what.to_string(),
+            source,
+        })?;
+    let Recorder {
+        times: rec_times,
+        motion,
+        contact,
+        progress,
+        ..
+    } = recorder;
+    progress.finish();
+    if let Some(k) = (0..rec_times.len()).find(|&k| {
+        motion.series().iter().any(|s| !s[k].is_finite())
+            || contact.iter().any(|c| !c.normal_force[k].is_finite())
+    }) {
+        return Err(RunError::NonFinite {
+            what: what.to_string(),
+            t: rec_times[k],
+        });
+    }
+    let response = Response {
+        times: rec_times,
+        motion,
+        ideal: ideal.clone(),
+        contact,
+    };
+    let summary = summarize(
+        scene,
+        &response,
+        Some((&built, &result)),
+        Some(&joints),
+        cycles,
+        t_end,
+    );
+    Ok((response, summary))
+}
+
+fn summarize(
+    scene: &Scene,
+    response: &Response,
+    run: Option<(&Built, &SimulationResult)>,
+    joints: Option<&[JointHandle]>,
+    cycles: u32,
+    t_end: f64,
+) -> ResponseSummary {
+    let period = scene.cycle_period().unwrap_or(t_end);
+    let window = scene.run.transient_window;
+    let per_cycle = 1.0 / f64::from(cycles);
+    let mut joint_summaries = Vec::new();
+    let (mut dissipated, mut friction) = (0.0, 0.0);
+    for (k, series) in response.contact.iter().enumerate() {
+        let handle = joints.and_then(|j| j.get(k));
+        let friction_work = match (run, handle) {
+            (Some((built, _)), Some(h)) => h
+                .probe(built.system.elements())
+                .map_or(0.0, |p| -p.friction_work()),
+            _ => 0.0,
+        };
+        let contact_work = run
+            .and_then(|(_, r)| r.energy.as_ref())
+            .and_then(|e| e.element_work.iter().find(|(n, _)| n == &series.name))
+            .map_or(0.0, |(_, w)| -w);
+        dissipated += contact_work;
+        friction += friction_work;
+        joint_summaries.push(JointSummary {
+            name: series.name.clone(),
+            clearance_m: series.clearance,
+            normal_force_all: peak_stats(&response.times, &series.normal_force, period, 0.0),
+            normal_force_after_transient: peak_stats(
+                &response.times,
+                &series.normal_force,
+                period,
+                window,
+            ),
+            max_penetration_m: series.penetration.iter().copied().fold(f64::MIN, f64::max),
+            max_eccentricity_m: series.eccentricity.iter().copied().fold(0.0, f64::max),
+            friction_dissipation_per_cycle_j: friction_work * per_cycle,
+            contact_dissipation_per_cycle_j: contact_work * per_cycle,
+        });
+    }
+    ResponseSummary {
+        cycles,
+        duration_s: t_end,
+        joints: joint_summaries,
+        deviation: deviation(response, 0.0),
+        deviation_after_transient: deviation(response, window),
+        dissipated_per_cycle_j: dissipated * per_cycle,
+        friction_per_cycle_j: friction * per_cycle,
+        damping_per_cycle_j: (dissipated - friction) * per_cycle,
+        numerics: run.map(|(_, r)| numerics(r)),
+    }
+}
+
+fn numerics(r: &SimulationResult) -> Numerics {
+    let s = &r.statistics;
+    Numerics {
+        steps: s.steps,
+        rejected_steps: s.rejected_steps,
+        rhs_evaluations: s.rhs_evaluations,
+        jacobian_evaluations: s.jacobian_evaluations,
+        factorizations: s.factorizations,
+        smallest_step_s: s.smallest_step,
+        largest_step_s: s.largest_step,
+        events: s.events,
+        drift_position: r.drift.position,
+        drift_velocity: r.drift.velocity,
+        energy_residual_j: r.energy.as_ref().map_or(f64::NAN, |e| e.residual),
+        energy_relative_residual: r
+            .energy
+            .as_ref()
+            .map_or(f64::NAN, |e| e.relative_residual()),
+        wall_time_s: s.wall_time.as_secs_f64(),
+    }
+}
+
+/// Per-cycle peaks of `values` for samples at `t ≥ from`.
+pub fn peak_stats(times: &[f64], values: &[f64], period: f64, from: f64) -> PeakStats {
+    let mut peaks: Vec<f64> = Vec::new();
+    let mut current: Option<(usize, f64)> = None;
+    for (t, v) in times.iter().zip(values) {
+        if *t < from {
+            continue;
+        }
+        // A sample exactly at the end of the run belongs to the last cycle.
+        let cycle = ((t / period) * (1.0 - 1e-12)).floor().max(0.0) as usize;
+        match current {
+            Some((c, peak)) if c == cycle => current = Some((c, peak.max(*v))),
+            Some((_, peak)) => {
+                peaks.push(peak);
+                current = Some((cycle, *v));
+            }
+            None => current = Some((cycle, *v)),
+        }
+    }
+    peaks.extend(current.map(|(_, p)| p));
+    if peaks.is_empty() {
+        return PeakStats::default();
+    }
+    peaks.sort_by(f64::total_cmp);
+    let quantile = |q: f64| {
+        let x = q * (peaks.len() - 1) as f64;
+        let (lo, hi) = (x.floor() as usize, x.ceil() as usize);
+        peaks[lo] + (x - lo as f64) * (peaks[hi] - peaks[lo])
+    };
+    PeakStats {
+        max: peaks[peaks.len() - 1],
+        cycles: peaks.len(),
+        cycle_median: quantile(0.5),
+        cycle_min: peaks[0],
+        cycle_max: peaks[peaks.len() - 1],
+        cycle_iqr: quantile(0.75) - quantile(0.25),
+    }
+}
+
+fn deviation(r: &Response, from: f64) -> Deviation {
+    let mut d = [0.0f64; 6];
+    let (a, b) = (r.motion.series(), r.ideal.series());
+    for (k, t) in r.times.iter().enumerate() {
+        if *t < from {
+            continue;
+        }
+        for c in 0..6 {
+            if let (Some(x), Some(y)) = (a[c].get(k), b[c].get(k)) {
+                d[c] = d[c].max((x - y).abs());
+            }
+        }
+    }
+    Deviation {
+        x_m: d[0],
+        y_m: d[1],
+        vx_m_s: d[2],
+        vy_m_s: d[3],
+        ax_m_s2: d[4],
+        ay_m_s2: d[5],
+    }
+}
+
+/// Per-stage history, summary and final surfaces (one slot per active clearance joint).
+type Staged = (Vec<JointWearHistory>, WearSummary, Vec<Option<WornJoint>>);
+
+/// Runs the wear stages; returns the per-stage history, the summary and the final surfaces
+/// (one slot per active clearance joint).
+fn stages(
+    scene: &Scene,
+    unworn: &[Option<WornJoint>],
+    period: f64,
+    progress: &mut dyn Progress,
+) -> Result<Staged, RunError> {
+    let started = Instant::now();
+    let r = &scene.run;
+    let k = r.cycles_per_stage.max(1);
+    let plan = StagePlan {
+        stages: r.wear_stages as usize,
+        amplification: r.amplification,
+        extrapolation: if r.adaptive_extrapolation {
+            Extrapolation::Adaptive {
+                max_fraction: r.max_clearance_change,
+                max_substeps: Extrapolation::DEFAULT_MAX_SUBSTEPS,
+            }
+        } else {
+            Extrapolation::SingleJump {
+                warn_fraction: r.max_clearance_change,
+            }
+        },
+    };
+    // Gather wear after the start-up window only (see the module docs).
+    let wear_start = r.transient_window;
+    let t_end = wear_start + f64::from(k) * period;
+    let slots: Vec<Option<usize>> = {
+        let mut next = 0;
+        unworn
+            .iter()
+            .map(|w| {
+                w.as_ref().map(|_| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect()
+    };
+    let mut joints: Vec<WornJoint> = unworn.iter().flatten().cloned().collect();
+    let names: Vec<String> = scene
+        .active_clearance_joints()
+        .zip(unworn)
+        .filter(|(_, w)| w.is_some())
+        .map(|(c, _)| c.name.clone())
+        .collect();
+    let mut history: Vec<JointWearHistory> = joints
+        .iter()
+        .zip(&names)
+        .map(|(j, name)| JointWearHistory {
+            name: name.clone(),
+            bearing_radius: j.bearing().nominal_radius(),
+            pin_radius: j.pin().nominal_radius(),
+            stages: Vec::new(),
+        })
+        .collect();
+    let mut substeps = Vec::new();
+    let mut warnings = Vec::new();
+    let mut runner = |ctx: wear::RunContext, current: &[WornJoint]| {
+        let worn: Vec<Option<WornJoint>> = slots
+            .iter()
+            .map(|s| s.map(|i| current[i].clone()))
+            .collect();
+        let what = format!("wear stage {} run {}", ctx.stage + 1, ctx.substep + 1);
+        let mut built = build(
+            scene,
+            Surfaces {
+                worn: &worn,
+                accumulate_from: Some(wear_start),
+            },
+        )?;
+        let state = assemble(&built, &what)?;
+        let mut opts = options(scene, t_end, OutputTimes::At(vec![t_end]), false);
+        // Only the wear matters here; skipping the energy quadrature saves time per step.
+        opts.energy_audit = false;
+        progress.phase(&what, t_end / period);
+        let mut recorder = Recorder {
+            body: 0,
+            joints: &[],
+            period,
+            times: Vec::new(),
+            motion: Motion::default(),
+            contact: Vec::new(),
+            progress: &mut *progress,
+            record: false,
+        };
+        built
+            .system
+            .simulate(&state, &opts, &mut recorder)
+            .map_err(|source| RunError::Simulation {
+                what: what.clone(),
+                source,
+            })?;
+        progress.finish();
+        let mut out: Vec<StageWear> = Vec::with_capacity(names.len());
+        for h in built.joints.iter().filter(|h| h.worn) {
+            let wear = built
+                .system
+                .element_mut::<WornClearanceForce>(h.element)
+                .and_then(WornClearanceForce::take_stage_wear)
+                .ok_or_else(|| RunError::Simulation {
+                    what: what.clone(),
+                    source: SimulationError::InvalidOptions(format!(
+                        "joint {} lost its wear buffer",
+                        h.name
+                    )),
+                })?;
+            out.push(wear);
+        }
+        Ok::<_, RunError>(out)
+    };
+    for stage in 0..plan.stages {
+        let report = match wear::run_stage(&mut joints, stage, &plan, &mut runner) {
+            Ok(report) => report,
+            Err(StagingError::Wear(e)) => return Err(RunError::Wear(e)),
+            Err(StagingError::Runner(e)) => return Err(e),
+        };
+        substeps.push(report.substeps.len());
+        if let Some(w) = report.warning {
+            let text = format!("warning: {w}");
+            warnings.push(text);
+        }
+        for (h, j) in history.iter_mut().zip(&joints) {
+            h.stages.push(j.clone());
+        }
+    }
+    for w in &warnings {
+        progress.note(w);
+    }
+    let joints_summary = history
+        .iter()
+        .filter_map(|h| h.stages.last().map(|j| (h, j)))
+        .map(|(h, j)| {
+            let (bd, _, ba) = j.bearing().peak();
+            let (pd, _, pa) = j.pin().peak();
+            let ranges = |p: &wear::WornProfile| {
+                p.concentrated_ranges(0.5)
+                    .iter()
+                    .map(|r| [r.start.to_degrees(), r.end.to_degrees()])
+                    .collect()
+            };
+            JointWearSummary {
+                name: h.name.clone(),
+                bearing_peak_depth_m: bd,
+                bearing_peak_angle_deg: ba.to_degrees(),
+                pin_peak_depth_m: pd,
+                pin_peak_angle_deg: pa.to_degrees(),
+                bearing_ranges_deg: ranges(j.bearing()),
+                pin_ranges_deg: ranges(j.pin()),
+            }
+        })
+        .collect();
+    let mut surfaces = vec![None; unworn.len()];
+    for (slot, index) in slots.iter().enumerate() {
+        if let Some(i) = index {
+            surfaces[slot] = joints.get(*i).cloned();
+        }
+    }
+    let summary = WearSummary {
+        stages: r.wear_stages,
+        cycles_per_stage: k,
+        scene_cycles_per_stage: 0,
+        amplification: r.amplification,
+        cycles_represented_per_stage: f64::from(k) * r.amplification,
+        wear_start_s: wear_start,
+        extrapolation: if r.adaptive_extrapolation {
+            format!(
+                "adaptive (each sub-step changes a local clearance by at most {:.0} %)",
+                100.0 * r.max_clearance_change
+            )
+        } else {
+            "single-jump (the paper's)".into()
+        },
+        substeps_per_stage: substeps,
+        warnings,
+        joints: joints_summary,
+        wall_time_s: started.elapsed().as_secs_f64(),
+    };
+    Ok((history, summary, surfaces))
+}
