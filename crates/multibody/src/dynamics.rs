@@ -200,6 +200,13 @@ pub struct Frame<'a> {
     pub elements: &'a [Box<dyn ForceElement>],
 }
 
+impl Frame<'_> {
+    /// Element `id` as its concrete type, e.g. to record a contact force at this frame.
+    pub fn element<T: ForceElement>(&self, id: crate::force::ElementId) -> Option<&T> {
+        crate::force::downcast(self.elements.get(id.0)?.as_ref())
+    }
+}
+
 /// Receives every output frame and progress reports during a run. Both methods default to
 /// doing nothing; `()` is the observer that ignores everything.
 pub trait Observer {

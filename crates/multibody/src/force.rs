@@ -59,6 +59,11 @@ pub trait ForceElement: Any {
     fn on_event(&mut self, _index: usize, _t: f64, _q: &[f64], _qd: &[f64]) {}
 }
 
+pub(crate) fn downcast<T: ForceElement>(element: &dyn ForceElement) -> Option<&T> {
+    let element: &dyn Any = element;
+    element.downcast_ref()
+}
+
 /// Where a force element adds its partial derivatives `∂G/∂q` and `∂G/∂q̇` (both `n × n`).
 pub struct ForcePartials<'a> {
     pub(crate) d_dq: &'a mut DMatrix<f64>,

@@ -110,8 +110,7 @@ impl System {
 
     /// The element `id` as its concrete type, e.g. to read wear accumulated during a run.
     pub fn element<T: ForceElement>(&self, id: ElementId) -> Option<&T> {
-        let element: &dyn std::any::Any = self.elements.get(id.0)?.as_ref();
-        element.downcast_ref()
+        crate::force::downcast(self.elements.get(id.0)?.as_ref())
     }
 
     /// Mutable access to element `id` as its concrete type (e.g. to update a worn surface
