@@ -76,6 +76,15 @@
 //! # }
 //! ```
 //!
+//! # Events and hooks
+//! Element event functions are concatenated into diffsol's root function (only if some
+//! element has any). When one changes sign, the step is cut back to the root
+//! (`state_mut_back`), the outputs and energy quadrature up to it are taken from the
+//! interpolant, every element's `on_accepted_step` runs, then the owner's `on_event`; the
+//! derivative is re-evaluated and the integrator restarts from that state (BDF at order 1).
+//! Roots are detected between step ends, so set [`SimulationOptions::max_step`] when an
+//! event could begin and end within one step.
+//!
 //! # Exact Jacobian, and what it saves
 //! Differentiating the augmented system gives
 //! `K [dq̈; dλ] = [∂G − ∂(Φ_qᵀλ); ∂γ* − ∂(Φ_q q̈)]` with `K = [M Φ_qᵀ; Φ_q 0]`, so all `2n`
