@@ -517,8 +517,14 @@ fn output_times(t_end: f64, dt: f64) -> Vec<f64> {
     (0..=count).map(|i| (i as f64 * dt).min(t_end)).collect()
 }
 
-/// Simulation options from the scene's solver settings.
-fn options(scene: &Scene, t_end: f64, output: OutputTimes, record: bool) -> SimulationOptions {
+/// Simulation options from the scene's solver settings (integrator, rtol, the clearance-scaled
+/// absolute tolerances, Baumgarte gains) for a run to `t_end`.
+pub fn simulation_options(
+    scene: &Scene,
+    t_end: f64,
+    output: OutputTimes,
+    record: bool,
+) -> SimulationOptions {
     let tol = scene.tolerances();
     let mut o = SimulationOptions::until(t_end);
     o.integrator = match scene.solver.integrator {
@@ -618,7 +624,7 @@ fn respond(
         },
     )?;
     let state = assemble(&built, what)?;
-    let opts = options(scene, t_end, OutputTimes::At(times.to_vec()), false);
+    let opts = simulation_options(scene, t_end, OutputTimes::At(times.to_vec()), false);
     progress.phase(what, f64::from(cycles));
     let joints = built.joints.clone();
     let mut recorder = Recorder {
@@ -895,7 +901,7 @@ fn stages(
             },
         )?;
         let state = assemble(&built, &what)?;
-        let mut opts = options(scene, t_end, OutputTimes::At(vec![t_end]), false);
+        let mut opts = simulation_options(scene, t_end, OutputTimes::At(vec![t_end]), false);
         // Only the wear matters here; skipping the energy quadrature saves time per step.
         opts.energy_audit = false;
         progress.phase(&what, t_end / period);
