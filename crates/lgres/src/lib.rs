@@ -5,7 +5,9 @@
 //! Jiang & Yin, *Aerospace* 2026, its variants, and a slider-crank), atomic output writers
 //! ([`output`]) and figures ([`plot`]). [`build`] turns a scene into a `multibody` system whose
 //! clearance joints are [`clearance::ClearanceForce`] elements (the `contact` kernel, with `wear`
-//! accumulation when a joint wears).
+//! accumulation when a joint wears). [`run::run_scene`] simulates a scene (response against the
+//! ideal mechanism, wear stages) and returns every summary number in memory;
+//! [`artifacts::write_run`] writes its CSV, JSON and PNG files.
 //!
 //! ```
 //! use lgres::scene::BodyRef;

@@ -345,12 +345,28 @@ pub struct WearSummary {
     pub extrapolation: String,
     /// K-cycle simulations per stage (sub-steps).
     pub substeps_per_stage: Vec<usize>,
+    /// Every sub-step: stage, amplification applied, deepest cell after it (m) and the bound
+    /// on the relative clearance change it caused.
+    pub substeps: Vec<SubstepSummary>,
     /// Single-jump warnings.
     pub warnings: Vec<String>,
     /// Per wearing joint, after the last stage.
     pub joints: Vec<JointWearSummary>,
     /// Wall time of the stages, s.
     pub wall_time_s: f64,
+}
+
+/// One extrapolation sub-step of a wear stage.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct SubstepSummary {
+    /// Stage, from 1.
+    pub stage: usize,
+    /// Amplification applied.
+    pub amplification: f64,
+    /// Deepest cell on any surface after the update, m.
+    pub max_depth_m: f64,
+    /// Bound on the relative local-clearance change of the update.
+    pub change_fraction: f64,
 }
 
 /// What `summary.json` holds.
@@ -886,6 +902,7 @@ fn stages(
         })
         .collect();
     let mut substeps = Vec::new();
+    let mut details = Vec::new();
     let mut warnings = Vec::new();
     let mut runner = |ctx: wear::RunContext, current: &[WornJoint]| {
         let worn: Vec<Option<WornJoint>> = slots
@@ -947,6 +964,12 @@ fn stages(
             Err(StagingError::Runner(e)) => return Err(e),
         };
         substeps.push(report.substeps.len());
+        details.extend(report.substeps.iter().map(|r| SubstepSummary {
+            stage: stage + 1,
+            amplification: r.amplification,
+            max_depth_m: r.max_depth,
+            change_fraction: r.max_change_fraction,
+        }));
         if let Some(w) = report.warning {
             let text = format!("warning: {w}");
             warnings.push(text);
@@ -1003,6 +1026,7 @@ fn stages(
             "single-jump (the paper's)".into()
         },
         substeps_per_stage: substeps,
+        substeps: details,
         warnings,
         joints: joints_summary,
         wall_time_s: started.elapsed().as_secs_f64(),
