@@ -4,7 +4,7 @@
 //! crate turns the two bodies' states into the contact forces on them, their exact partial
 //! derivatives for an implicit integrator, and the [`ContactDiagnostics`] that wear accumulation
 //! and recorders need. It holds no integrator and allocates nothing: everything is small `Copy`
-//! data and stack matrices. The equations are those of `MODEL.md` §1–2.
+//! data and stack matrices. The equations are those of `docs/model.md` §1–2.
 //!
 //! # Pieces
 //! - [`ClearanceJoint`]: the joint — geometry ([`JointSurface`]: body-fixed centre,

@@ -55,7 +55,7 @@ fn lgres_initial_configuration_satisfies_the_constraints() {
         let b = s.initial_point(&c.pin_body, c.pin_point).unwrap();
         assert!(distance(a, b) < TOL, "joint {} not concentric", c.name);
     }
-    // MODEL.md §6 positions of A and B.
+    // docs/model.md §6 positions of A and B.
     let a = s.initial_point("rod3", [0.645, 0.0]).unwrap();
     assert!(distance(a, [1.28973, 0.02633]) < TOL);
     let b = s.initial_point("rocker", [0.285, 0.0]).unwrap();

@@ -47,7 +47,7 @@ pub enum JacobianMethod {
 }
 
 /// Absolute tolerances per kind of state variable. Positions should be scaled to the
-/// smallest length that matters (e.g. a joint clearance, MODEL.md §8), not to the coordinates.
+/// smallest length that matters (e.g. a joint clearance, docs/model.md §8), not to the coordinates.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AbsoluteTolerances {
     /// m

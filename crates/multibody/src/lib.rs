@@ -113,7 +113,7 @@
 //! # Tolerances
 //! `rtol` 1e-6 and [`AbsoluteTolerances`] per kind of variable (positions, angles, velocities,
 //! angular velocities; defaults 1e-8 m, 1e-8 rad, 1e-6 m/s, 1e-6 rad/s). With clearance joints
-//! scale the position tolerance to the clearance (MODEL.md §8). diffsol counts Newton failures
+//! scale the position tolerance to the clearance (docs/model.md §8). diffsol counts Newton failures
 //! over the whole run, so the default limit is raised to 10⁶.
 
 mod constraints;

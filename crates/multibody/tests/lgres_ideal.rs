@@ -1,7 +1,7 @@
-//! The LGRES mechanism of MODEL.md §6 with all joints ideal (15 equations, 15 coordinates):
+//! The LGRES mechanism of docs/model.md §6 with all joints ideal (15 equations, 15 coordinates):
 //! assembly from the reconstructed initial configuration, the swing ranges over one drive
 //! period, and dynamics of the fully driven mechanism against its kinematics. The numbers are
-//! MODEL.md's reconstruction, used here as test data only.
+//! docs/model.md's reconstruction, used here as test data only.
 
 use std::f64::consts::{FRAC_PI_2, TAU};
 
@@ -10,7 +10,7 @@ use multibody::{
     OutputTimes, RotationLock, SimulationOptions, System,
 };
 
-/// (name, length, mass, x, y, θ in degrees) from MODEL.md §5–6.
+/// (name, length, mass, x, y, θ in degrees) from docs/model.md §5–6.
 const BODIES: [(&str, f64, f64, f64, f64, f64); 5] = [
     ("rod 1", 1.00, 6.32, 0.15441, 1.04244, -72.0124),
     ("rod 2", 1.12, 12.07, 0.79927, 0.29660, -28.8576),
@@ -135,7 +135,7 @@ fn one_period_sweeps_the_reported_ranges() {
         let max = angles.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         (min, max)
     };
-    // MODEL.md §6 states these to 0.1° (rod 3 to 0.01°); 1 s sampled every 5 ms resolves the
+    // docs/model.md §6 states these to 0.1° (rod 3 to 0.01°); 1 s sampled every 5 ms resolves the
     // extremes (at the stroke ends, where the angles are stationary) far better.
     let (min3, max3) = range(2);
     assert!(

@@ -145,7 +145,7 @@ impl StageWear {
     /// Volume in the depth buffers, `Σ h/2 · R Δθ · w` over both surfaces (m³).
     ///
     /// It exceeds [`archard_volume`](Self::archard_volume) by the arc-to-chord ratio
-    /// `θ/sin θ ≈ 1 + θ²/6` of the contact half-angles: MODEL.md spreads the pressure
+    /// `θ/sin θ ≈ 1 + θ²/6` of the contact half-angles: docs/model.md spreads the pressure
     /// `F_n/(AB·w)` over the arc, not the chord (0.2 % for a 6° half-arc, 5 % for 30°).
     pub fn worn_volume(&self) -> f64 {
         layer_volume(&self.bearing, self.bearing_radius, self.hinge_width)

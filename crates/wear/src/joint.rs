@@ -52,7 +52,7 @@ impl WearParams {
 ///
 /// The intersection points A and B lie at `R_j` from the pin centre and `R_i` from the bearing
 /// centre, `|e|` apart. In the triangle (bearing centre, pin centre, A) the law of cosines gives
-/// the angle `α` at the pin centre (MODEL.md §3), and the angle `γ` at the bearing centre:
+/// the angle `α` at the pin centre (docs/model.md §3), and the angle `γ` at the bearing centre:
 ///
 /// `cos α = (|e|² + R_j² − R_i²) / (2|e|R_j)`,  `cos γ = (|e|² + R_i² − R_j²) / (2|e|R_i)`.
 ///

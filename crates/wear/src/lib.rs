@@ -1,7 +1,7 @@
 //! Archard wear on body-fixed pin and bearing grids.
 //!
 //! A clearance revolute joint wears where the pin presses and slides on the bearing. This
-//! crate holds the worn surfaces as data and evolves them (MODEL.md §3, §8):
+//! crate holds the worn surfaces as data and evolves them (docs/model.md §3, §8):
 //!
 //! - [`WornProfile`]: one surface, `N` body-fixed cells over 360° holding the accumulated
 //!   Archard depth `h_k`; the bearing's radius is `R_i + h/2`, the pin's `R_j − h/2`. It

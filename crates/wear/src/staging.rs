@@ -3,7 +3,7 @@
 //! The crate knows nothing about integrators: the caller supplies the runner, a closure that
 //! simulates its K drive cycles on the given (frozen) joints and returns each joint's
 //! [`StageWear`]. The paper amplifies once per stage (K = 100, ×20,000). With the printed
-//! `K_d` that jump can grow a clearance several-fold (MODEL.md §8), so the default is
+//! `K_d` that jump can grow a clearance several-fold (docs/model.md §8), so the default is
 //! [`Extrapolation::Adaptive`]: the amplification is spent in sub-steps that each change any
 //! local clearance by at most a set fraction, re-running the K cycles on the updated surfaces
 //! in between. Sub-step amplifications sum to the stage's factor.

@@ -8,7 +8,7 @@ use contact::ContactDiagnostics;
 use std::f64::consts::TAU;
 use wear::{ContactArc, WearError};
 
-/// Half-angles straight from MODEL.md's law of cosines (independent of the crate's form).
+/// Half-angles straight from docs/model.md's law of cosines (independent of the crate's form).
 fn arc_by_cosines(e: f64, ri: f64, rj: f64) -> (f64, f64) {
     let alpha = ((e * e + rj * rj - ri * ri) / (2.0 * e * rj)).acos();
     let gamma = ((e * e + ri * ri - rj * rj) / (2.0 * e * ri)).acos();
