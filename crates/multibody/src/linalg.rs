@@ -28,20 +28,30 @@ impl DenseLu {
 
     /// Factors `matrix` (copied, so the caller keeps it). A pivot below `relative_tolerance`
     /// times the largest entry of the matrix counts as singular.
+    ///
+    /// Works on the column-major storage as plain slices (no per-element bounds checks or
+    /// strided iterators); the floating-point operations and their order are those of the
+    /// textbook loop, so the factors are bitwise the same.
     pub fn factor(
         &mut self,
         matrix: &DMatrix<f64>,
         relative_tolerance: f64,
     ) -> Result<(), SingularPivot> {
-        self.factors.copy_from(matrix);
         let size = self.factors.nrows();
-        let scale = matrix.amax().max(f64::MIN_POSITIVE);
-        let a = &mut self.factors;
+        assert_eq!(matrix.shape(), (size, size), "matrix size");
+        let source = matrix.as_slice();
+        let a = self.factors.as_mut_slice();
+        a.copy_from_slice(source);
+        let scale = source
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+            .max(f64::MIN_POSITIVE);
         for k in 0..size {
+            let column_k = &a[k * size..(k + 1) * size];
             let mut pivot_row = k;
-            let mut pivot_abs = a[(k, k)].abs();
-            for r in (k + 1)..size {
-                let value = a[(r, k)].abs();
+            let mut pivot_abs = column_k[k].abs();
+            for (r, value) in column_k.iter().enumerate().skip(k + 1) {
+                let value = value.abs();
                 if value > pivot_abs {
                     pivot_abs = value;
                     pivot_row = r;
@@ -53,18 +63,22 @@ impl DenseLu {
             }
             self.pivots[k] = pivot_row;
             if pivot_row != k {
-                a.swap_rows(k, pivot_row);
+                for column in a.chunks_exact_mut(size) {
+                    column.swap(k, pivot_row);
+                }
             }
-            let inverse_pivot = 1.0 / a[(k, k)];
-            for r in (k + 1)..size {
-                a[(r, k)] *= inverse_pivot;
+            let (left, right) = a.split_at_mut((k + 1) * size);
+            let column_k = &mut left[k * size..];
+            let inverse_pivot = 1.0 / column_k[k];
+            for value in &mut column_k[k + 1..] {
+                *value *= inverse_pivot;
             }
-            for c in (k + 1)..size {
-                let upper = a[(k, c)];
+            let lower = &column_k[k + 1..];
+            for column in right.chunks_exact_mut(size) {
+                let upper = column[k];
                 if upper != 0.0 {
-                    for r in (k + 1)..size {
-                        let lower = a[(r, k)];
-                        a[(r, c)] -= lower * upper;
+                    for (value, l) in column[k + 1..].iter_mut().zip(lower) {
+                        *value -= l * upper;
                     }
                 }
             }
@@ -74,25 +88,28 @@ impl DenseLu {
 
     /// Solves `A x = b` in place, with `A` the last matrix factored successfully.
     pub fn solve_in_place(&self, b: &mut [f64]) {
-        let a = &self.factors;
-        let size = a.nrows();
+        let size = self.factors.nrows();
+        let a = self.factors.as_slice();
+        let b = &mut b[..size];
         for k in 0..size {
             b.swap(k, self.pivots[k]);
         }
         for c in 0..size {
             let value = b[c];
             if value != 0.0 {
-                for r in (c + 1)..size {
-                    b[r] -= a[(r, c)] * value;
+                let column = &a[c * size..(c + 1) * size];
+                for (target, l) in b[c + 1..].iter_mut().zip(&column[c + 1..]) {
+                    *target -= l * value;
                 }
             }
         }
         for c in (0..size).rev() {
-            b[c] /= a[(c, c)];
+            let column = &a[c * size..(c + 1) * size];
+            b[c] /= column[c];
             let value = b[c];
             if value != 0.0 {
-                for r in 0..c {
-                    b[r] -= a[(r, c)] * value;
+                for (target, u) in b[..c].iter_mut().zip(&column[..c]) {
+                    *target -= u * value;
                 }
             }
         }

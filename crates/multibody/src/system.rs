@@ -559,8 +559,8 @@ impl<'s> Evaluator<'s> {
         check_len("q̇", qd, n)?;
         let constraints = self.system.constraints();
         let Baumgarte { alpha, beta } = self.baumgarte;
-        self.phi_q.fill(0.0);
-        self.augmented.fill(0.0);
+        self.phi_q.as_mut_slice().fill(0.0);
+        self.augmented.as_mut_slice().fill(0.0);
         self.solution[..n].fill(0.0);
         for element in elements {
             element.add_forces(t, q, qd, &mut self.solution[..n]);
@@ -641,7 +641,7 @@ impl<'s> Evaluator<'s> {
         check_len("y", y, 2 * n)?;
         check_len("Jacobian rows", jacobian.as_slice(), 4 * n * n)?;
         let (q, qd) = y.split_at(n);
-        jacobian.fill(0.0);
+        jacobian.as_mut_slice().fill(0.0);
         for i in 0..n {
             jacobian[(i, n + i)] = 1.0;
         }
@@ -649,8 +649,8 @@ impl<'s> Evaluator<'s> {
             jacobian.fill(f64::NAN);
             return Err(e);
         }
-        self.d_dq.fill(0.0);
-        self.d_dqd.fill(0.0);
+        self.d_dq.as_mut_slice().fill(0.0);
+        self.d_dqd.as_mut_slice().fill(0.0);
         let mut partials = ForcePartials {
             d_dq: &mut self.d_dq,
             d_dqd: &mut self.d_dqd,
