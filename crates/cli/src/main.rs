@@ -2,10 +2,11 @@
 //!
 //! Thin by design: it parses arguments, loads and validates scenes through `lgres`, runs them
 //! with [`lgres::run::run_scene`], writes the outputs with [`lgres::artifacts`], shows progress
-//! bars and maps errors to exit codes (0 success, 1 could not run, 2 bad input). `study` stops
-//! after validation (not wired yet).
+//! bars and maps errors to exit codes (0 success, 1 could not run, 2 bad input). `study` runs
+//! [`lgres::study`] (see the `study` module).
 
 mod progress;
+mod study;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -71,18 +72,19 @@ enum StudyName {
     WearStages,
     Clearance,
     Speed,
+    Extrapolation,
     All,
 }
 
 impl StudyName {
-    fn studies(self) -> Vec<&'static scenes::Study> {
-        let name = match self {
+    fn name(self) -> &'static str {
+        match self {
             StudyName::WearStages => "wear-stages",
             StudyName::Clearance => "clearance",
             StudyName::Speed => "speed",
-            StudyName::All => return scenes::STUDIES.iter().collect(),
-        };
-        scenes::study(name).into_iter().collect()
+            StudyName::Extrapolation => lgres::study::EXTRAPOLATION,
+            StudyName::All => "all",
+        }
     }
 }
 
@@ -101,13 +103,9 @@ enum CliError {
     /// An output could not be written.
     #[error(transparent)]
     Output(#[from] OutputError),
-    /// Simulation is not available yet.
-    #[error(
-        "{what}: scene valid, but simulation is not wired yet (the multibody, contact and wear \
-         crates are being built); nothing was written to {}",
-        out.display()
-    )]
-    NotWired { what: String, out: PathBuf },
+    /// A study failed or was given bad settings.
+    #[error(transparent)]
+    Study(#[from] lgres::study::StudyError),
 }
 
 impl CliError {
@@ -115,7 +113,8 @@ impl CliError {
         match self {
             CliError::Scene(_) | CliError::NoSuchScene(_) => 2,
             CliError::Run(e) if e.is_bad_input() => 2,
-            CliError::Run(_) | CliError::Output(_) | CliError::NotWired { .. } => 1,
+            CliError::Study(e) if e.is_bad_input() => 2,
+            CliError::Run(_) | CliError::Output(_) | CliError::Study(_) => 1,
         }
     }
 }
@@ -350,20 +349,6 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
     );
 }
 
-fn study(which: StudyName, o: &Overrides) -> Result<(), CliError> {
-    let studies = which.studies();
-    for st in &studies {
-        for name in st.scenes {
-            load(name, o)?;
-        }
-    }
-    let list: Vec<&str> = studies.iter().map(|s| s.name).collect();
-    Err(CliError::NotWired {
-        what: format!("study {}", list.join(", ")),
-        out: o.out.clone().unwrap_or_else(|| PathBuf::from("out")),
-    })
-}
-
 fn list_scenes() {
     println!("built-in scenes:");
     for b in scenes::BUILTINS {
@@ -385,7 +370,7 @@ fn main() -> ExitCode {
     let o = &cli.overrides;
     let result = match &cli.command {
         Command::Run { scene } => run(scene.as_deref().unwrap_or(scenes::DEFAULT), o),
-        Command::Study { study: s } => study(*s, o),
+        Command::Study { study: s } => study::run(s.name(), o),
         Command::Check { scene } => check(scene, o),
         Command::Scenes => {
             list_scenes();

@@ -57,7 +57,7 @@ fn unknown_key_is_rejected_with_its_line() {
 }
 
 #[test]
-fn overrides_are_validated_and_study_says_not_wired() {
+fn overrides_are_validated_and_study_rejects_bad_settings() {
     let o = wearsim(&["check", "lgres", "--rtol", "-1"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("solver.rtol"));
@@ -75,8 +75,11 @@ fn overrides_are_validated_and_study_says_not_wired() {
     }
     std::fs::remove_dir_all(&out).unwrap();
 
-    let o = wearsim(&["study", "all"]);
-    assert_eq!(o.status.code(), Some(1));
+    // Bad study settings are bad input, caught before any simulation.
+    let o = wearsim(&["study", "clearance", "--cycles-per-stage", "0"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let o = wearsim(&["study", "speed", "--stages", "2"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
 
     let o = wearsim(&["check", "no-such-scene"]);
     assert_eq!(o.status.code(), Some(2));

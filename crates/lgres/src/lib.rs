@@ -30,6 +30,8 @@ pub mod build;
 pub mod clearance;
 pub mod output;
 pub mod plot;
+pub mod report;
 pub mod run;
 pub mod scene;
 pub mod scenes;
+pub mod study;

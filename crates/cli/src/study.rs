@@ -1,0 +1,84 @@
+//! `wearsim study`: runs the paper's studies through [`lgres::study`] with progress bars and
+//! prints the trend verdicts; the numbers and figures are in `<out>/report.md`.
+
+use std::path::PathBuf;
+
+use lgres::report::{self, Verdict};
+use lgres::study::{self, StudyError, StudyOptions};
+
+use crate::progress::Bars;
+use crate::{CliError, Overrides};
+
+/// Output folder when `--out` is not given.
+const DEFAULT_OUT: &str = "out/study";
+
+/// Runs study `name` (`wear-stages`, `clearance`, `speed`, `extrapolation` or `all`).
+pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
+    if let Some(s) = o.stages {
+        // Each study fixes its stages (the wear-stage study is the comparison of 1 and 2).
+        return Err(StudyError::BadOption {
+            field: "--stages",
+            value: s.to_string(),
+            reason: "does not apply to a study; the studies fix their wear stages",
+        }
+        .into());
+    }
+    let studies = study::resolve(name)?;
+    let mut options =
+        StudyOptions::new(o.out.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_OUT)));
+    if let Some(k) = o.cycles_per_stage {
+        options.cycles_per_stage = k;
+    }
+    if let Some(c) = o.cycles {
+        options.response_cycles = c;
+    }
+    options.rtol = o.rtol;
+    println!(
+        "study {name}: {} response cycles per scene, K = {} cycles per wear stage",
+        options.response_cycles, options.cycles_per_stage
+    );
+    let mut bars = Bars::new();
+    let (results, path) = study::run_studies(&studies, &options, &mut bars)?;
+    drop(bars);
+    for r in &results.runs {
+        let s = &r.outcome.summary;
+        let forces: Vec<String> = s
+            .response
+            .joints
+            .iter()
+            .map(|j| {
+                format!(
+                    "{} median peak {:.1} kN",
+                    j.name,
+                    j.normal_force_after_transient.cycle_median * 1e-3
+                )
+            })
+            .collect();
+        let substeps = s.wear.as_ref().map_or(String::new(), |w| {
+            format!("; wear sub-steps {:?}", w.substeps_per_stage)
+        });
+        println!(
+            "  {:<18} {:>6.1} s  {}{substeps}",
+            r.key,
+            s.wall_time_s,
+            forces.join(", ")
+        );
+    }
+    for (t, _, _) in report::trends(&results) {
+        let mark = match t.verdict {
+            Verdict::Holds => "HOLDS",
+            Verdict::DoesNotHold => "DOES NOT HOLD",
+            Verdict::Inconclusive => "INCONCLUSIVE",
+        };
+        println!(
+            "  {}: {} — {mark} ({}/{} quantities grew)",
+            t.study, t.claim, t.grew, t.total
+        );
+    }
+    println!(
+        "report: {} ({:.0} s of runs)",
+        path.display(),
+        results.wall_time_s
+    );
+    Ok(())
+}

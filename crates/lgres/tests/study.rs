@@ -1,0 +1,92 @@
+//! The study machinery on tiny runs (1 response cycle, K = 1, a stage standing for 1e4 cycles
+//! so one adaptive sub-step suffices), and the trend judge on numbers with known answers.
+
+use lgres::report::{Comparison, Verdict, judge_increase, judge_trend};
+use lgres::study::{self, StudyOptions};
+
+fn c(low: f64, high: f64, noise: f64) -> Comparison {
+    Comparison {
+        quantity: "q".into(),
+        low,
+        high,
+        noise,
+    }
+}
+
+#[test]
+fn judge_known_answers() {
+    assert_eq!(judge_increase(1.0, 2.0, 0.0), Verdict::Holds);
+    assert_eq!(judge_increase(2.0, 1.0, 0.0), Verdict::DoesNotHold);
+    // Within the 5 % margin, or within the noise.
+    assert_eq!(judge_increase(1.0, 1.02, 0.0), Verdict::Inconclusive);
+    assert_eq!(judge_increase(10.0, 12.0, 3.0), Verdict::Inconclusive);
+    assert_eq!(judge_increase(10.0, 14.0, 3.0), Verdict::Holds);
+    assert_eq!(judge_increase(f64::NAN, 1.0, 0.0), Verdict::Inconclusive);
+
+    assert_eq!(
+        judge_trend(&[c(1.0, 2.0, 0.0), c(3.0, 5.0, 0.0)]),
+        Verdict::Holds
+    );
+    // Most grow, one ties: still holds; one shrinks: mixed.
+    assert_eq!(
+        judge_trend(&[c(1.0, 2.0, 0.0), c(3.0, 5.0, 0.0), c(1.0, 1.0, 0.0)]),
+        Verdict::Holds
+    );
+    assert_eq!(
+        judge_trend(&[c(1.0, 2.0, 0.0), c(3.0, 5.0, 0.0), c(2.0, 1.0, 0.0)]),
+        Verdict::Inconclusive
+    );
+    assert_eq!(
+        judge_trend(&[c(2.0, 1.0, 0.0), c(5.0, 3.0, 0.0)]),
+        Verdict::DoesNotHold
+    );
+    assert_eq!(judge_trend(&[]), Verdict::Inconclusive);
+}
+
+#[test]
+fn bad_names_and_options_are_bad_input() {
+    let e = study::resolve("nope").unwrap_err();
+    assert!(e.is_bad_input());
+    assert!(e.to_string().contains("extrapolation"));
+    assert_eq!(study::resolve("all").map(|s| s.len()).ok(), Some(4));
+
+    let dir = std::env::temp_dir().join(format!("lgres-study-bad-{}", std::process::id()));
+    let mut o = StudyOptions::new(&dir);
+    o.cycles_per_stage = 0;
+    let studies = study::resolve("clearance").expect("known study");
+    let e = study::run_studies(&studies, &o, &mut ()).unwrap_err();
+    assert!(e.is_bad_input(), "{e}");
+    assert!(!dir.join("report.md").exists());
+}
+
+#[test]
+fn tiny_study_writes_a_report_listing_every_scene() {
+    let dir = std::env::temp_dir().join(format!("lgres-study-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut o = StudyOptions::new(&dir);
+    o.cycles_per_stage = 1;
+    o.response_cycles = 1;
+    o.cycles_represented = Some(1e4);
+    let studies = study::resolve("clearance").expect("known study");
+    let mut studies = studies;
+    studies.extend(study::resolve("extrapolation").expect("known study"));
+    let (results, path) = study::run_studies(&studies, &o, &mut ()).expect("study runs");
+    // lgres is shared by both studies and run once.
+    let keys: Vec<&str> = results.runs.iter().map(|r| r.key.as_str()).collect();
+    assert_eq!(keys, ["lgres-c02", "lgres", study::SINGLE_JUMP_RUN]);
+    let md = std::fs::read_to_string(&path).expect("report written");
+    for key in &keys {
+        assert!(md.contains(&format!("`{key}`")), "report lists {key}");
+        assert!(dir.join(key).join("summary.json").is_file());
+    }
+    assert!(md.contains("K = 1 simulated cycles per stage"));
+    assert!(md.contains("15.86 kN"), "paper values cited");
+    assert!(
+        ["HOLDS", "DOES NOT HOLD", "INCONCLUSIVE"]
+            .iter()
+            .any(|v| md.contains(&format!("**{v}**")))
+    );
+    assert!(dir.join("extrapolation_wear_A.png").is_file());
+    assert!(dir.join("clearance_wear_B.png").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
