@@ -140,7 +140,7 @@ pub fn surface_metrics(p: &WornProfile) -> SurfaceMetrics {
         ranges_deg: p
             .concentrated_ranges(RANGE_FRACTION)
             .iter()
-            .map(|r| [r.start.to_degrees(), r.end.to_degrees()])
+            .map(|r| r.degrees())
             .collect(),
     }
 }

@@ -990,7 +990,7 @@ fn stages(
             let ranges = |p: &wear::WornProfile| {
                 p.concentrated_ranges(0.5)
                     .iter()
-                    .map(|r| [r.start.to_degrees(), r.end.to_degrees()])
+                    .map(|r| r.degrees())
                     .collect()
             };
             JointWearSummary {

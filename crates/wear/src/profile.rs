@@ -87,6 +87,17 @@ pub struct AngularRange {
     pub peak: f64,
 }
 
+impl AngularRange {
+    /// `[start, end]` in degrees, both in `[0°, 360°)`, for reports: an end below the start
+    /// means the range wraps through 0° (e.g. `[298°, 12°]`).
+    pub fn degrees(&self) -> [f64; 2] {
+        [
+            self.start.to_degrees(),
+            self.end.to_degrees().rem_euclid(360.0),
+        ]
+    }
+}
+
 impl WornProfile {
     /// An unworn surface of `cells` cells.
     pub fn new(side: Side, nominal_radius: f64, cells: usize) -> Result<Self, WearError> {

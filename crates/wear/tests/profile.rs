@@ -195,6 +195,10 @@ fn concentrated_ranges_merge_through_zero() {
     assert_eq!(r.len(), 2);
     assert_relative_eq!(r[0].start.to_degrees(), 350.0, epsilon = 1e-9);
     assert_relative_eq!(r[0].end.to_degrees(), 365.0, epsilon = 1e-9);
+    // Reports show the wrapped range with both ends in [0°, 360°).
+    let [start, end] = r[0].degrees();
+    assert_relative_eq!(start, 350.0, epsilon = 1e-9);
+    assert_relative_eq!(end, 5.0, epsilon = 1e-9);
     assert_relative_eq!(r[1].start.to_degrees(), 90.0, epsilon = 1e-9);
     assert_eq!(r[1].peak, 1e-6);
 }
