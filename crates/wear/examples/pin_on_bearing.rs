@@ -78,7 +78,10 @@ fn summary(name: &str, p: &WornProfile) {
     let ranges: Vec<String> = p
         .concentrated_ranges(0.5)
         .iter()
-        .map(|r| format!("[{:.1}°, {:.1}°]", r.start.to_degrees(), r.end.to_degrees()))
+        .map(|r| {
+            let [start, end] = r.degrees();
+            format!("[{start:.1}°, {end:.1}°]")
+        })
         .collect();
     println!(
         "  {name:<8} peak depth h = {:.3e} m (radius change {:.3e} m) at {:.1}°; >=50 % of peak in {}",
