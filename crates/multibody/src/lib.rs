@@ -88,7 +88,11 @@
 //! # Exact Jacobian, and what it saves
 //! Differentiating the augmented system gives
 //! `K [dq̈; dλ] = [∂G − ∂(Φ_qᵀλ); ∂γ* − ∂(Φ_q q̈)]` with `K = [M Φ_qᵀ; Φ_q 0]`, so all `2n`
-//! columns reuse the one LU of `K` that the right-hand side needs anyway. Each constraint
+//! columns reuse the one factorization of `K` that the right-hand side needs anyway. `M` is
+//! diagonal, so `K` is never formed: both solve through the `m × m` Schur complement
+//! `S = Φ_q M⁻¹ Φ_qᵀ` (symmetric positive definite while `Φ_q` has full rank; Cholesky, a
+//! pivot below 1e-12 of `S`'s largest diagonal entry is reported as singular): for
+//! `K [x; μ] = [a; b]`, `S μ = Φ_q M⁻¹ a − b` and `x = M⁻¹(a − Φ_qᵀμ)`. Each constraint
 //! equation supplies its gradient, Hessian and third derivative contracted with `q̇` (simple
 //! trigonometric terms for planar point constraints). diffsol's closure API wants
 //! Jacobian–vector products and assembles the dense matrix from `2n` of them at one `(t, y)`;
@@ -96,7 +100,7 @@
 //! it (implementing diffsol's equation traits with `jacobian_inplace` would do the same with
 //! ~150 more lines and no measured gain at this size, see DIFFSOL-NOTES).
 //!
-//! Without the cache each product would need at least the augmented LU again (one RHS worth,
+//! Without the cache each product would need at least the augmented solve again (one RHS worth,
 //! 2.5 µs), i.e. ≥ 45 µs per 18-column Jacobian instead of 7.6 µs.
 //! `cargo bench -p multibody --bench evaluation` (four-bar, 18 states): RHS 2.8 µs, exact
 //! Jacobian 8.5 µs, forward differences 49 µs.

@@ -1,7 +1,8 @@
-//! A dense LU factorization with partial pivoting that works in preallocated storage.
+//! Dense LU (partial pivoting) and Cholesky factorizations that work in preallocated storage.
 //!
-//! nalgebra's `LU` allocates its permutation on every factorization; the right-hand side of the
-//! equations of motion factors the augmented matrix once per call, so it uses this instead.
+//! nalgebra's `LU` allocates its permutation on every factorization. The right-hand side of the
+//! equations of motion factors the Schur complement `Φ_q M⁻¹ Φ_qᵀ` (Cholesky) once per call;
+//! position analysis factors `Φ_q Φ_qᵀ` (LU).
 
 use nalgebra::DMatrix;
 
@@ -114,12 +115,90 @@ impl DenseLu {
             }
         }
     }
+}
 
-    /// Solves for every column of `b` in place.
-    pub fn solve_columns_in_place(&self, b: &mut DMatrix<f64>) {
-        let rows = b.nrows();
-        for column in b.as_mut_slice().chunks_mut(rows) {
-            self.solve_in_place(column);
+/// Cholesky factors `S = L Lᵀ` of a symmetric positive (semi)definite matrix, kept in
+/// preallocated storage (the lower triangle of `factors`, column-major).
+#[derive(Debug, Clone)]
+pub(crate) struct DenseCholesky {
+    factors: DMatrix<f64>,
+}
+
+impl DenseCholesky {
+    pub fn new(size: usize) -> Self {
+        Self {
+            factors: DMatrix::zeros(size, size),
+        }
+    }
+
+    /// Factors the symmetric `matrix` (only its lower triangle is read; copied, so the caller
+    /// keeps it). A pivot `d_k = S_kk − Σ_j L_kj²` at or below `relative_tolerance` times the
+    /// largest diagonal entry counts as singular (rank deficient), as does a NaN pivot.
+    pub fn factor(
+        &mut self,
+        matrix: &DMatrix<f64>,
+        relative_tolerance: f64,
+    ) -> Result<(), SingularPivot> {
+        let size = self.factors.nrows();
+        assert_eq!(matrix.shape(), (size, size), "matrix size");
+        let a = self.factors.as_mut_slice();
+        a.copy_from_slice(matrix.as_slice());
+        let scale = (0..size)
+            .fold(0.0f64, |m, k| m.max(a[k * size + k].abs()))
+            .max(f64::MIN_POSITIVE);
+        let threshold = relative_tolerance * scale;
+        // Left-looking column Cholesky: column k of L from columns 0..k.
+        for k in 0..size {
+            let (done, rest) = a.split_at_mut(k * size);
+            let column_k = &mut rest[..size];
+            for j in 0..k {
+                let column_j = &done[j * size..(j + 1) * size];
+                let l_kj = column_j[k];
+                if l_kj != 0.0 {
+                    for (value, l) in column_k[k..].iter_mut().zip(&column_j[k..]) {
+                        *value -= l * l_kj;
+                    }
+                }
+            }
+            let pivot = column_k[k];
+            if pivot.is_nan() || pivot <= threshold {
+                return Err(SingularPivot { column: k });
+            }
+            let root = pivot.sqrt();
+            column_k[k] = root;
+            let inverse = 1.0 / root;
+            for value in &mut column_k[k + 1..] {
+                *value *= inverse;
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves `S x = b` in place, with `S` the last matrix factored successfully.
+    pub fn solve_in_place(&self, b: &mut [f64]) {
+        let size = self.factors.nrows();
+        let a = self.factors.as_slice();
+        let b = &mut b[..size];
+        // L y = b (column oriented).
+        for c in 0..size {
+            let column = &a[c * size..(c + 1) * size];
+            b[c] /= column[c];
+            let value = b[c];
+            if value != 0.0 {
+                for (target, l) in b[c + 1..].iter_mut().zip(&column[c + 1..]) {
+                    *target -= l * value;
+                }
+            }
+        }
+        // Lᵀ x = y (row k of Lᵀ is column k of L).
+        for c in (0..size).rev() {
+            let column = &a[c * size..(c + 1) * size];
+            let dot: f64 = b[c + 1..]
+                .iter()
+                .zip(&column[c + 1..])
+                .map(|(x, l)| x * l)
+                .sum();
+            b[c] = (b[c] - dot) / column[c];
         }
     }
 }
@@ -186,5 +265,25 @@ mod tests {
         let mut lu = DenseLu::new(3);
         assert!(lu.factor(&a, 1e-12).is_err());
         assert_eq!(dependent_rows(&a, 1e-12), vec![1]);
+    }
+
+    #[test]
+    fn cholesky_solves_and_reports_rank_deficiency() {
+        let b = DMatrix::from_row_slice(3, 3, &[2.0, 1.0, 0.0, 0.0, 1.0, 3.0, 1.0, 0.0, 1.0]);
+        let s = &b * b.transpose();
+        let x = [1.0, -2.0, 0.5];
+        let mut rhs: Vec<f64> = (0..3)
+            .map(|r| (0..3).map(|c| s[(r, c)] * x[c]).sum())
+            .collect();
+        let mut cholesky = DenseCholesky::new(3);
+        cholesky.factor(&s, 1e-12).expect("positive definite");
+        cholesky.solve_in_place(&mut rhs);
+        for (got, want) in rhs.iter().zip(x) {
+            assert!((got - want).abs() < 1e-13, "{got} vs {want}");
+        }
+        let deficient = DMatrix::from_row_slice(2, 3, &[1.0, 2.0, 3.0, 2.0, 4.0, 6.0]);
+        let s = &deficient * deficient.transpose();
+        let mut cholesky = DenseCholesky::new(2);
+        assert_eq!(cholesky.factor(&s, 1e-12), Err(SingularPivot { column: 1 }));
     }
 }

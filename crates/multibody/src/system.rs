@@ -6,7 +6,7 @@ use nalgebra::DMatrix;
 use crate::constraints::{ConstraintOwner, Constraints, LocalDerivatives};
 use crate::error::{AssemblyError, EvaluationError, KinematicsError, ModelError};
 use crate::force::{ElementId, ForceElement, ForcePartials};
-use crate::linalg::{DenseLu, dependent_rows};
+use crate::linalg::{DenseCholesky, DenseLu, dependent_rows};
 use crate::model::{Body, BodyId, Joint, Model};
 use crate::trajectory::Trajectory;
 
@@ -484,8 +484,14 @@ pub struct Evaluator<'s> {
     m: usize,
     locals: Vec<LocalDerivatives>,
     phi_q: DMatrix<f64>,
-    augmented: DMatrix<f64>,
-    lu: DenseLu,
+    /// `M⁻¹` (diagonal).
+    inverse_mass: Vec<f64>,
+    /// Schur complement `S = Φ_q M⁻¹ Φ_qᵀ` (`m × m`, lower triangle filled) and its Cholesky
+    /// factors.
+    schur: DMatrix<f64>,
+    cholesky: DenseCholesky,
+    /// Scratch: rows of one column of `Φ_q` with a nonzero entry (capacity `m`).
+    column_rows: Vec<usize>,
     /// `[q̈; λ]` after a solve.
     solution: Vec<f64>,
     d_dq: DMatrix<f64>,
@@ -514,8 +520,10 @@ impl<'s> Evaluator<'s> {
             m,
             locals: vec![LocalDerivatives::default(); m],
             phi_q: DMatrix::zeros(m, n),
-            augmented: DMatrix::zeros(n + m, n + m),
-            lu: DenseLu::new(n + m),
+            inverse_mass: system.mass.iter().map(|mass| 1.0 / mass).collect(),
+            schur: DMatrix::zeros(m, m),
+            cholesky: DenseCholesky::new(m),
+            column_rows: Vec::with_capacity(m),
             solution: vec![0.0; n + m],
             d_dq: DMatrix::zeros(n, n),
             d_dqd: DMatrix::zeros(n, n),
@@ -543,8 +551,10 @@ impl<'s> Evaluator<'s> {
         &self.solution[self.n..]
     }
 
-    /// Solves `[M Φ_qᵀ; Φ_q 0] [q̈; λ] = [G; γ*]`. On a singular matrix returns the names of
-    /// the dependent constraints.
+    /// Solves `[M Φ_qᵀ; Φ_q 0] [q̈; λ] = [G; γ*]` through the Schur complement of the
+    /// diagonal `M`: `(Φ_q M⁻¹ Φ_qᵀ) λ = Φ_q M⁻¹ G − γ*`, `q̈ = M⁻¹(G − Φ_qᵀλ)` (an `m × m`
+    /// Cholesky factorization). On a rank-deficient `Φ_q` returns the names of the dependent
+    /// constraints.
     // Local slots index several arrays at once (gradient, Hessian, global map).
     #[allow(clippy::needless_range_loop)]
     pub fn solve_accelerations(
@@ -560,7 +570,6 @@ impl<'s> Evaluator<'s> {
         let constraints = self.system.constraints();
         let Baumgarte { alpha, beta } = self.baumgarte;
         self.phi_q.as_mut_slice().fill(0.0);
-        self.augmented.as_mut_slice().fill(0.0);
         self.solution[..n].fill(0.0);
         for element in elements {
             element.add_forces(t, q, qd, &mut self.solution[..n]);
@@ -584,23 +593,71 @@ impl<'s> Evaluator<'s> {
             self.solution[n + k] = gamma - 2.0 * alpha * phi_dot - beta * beta * d.value;
             self.locals[k] = d;
         }
-        for i in 0..n {
-            self.augmented[(i, i)] = self.system.mass[i];
-        }
-        for k in 0..m {
-            for i in 0..n {
-                let value = self.phi_q[(k, i)];
-                self.augmented[(n + k, i)] = value;
-                self.augmented[(i, n + k)] = value;
+        // S = Σ_i φ_i φ_iᵀ / M_ii over the columns φ_i of Φ_q (each has few nonzeros);
+        // only the lower triangle is filled (all the Cholesky factorization reads).
+        self.schur.as_mut_slice().fill(0.0);
+        let phi_q = self.phi_q.as_slice();
+        let schur = self.schur.as_mut_slice();
+        // (`max(1)`: `chunks_exact` needs a nonzero size; with `m = 0` both slices are empty.)
+        for (column, inverse_mass) in phi_q.chunks_exact(m.max(1)).zip(&self.inverse_mass) {
+            self.column_rows.clear();
+            self.column_rows
+                .extend((0..m).filter(|&k| column[k] != 0.0));
+            for (index, &l) in self.column_rows.iter().enumerate() {
+                let scaled = column[l] * inverse_mass;
+                let target = &mut schur[l * m..(l + 1) * m];
+                for &k in &self.column_rows[index..] {
+                    target[k] += column[k] * scaled;
+                }
             }
         }
-        if self.lu.factor(&self.augmented, SINGULAR_PIVOT).is_err() {
+        if self.cholesky.factor(&self.schur, SINGULAR_PIVOT).is_err() {
             return Err(EvaluationError::Singular {
                 dependent: self.system.dependent_constraints(&self.phi_q),
             });
         }
-        self.lu.solve_in_place(&mut self.solution);
+        Self::reduced_solve(
+            &self.cholesky,
+            &self.locals,
+            constraints,
+            &self.inverse_mass,
+            &mut self.solution,
+        );
         Ok(())
+    }
+
+    /// Solves `[M Φ_qᵀ; Φ_q 0] [x; μ] = [a; b]` in place (`column = [a; b]`, length `n + m`)
+    /// with the factored Schur complement: `S μ = Φ_q M⁻¹ a − b`, `x = M⁻¹(a − Φ_qᵀ μ)`.
+    /// `Φ_q` is applied row by row from the local gradients (at most six entries a row).
+    fn reduced_solve(
+        cholesky: &DenseCholesky,
+        locals: &[LocalDerivatives],
+        constraints: &Constraints,
+        inverse_mass: &[f64],
+        column: &mut [f64],
+    ) {
+        let n = inverse_mass.len();
+        let (top, bottom) = column.split_at_mut(n);
+        for (k, (b, d)) in bottom.iter_mut().zip(locals).enumerate() {
+            let mut product = 0.0;
+            for (slot, g) in constraints.slots(k).iter().zip(&d.grad) {
+                if let Some(index) = *slot {
+                    product += g * top[index] * inverse_mass[index];
+                }
+            }
+            *b = product - *b;
+        }
+        cholesky.solve_in_place(bottom);
+        for (k, (mu, d)) in bottom.iter().zip(locals).enumerate() {
+            for (slot, g) in constraints.slots(k).iter().zip(&d.grad) {
+                if let Some(index) = *slot {
+                    top[index] -= g * mu;
+                }
+            }
+        }
+        for (x, inverse_mass) in top.iter_mut().zip(inverse_mass) {
+            *x *= inverse_mass;
+        }
     }
 
     /// `ẏ = (q̇, q̈)`. A singular augmented matrix yields NaN (so the integrator rejects the
@@ -627,7 +684,8 @@ impl<'s> Evaluator<'s> {
     }
 
     /// Exact Jacobian `∂f/∂y` (`2n × 2n`) from the differentiated augmented system, reusing
-    /// the single LU of `[M Φ_qᵀ; Φ_q 0]` for all `2n` columns.
+    /// the single Cholesky factorization of the Schur complement `Φ_q M⁻¹ Φ_qᵀ` for all `2n`
+    /// columns.
     #[allow(clippy::needless_range_loop)]
     pub fn jacobian(
         &mut self,
@@ -695,7 +753,15 @@ impl<'s> Evaluator<'s> {
                 rhs[(row, n + ia)] += -2.0 * h_qd - 2.0 * alpha * d.grad[a];
             }
         }
-        self.lu.solve_columns_in_place(rhs);
+        for column in rhs.as_mut_slice().chunks_exact_mut(n + self.m) {
+            Self::reduced_solve(
+                &self.cholesky,
+                &self.locals,
+                constraints,
+                &self.inverse_mass,
+                column,
+            );
+        }
         for c in 0..2 * n {
             for r in 0..n {
                 jacobian[(n + r, c)] = rhs[(r, c)];
