@@ -65,6 +65,12 @@ enum Command {
     Check { scene: String },
     /// List the built-in scenes and studies.
     Scenes,
+    /// Stress battery: the default scene under stiff and extreme overrides (short runs).
+    Stress {
+        /// Leave out the 1000-cycle case.
+        #[arg(long)]
+        quick: bool,
+    },
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -349,6 +355,46 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
     );
 }
 
+/// `wearsim stress`: runs [`lgres::stress`], prints each case as it ends, writes the tables.
+fn stress(quick: bool, o: &Overrides) -> Result<(), CliError> {
+    let out = o
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join("stress"));
+    let options = lgres::stress::StressOptions {
+        quick,
+        ..Default::default()
+    };
+    let started = std::time::Instant::now();
+    let results = lgres::stress::run_battery(&options, &mut |case, result| match result {
+        None => eprint!("{:<24} ", case.name),
+        Some(r) => eprintln!(
+            "{} ({:.1} s) {}",
+            r.outcome.label(),
+            r.wall_time_s,
+            r.outcome.detail()
+        ),
+    })
+    .map_err(|e| match e {
+        lgres::stress::StressError::Scene(e) => CliError::Scene(e),
+        lgres::stress::StressError::Output(e) => CliError::Output(e),
+    })?;
+    let files = lgres::stress::write_report(&results, &out)?;
+    print!("{}", lgres::stress::markdown(&results));
+    let failed = results
+        .iter()
+        .filter(|r| r.outcome.label() == "FAILED")
+        .count();
+    println!(
+        "{} case(s), {failed} failed; wrote {} files to {} in {:.1} s",
+        results.len(),
+        files.len(),
+        out.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
 fn list_scenes() {
     println!("built-in scenes:");
     for b in scenes::BUILTINS {
@@ -376,6 +422,7 @@ fn main() -> ExitCode {
             list_scenes();
             Ok(())
         }
+        Command::Stress { quick } => stress(*quick, o),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

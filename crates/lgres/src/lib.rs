@@ -34,4 +34,5 @@ pub mod report;
 pub mod run;
 pub mod scene;
 pub mod scenes;
+pub mod stress;
 pub mod study;
