@@ -82,9 +82,6 @@ pub struct StressCase {
     pub energy_audit: bool,
     /// Skipped in a quick battery.
     pub long: bool,
-    /// Override of multibody's cap on Newton failures, which diffsol counts over the whole run
-    /// (default 1 000 000); `None`: the default.
-    pub max_nonlinear_solver_failures: Option<usize>,
 }
 
 /// How a case ended.
@@ -245,7 +242,6 @@ pub fn cases(base: &Scene, duration: f64) -> Vec<StressCase> {
             dense_output: true,
             energy_audit: true,
             long: false,
-            max_nonlinear_solver_failures: None,
         }
     };
     let mut v = vec![
@@ -360,18 +356,6 @@ pub fn cases(base: &Scene, duration: f64) -> Vec<StressCase> {
         ..case(
             "1000 cycles",
             "1000 drive cycles, sampled once per cycle, energy audit off",
-            &|_| {},
-        )
-    });
-    v.push(StressCase {
-        duration: period * f64::from(LONG_CYCLES),
-        dense_output: false,
-        energy_audit: false,
-        long: true,
-        max_nonlinear_solver_failures: Some(100_000_000),
-        ..case(
-            "1000 cycles, Newton cap 1e8",
-            "as `1000 cycles`, with the whole-run cap on Newton failures raised from 1e6 to 1e8",
             &|_| {},
         )
     });
@@ -537,9 +521,6 @@ fn run_case_inner(case: &StressCase) -> CaseResult {
     };
     let mut opts = simulation_options(scene, case.duration, output, false);
     opts.energy_audit = case.energy_audit;
-    if let Some(n) = case.max_nonlinear_solver_failures {
-        opts.max_nonlinear_solver_failures = n;
-    }
     let mut watch = Watch {
         non_finite_at: None,
     };

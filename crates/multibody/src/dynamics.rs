@@ -112,8 +112,10 @@ pub struct SimulationOptions {
     pub record_trajectory: bool,
     /// Integrate the work of drivers and non-conservative elements. Default true.
     pub energy_audit: bool,
-    /// diffsol's limit on Newton failures, counted over the whole run (not per step):
-    /// default 1 000 000 so long runs with contact do not abort.
+    /// diffsol's limit on Newton failures, counted over the whole run (not per step). Any fixed
+    /// cap ends a long run at an arbitrary time (a contact-rich LGRES cycle has ~1 300 failures,
+    /// so a cap of 10⁶ stopped a 1000-cycle run at t = 775 s), so the default is no cap
+    /// (`usize::MAX`): a run that cannot make progress still stops, on `min_step`.
     pub max_nonlinear_solver_failures: usize,
     /// diffsol's limit on consecutive error-test failures, default 40.
     pub max_error_test_failures: usize,
@@ -139,7 +141,7 @@ impl SimulationOptions {
             jacobian: JacobianMethod::default(),
             record_trajectory: true,
             energy_audit: true,
-            max_nonlinear_solver_failures: 1_000_000,
+            max_nonlinear_solver_failures: usize::MAX,
             max_error_test_failures: 40,
             min_step: 1e-14,
             max_step: None,
