@@ -174,43 +174,7 @@ fn unassemblable_four_bar_reports_residual_and_constraints() {
         d: 0.9,
     };
     // Impossible lengths, started from the standard mechanism's configuration.
-    let q = FourBar::STANDARD.positions(0.3);
-    let mut model = Model::new();
-    let mut bar = |name: &str, k: usize| {
-        model
-            .add_body(Body::new(name, 1.0, 0.01, [q[k], q[k + 1], q[k + 2]]))
-            .expect("valid")
-    };
-    let (crank, coupler, rocker) = (bar("crank", 0), bar("coupler", 3), bar("rocker", 6));
-    let m = &mechanism;
-    model
-        .add_revolute(
-            "O2",
-            Anchor::ground(0.0, 0.0),
-            Anchor::on(crank, -0.5 * m.a, 0.0),
-        )
-        .expect("valid");
-    model
-        .add_revolute(
-            "A",
-            Anchor::on(crank, 0.5 * m.a, 0.0),
-            Anchor::on(coupler, -0.5 * m.b, 0.0),
-        )
-        .expect("valid");
-    model
-        .add_revolute(
-            "B",
-            Anchor::on(coupler, 0.5 * m.b, 0.0),
-            Anchor::on(rocker, 0.5 * m.c, 0.0),
-        )
-        .expect("valid");
-    model
-        .add_revolute(
-            "O4",
-            Anchor::ground(m.d, 0.0),
-            Anchor::on(rocker, -0.5 * m.c, 0.0),
-        )
-        .expect("valid");
+    let (model, _) = mechanism.model_at(&FourBar::STANDARD.positions(0.3));
     let system = System::new(model).expect("valid");
     let (q, qd) = system.initial_guess();
     let error = system

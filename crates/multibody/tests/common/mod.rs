@@ -139,7 +139,12 @@ impl FourBar {
     }
 
     pub fn model(&self, phi: f64) -> (Model, JointId) {
-        let q = self.positions(phi);
+        self.model_at(&self.positions(phi))
+    }
+
+    /// The four-bar with its bodies at the poses `q` (which need not close the loop, e.g. for
+    /// lengths that cannot assemble).
+    pub fn model_at(&self, q: &[f64]) -> (Model, JointId) {
         let mut model = Model::new();
         let mut bar = |name: &str, length: f64, mass: f64, k: usize| {
             model
