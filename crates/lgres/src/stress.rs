@@ -534,6 +534,7 @@ fn run_case_inner(case: &StressCase) -> CaseResult {
                 multibody::SimulationError::InvalidOptions(_) => "SimulationError::InvalidOptions",
                 multibody::SimulationError::Evaluation { .. } => "SimulationError::Evaluation",
                 multibody::SimulationError::Integrator { .. } => "SimulationError::Integrator",
+                multibody::SimulationError::StepLimit { .. } => "SimulationError::StepLimit",
             };
             r.outcome = failed(name, e);
             return r;

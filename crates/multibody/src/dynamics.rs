@@ -126,6 +126,10 @@ pub struct SimulationOptions {
     /// sign changes between step ends, so an element whose event could begin and end within
     /// one step (a brief impact) needs a bound here.
     pub max_step: Option<f64>,
+    /// Largest number of accepted steps before the run stops with
+    /// [`SimulationError::StepLimit`], default none. A deterministic budget for sweeps that
+    /// may meet an integrator unsuited to the problem (an explicit method on stiff contact).
+    pub max_steps: Option<usize>,
 }
 
 impl SimulationOptions {
@@ -145,6 +149,7 @@ impl SimulationOptions {
             max_error_test_failures: 40,
             min_step: 1e-14,
             max_step: None,
+            max_steps: None,
         }
     }
 
@@ -622,7 +627,16 @@ impl Run<'_, '_> {
         let n = self.system.coordinate_count();
         let mut t_previous = solver.state().t;
         let mut interpolated = solver.state().y.clone();
+        let mut accepted = 0_usize;
         let outcome = loop {
+            if let Some(limit) = self.options.max_steps
+                && accepted >= limit
+            {
+                break Err(SimulationError::StepLimit {
+                    t: t_previous,
+                    steps: accepted,
+                });
+            }
             if let Err(e) = solver.set_stop_time(self.next_stop(t_previous)) {
                 break Err(integrator_error(t_previous, e));
             }
@@ -666,6 +680,7 @@ impl Run<'_, '_> {
             self.jacobian_cache.borrow_mut().valid = false;
             self.observer.progress(t_now, t_end);
             t_previous = t_now;
+            accepted += 1;
             let at_end = t_now >= t_end - 1e-12 * t_end.abs().max(1.0);
             if matches!(reason, OdeSolverStopReason::TstopReached) && at_end {
                 break Ok(());

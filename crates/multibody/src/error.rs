@@ -122,4 +122,6 @@ pub enum SimulationError {
     Evaluation { t: f64, error: EvaluationError },
     #[error("the integrator failed at t = {t}: {message}")]
     Integrator { t: f64, message: String },
+    #[error("stopped at t = {t} after {steps} accepted steps (the max_steps budget)")]
+    StepLimit { t: f64, steps: usize },
 }

@@ -222,3 +222,29 @@ fn max_step_bounds_every_step_without_changing_the_answer() {
     assert!(difference < 1e-6, "{difference:e}");
     assert_eq!(bounded.final_state.t, 2.0);
 }
+
+#[test]
+fn max_steps_stops_the_run_with_a_named_error_at_the_budget() {
+    let mut system = with_gravity(pendulum(1.0, 1.0, -PI / 2.0 + 1.0));
+    let (q, qd) = system.initial_guess();
+    let start = system.assemble(0.0, &q, &qd).expect("assembles");
+    let mut options = tight(2.0);
+    let full = system
+        .simulate(&start, &options, &mut ())
+        .expect("integrates");
+    assert!(full.statistics.steps > 20, "{:?}", full.statistics);
+    options.max_steps = Some(20);
+    match system.simulate(&start, &options, &mut ()) {
+        Err(multibody::SimulationError::StepLimit { t, steps }) => {
+            assert_eq!(steps, 20);
+            assert!(t > 0.0 && t < 2.0, "stopped at t = {t}");
+        }
+        other => panic!("expected the step budget to stop the run, got {other:?}"),
+    }
+    // A budget the run does not reach changes nothing.
+    options.max_steps = Some(full.statistics.steps + 1000);
+    let within = system
+        .simulate(&start, &options, &mut ())
+        .expect("integrates");
+    assert_eq!(within.final_state.q, full.final_state.q);
+}
