@@ -71,6 +71,51 @@ enum Command {
         #[arg(long)]
         quick: bool,
     },
+    /// Work–precision: every integrator over a tolerance sweep, error against run time, for
+    /// one drive cycle of a scene (default: the paper's LGRES). Writes CSV, markdown, JSON and
+    /// a PNG diagram (default folder out/precision).
+    Precision {
+        /// A built-in scene name or a TOML file.
+        scene: Option<String>,
+        /// Integrators, comma-separated (default: all).
+        #[arg(long, value_delimiter = ',', value_enum)]
+        methods: Vec<MethodName>,
+        /// Relative tolerances, comma-separated (default: 1e-3 to 1e-10 by decades).
+        #[arg(long, value_delimiter = ',')]
+        rtols: Vec<f64>,
+        /// Timed repeats per run and variant; the median is reported.
+        #[arg(long, default_value_t = 3)]
+        repeats: usize,
+        /// Simulated time, s (default: one drive period).
+        #[arg(long)]
+        duration: Option<f64>,
+        /// End of the start-up window of error (a), s.
+        #[arg(long, default_value_t = lgres::precision::DEFAULT_START_UP)]
+        start_up: f64,
+        /// Accepted-step budget per run; a method that exceeds it is not run tighter.
+        #[arg(long, default_value_t = lgres::precision::DEFAULT_MAX_STEPS)]
+        max_steps: usize,
+    },
+}
+
+/// Integrator names on the command line.
+#[derive(Clone, Copy, ValueEnum)]
+enum MethodName {
+    Bdf,
+    TrBdf2,
+    Esdirk34,
+    Tsit45,
+}
+
+impl MethodName {
+    fn integrator(self) -> scene::Integrator {
+        match self {
+            MethodName::Bdf => scene::Integrator::Bdf,
+            MethodName::TrBdf2 => scene::Integrator::TrBdf2,
+            MethodName::Esdirk34 => scene::Integrator::Esdirk34,
+            MethodName::Tsit45 => scene::Integrator::Tsit45,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -112,6 +157,9 @@ enum CliError {
     /// A study failed or was given bad settings.
     #[error(transparent)]
     Study(#[from] lgres::study::StudyError),
+    /// A work–precision sweep could not run.
+    #[error(transparent)]
+    Precision(#[from] lgres::precision::PrecisionError),
 }
 
 impl CliError {
@@ -120,7 +168,15 @@ impl CliError {
             CliError::Scene(_) | CliError::NoSuchScene(_) => 2,
             CliError::Run(e) if e.is_bad_input() => 2,
             CliError::Study(e) if e.is_bad_input() => 2,
-            CliError::Run(_) | CliError::Output(_) | CliError::Study(_) => 1,
+            CliError::Precision(
+                lgres::precision::PrecisionError::Options { .. }
+                | lgres::precision::PrecisionError::Scene(_)
+                | lgres::precision::PrecisionError::Unsuitable(_),
+            ) => 2,
+            CliError::Run(_)
+            | CliError::Output(_)
+            | CliError::Study(_)
+            | CliError::Precision(_) => 1,
         }
     }
 }
@@ -395,6 +451,66 @@ fn stress(quick: bool, o: &Overrides) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Settings of `wearsim precision` beyond the scene.
+struct PrecisionArgs<'a> {
+    methods: &'a [MethodName],
+    rtols: &'a [f64],
+    repeats: usize,
+    duration: Option<f64>,
+    start_up: f64,
+    max_steps: usize,
+}
+
+/// `wearsim precision`: runs [`lgres::precision`], one line per run, writes the report.
+fn precision(spec: &str, args: &PrecisionArgs<'_>, o: &Overrides) -> Result<(), CliError> {
+    let Loaded { name, scene } = load(spec, o)?;
+    let out = o
+        .out
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join("precision"));
+    let mut options = lgres::precision::PrecisionOptions {
+        repeats: args.repeats,
+        duration: args.duration,
+        start_up: args.start_up,
+        max_steps: args.max_steps,
+        ..Default::default()
+    };
+    if !args.methods.is_empty() {
+        options.methods = args.methods.iter().map(|m| m.integrator()).collect();
+    }
+    if !args.rtols.is_empty() {
+        options.rtols = args.rtols.to_vec();
+    }
+    let started = std::time::Instant::now();
+    let report = lgres::precision::run_sweep(&name, &scene, &options, &mut |event| match event {
+        lgres::precision::Event::Start(method, rtol, what) => {
+            eprintln!(
+                "[{:>6.0} s] {method:<9} rtol {rtol:.0e}: {what}",
+                started.elapsed().as_secs_f64()
+            );
+        }
+        lgres::precision::Event::Row(row) => match row.errors() {
+            Some(e) => eprintln!(
+                "           {} steps, {:.3} s; start-up error {:.2e} m, cycle error {:.2e}",
+                row.steps,
+                row.wall_s,
+                e.start_up_m(),
+                e.cycle_max()
+            ),
+            None => eprintln!("           {:?}", row.outcome),
+        },
+    })?;
+    let files = report.write(&out)?;
+    println!("{}", report.markdown(None));
+    println!(
+        "wrote {} files to {} in {:.1} s",
+        files.len(),
+        out.display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
 fn list_scenes() {
     println!("built-in scenes:");
     for b in scenes::BUILTINS {
@@ -423,6 +539,26 @@ fn main() -> ExitCode {
             Ok(())
         }
         Command::Stress { quick } => stress(*quick, o),
+        Command::Precision {
+            scene,
+            methods,
+            rtols,
+            repeats,
+            duration,
+            start_up,
+            max_steps,
+        } => precision(
+            scene.as_deref().unwrap_or(scenes::DEFAULT),
+            &PrecisionArgs {
+                methods,
+                rtols,
+                repeats: *repeats,
+                duration: *duration,
+                start_up: *start_up,
+                max_steps: *max_steps,
+            },
+            o,
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

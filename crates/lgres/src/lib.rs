@@ -30,6 +30,7 @@ pub mod build;
 pub mod clearance;
 pub mod output;
 pub mod plot;
+pub mod precision;
 pub mod report;
 pub mod run;
 pub mod scene;

@@ -357,3 +357,124 @@ pub fn journal_path(
     ];
     square_chart(path.as_ref(), title, size, half, "µm", &curves)
 }
+
+/// One log–log panel of a multi-panel figure: curves with markers and optional horizontal
+/// reference lines (dashed, e.g. a resolution floor).
+#[derive(Debug, Clone)]
+pub struct Panel<'a> {
+    /// Caption above the panel.
+    pub title: &'a str,
+    /// Horizontal axis label with unit.
+    pub x_label: &'a str,
+    /// Vertical axis label with unit.
+    pub y_label: &'a str,
+    /// Curves; non-positive and non-finite points are left out (log axes).
+    pub series: Vec<Series<'a>>,
+    /// Horizontal dashed lines: (value, legend label).
+    pub levels: Vec<(f64, &'a str)>,
+}
+
+/// Tick label of a log axis: powers of ten only (the ticks between stay unlabelled).
+fn decade_label(v: &f64) -> String {
+    let exponent = v.log10();
+    if (exponent - exponent.round()).abs() < 1e-6 {
+        format!("1e{}", exponent.round())
+    } else {
+        String::new()
+    }
+}
+
+/// Log range covering the positive finite values, padded by a fifth of a decade each side.
+fn log_range(values: impl Iterator<Item = f64>) -> Range<f64> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if lo > hi {
+        return 0.1..10.0;
+    }
+    let pad = 10f64.powf(0.2);
+    (lo / pad)..(hi * pad)
+}
+
+/// Log–log panels side by side, `columns` to a row, under a common title: work–precision
+/// diagrams. Series `k` has the same colour in every panel, so one legend per panel reads
+/// across the figure.
+pub fn log_panels(
+    path: impl AsRef<Path>,
+    title: &str,
+    size: (u32, u32),
+    columns: usize,
+    panels: &[Panel<'_>],
+) -> Result<(), OutputError> {
+    let columns = columns.max(1);
+    let rows = panels.len().div_ceil(columns).max(1);
+    render(path.as_ref(), size, |root| {
+        let body = root.titled(title, (FONT, 26))?;
+        let areas = body.split_evenly((rows, columns));
+        for (panel, area) in panels.iter().zip(&areas) {
+            let positive = |s: &Series<'_>| {
+                s.x.iter()
+                    .zip(s.y)
+                    .filter(|(x, y)| x.is_finite() && y.is_finite() && **x > 0.0 && **y > 0.0)
+                    .map(|(x, y)| (*x, *y))
+                    .collect::<Vec<_>>()
+            };
+            let xs = log_range(panel.series.iter().flat_map(|s| s.x.iter().copied()));
+            let ys = log_range(
+                panel
+                    .series
+                    .iter()
+                    .flat_map(|s| positive(s).into_iter().map(|(_, y)| y))
+                    .chain(panel.levels.iter().map(|(v, _)| *v)),
+            );
+            let mut chart = ChartBuilder::on(area)
+                .caption(panel.title, (FONT, 19))
+                .margin(12)
+                .x_label_area_size(45)
+                .y_label_area_size(70)
+                .build_cartesian_2d(xs.clone().log_scale(), ys.log_scale())?;
+            chart
+                .configure_mesh()
+                .x_desc(panel.x_label)
+                .y_desc(panel.y_label)
+                .x_label_formatter(&decade_label)
+                .y_label_formatter(&decade_label)
+                .label_style((FONT, 13))
+                .axis_desc_style((FONT, 15))
+                .light_line_style(WHITE)
+                .bold_line_style(RGBColor(225, 225, 225))
+                .draw()?;
+            for (k, s) in panel.series.iter().enumerate() {
+                let style = colour(k).stroke_width(2);
+                let points = positive(s);
+                chart
+                    .draw_series(LineSeries::new(points.iter().copied(), style))?
+                    .label(s.label)
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style));
+                chart.draw_series(
+                    points
+                        .iter()
+                        .map(|p| Circle::new(*p, 4, colour(k).filled())),
+                )?;
+            }
+            for (k, (value, label)) in panel.levels.iter().enumerate() {
+                let style = RGBColor(90, 90, 90).stroke_width(1 + k as u32);
+                let line = [(xs.start, *value), (xs.end, *value)];
+                chart
+                    .draw_series(DashedLineSeries::new(line, 8, 5, style))?
+                    .label(*label)
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style));
+            }
+            chart
+                .configure_series_labels()
+                .label_font((FONT, 13))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::LowerLeft)
+                .draw()?;
+        }
+        Ok(())
+    })
+}
