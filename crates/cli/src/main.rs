@@ -50,6 +50,9 @@ struct Overrides {
     /// cycles. `run` defaults to 1 so it finishes in seconds; give 100 for the paper's staging.
     #[arg(long, global = true, value_name = "K")]
     cycles_per_stage: Option<u32>,
+    /// `study`: scene runs at once (default: the machine's cores; results do not depend on it).
+    #[arg(long, global = true, value_name = "N")]
+    jobs: Option<usize>,
 }
 
 /// K used by `run` when `--cycles-per-stage` is not given: quick, see [`Overrides`].

@@ -1,9 +1,10 @@
 //! Progress bars for `lgres::run::Progress`: one bar per phase (response run, each wear-stage
-//! simulation), hidden when stdout is not a terminal so logs and pipes stay clean.
+//! simulation), hidden when stdout is not a terminal so logs and pipes stay clean. A study's
+//! runs in parallel each get their own line ([`StudyBars`]).
 
 use std::io::IsTerminal;
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// Bar resolution: hundredths of a drive cycle.
 const TICKS_PER_CYCLE: f64 = 100.0;
@@ -12,6 +13,8 @@ const TICKS_PER_CYCLE: f64 = 100.0;
 pub struct Bars {
     visible: bool,
     bar: Option<ProgressBar>,
+    /// The shared display when several runs show bars at once.
+    multi: Option<MultiProgress>,
 }
 
 impl Bars {
@@ -19,7 +22,46 @@ impl Bars {
         Self {
             visible: std::io::stdout().is_terminal(),
             bar: None,
+            multi: None,
         }
+    }
+}
+
+/// One line of bars per study run in progress (runs go on in parallel threads).
+pub struct StudyBars {
+    multi: MultiProgress,
+    visible: bool,
+}
+
+impl StudyBars {
+    pub fn new() -> Self {
+        let visible = std::io::stdout().is_terminal();
+        let target = if visible {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        };
+        Self {
+            multi: MultiProgress::with_draw_target(target),
+            visible,
+        }
+    }
+}
+
+impl lgres::study::StudyProgress for StudyBars {
+    fn run(
+        &self,
+        key: &str,
+        index: usize,
+        total: usize,
+    ) -> Box<dyn lgres::run::Progress + Send + '_> {
+        let mut bars = Bars {
+            visible: self.visible,
+            bar: None,
+            multi: Some(self.multi.clone()),
+        };
+        lgres::run::Progress::note(&mut bars, &format!("[{}/{total}] {key} starts", index + 1));
+        Box::new(bars)
     }
 }
 
@@ -31,9 +73,16 @@ impl lgres::run::Progress for Bars {
         } else {
             ProgressDrawTarget::hidden()
         };
-        let bar = ProgressBar::with_draw_target(Some((cycles * TICKS_PER_CYCLE) as u64), target);
+        let length = Some((cycles * TICKS_PER_CYCLE) as u64);
+        let bar = match &self.multi {
+            Some(multi) => multi.add(ProgressBar::with_draw_target(
+                length,
+                ProgressDrawTarget::hidden(),
+            )),
+            None => ProgressBar::with_draw_target(length, target),
+        };
         if let Ok(style) = ProgressStyle::with_template(
-            "{msg:<24} [{bar:40}] {percent:>3}% {elapsed_precise} (eta {eta})",
+            "{msg:<36} [{bar:40}] {percent:>3}% {elapsed_precise} (eta {eta})",
         ) {
             bar.set_style(style.progress_chars("=> "));
         }
@@ -54,8 +103,11 @@ impl lgres::run::Progress for Bars {
     }
 
     fn note(&mut self, text: &str) {
-        match &self.bar {
-            Some(bar) if self.visible => bar.println(text),
+        match (&self.multi, &self.bar) {
+            (Some(multi), _) if self.visible => {
+                let _ = multi.println(text);
+            }
+            (None, Some(bar)) if self.visible => bar.println(text),
             _ => eprintln!("{text}"),
         }
     }

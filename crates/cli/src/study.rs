@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use lgres::report::{self, Verdict};
 use lgres::study::{self, StudyError, StudyOptions};
 
-use crate::progress::Bars;
+use crate::progress::StudyBars;
 use crate::{CliError, Overrides};
 
 /// Output folder when `--out` is not given.
@@ -33,12 +33,16 @@ pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
         options.response_cycles = c;
     }
     options.rtol = o.rtol;
+    if let Some(j) = o.jobs {
+        options.jobs = j;
+    }
     println!(
-        "study {name}: {} response cycles per scene, K = {} cycles per wear stage",
-        options.response_cycles, options.cycles_per_stage
+        "study {name}: {} response cycles per scene, K = {} cycles per wear stage, {} run(s) at \
+         a time",
+        options.response_cycles, options.cycles_per_stage, options.jobs
     );
-    let mut bars = Bars::new();
-    let (results, path) = study::run_studies(&studies, &options, &mut bars)?;
+    let bars = StudyBars::new();
+    let (results, path) = study::run_studies(&studies, &options, &bars)?;
     drop(bars);
     for r in &results.runs {
         let s = &r.outcome.summary;

@@ -15,6 +15,8 @@
 //! A scene used by several studies (the default `lgres` is in all of them) is run once.
 
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use crate::artifacts::write_run;
@@ -99,6 +101,9 @@ pub struct StudyOptions {
     /// Drive cycles one wear stage stands for, instead of the scene's `cycles_per_stage ×
     /// amplification` (2 million). Only for quick tests of the machinery.
     pub cycles_represented: Option<f64>,
+    /// Scene runs at once, each on its own thread (default: the machine's cores). Runs are
+    /// independent and deterministic, so the results do not depend on it.
+    pub jobs: usize,
 }
 
 impl StudyOptions {
@@ -110,6 +115,7 @@ impl StudyOptions {
             response_cycles: DEFAULT_RESPONSE_CYCLES,
             rtol: None,
             cycles_represented: None,
+            jobs: std::thread::available_parallelism().map_or(1, usize::from),
         }
     }
 }
@@ -195,9 +201,24 @@ impl StudyResults {
     }
 }
 
+/// Gives each scene run of a study its own progress sink: runs may go on at the same time on
+/// different threads (see [`StudyOptions::jobs`]).
+pub trait StudyProgress: Sync {
+    /// The sink for run `key`, the `index`-th of `total` (called on the run's thread, just
+    /// before it starts).
+    fn run(&self, key: &str, index: usize, total: usize) -> Box<dyn Progress + Send + '_>;
+}
+
+/// Ignores everything.
+impl StudyProgress for () {
+    fn run(&self, _key: &str, _index: usize, _total: usize) -> Box<dyn Progress + Send + '_> {
+        Box::new(())
+    }
+}
+
 /// Forwards progress with the run's key in front of each phase label.
 struct Prefixed<'a> {
-    inner: &'a mut dyn Progress,
+    inner: Box<dyn Progress + Send + 'a>,
     prefix: String,
 }
 
@@ -262,6 +283,9 @@ fn check(options: &StudyOptions) -> Result<(), StudyError> {
             "must be finite and >= 1",
         );
     }
+    if options.jobs == 0 {
+        return bad("jobs", "0".into(), "must be at least 1");
+    }
     Ok(())
 }
 
@@ -271,7 +295,7 @@ fn check(options: &StudyOptions) -> Result<(), StudyError> {
 pub fn run_studies(
     studies: &[StudyKind],
     options: &StudyOptions,
-    progress: &mut dyn Progress,
+    progress: &dyn StudyProgress,
 ) -> Result<(StudyResults, PathBuf), StudyError> {
     let started = Instant::now();
     check(options)?;
@@ -285,32 +309,43 @@ pub fn run_studies(
         .iter()
         .map(|k| prepare_scene(k, options).map(|s| (*k, s)))
         .collect::<Result<_, _>>()?;
-    let mut runs = Vec::with_capacity(prepared.len());
     let total = prepared.len();
-    for (i, (key, scene)) in prepared.into_iter().enumerate() {
-        progress.note(&format!("[{}/{total}] {key}: {}", i + 1, scene.description));
-        let run_options = RunOptions {
-            cycles_per_stage: Some(options.cycles_per_stage),
-            // The single jump is compared on its worn profile only.
-            skip_worn_response: key == SINGLE_JUMP_RUN,
-        };
-        let mut prefixed = Prefixed {
-            inner: &mut *progress,
-            prefix: key.to_string(),
-        };
-        let outcome = run_scene(key, &scene, &run_options, &mut prefixed).map_err(|source| {
-            StudyError::Run {
-                scene: key.to_string(),
-                source: Box::new(source),
+    // Workers take the runs in order; after a failure no new run starts, and the first
+    // failure in run order is returned.
+    let next = AtomicUsize::new(0);
+    let failed = AtomicBool::new(false);
+    let slots: Vec<Mutex<Option<Result<SceneRun, StudyError>>>> =
+        (0..total).map(|_| Mutex::new(None)).collect();
+    let worker = || {
+        loop {
+            let i = next.fetch_add(1, Ordering::SeqCst);
+            if i >= total || failed.load(Ordering::SeqCst) {
+                break;
             }
-        })?;
-        let dir = options.out.join(key);
-        write_run(&outcome, &dir)?;
-        runs.push(SceneRun {
-            key: key.to_string(),
-            dir,
-            outcome,
-        });
+            let (key, scene) = &prepared[i];
+            let result = run_one(key, scene, options, progress.run(key, i, total));
+            failed.fetch_or(result.is_err(), Ordering::SeqCst);
+            if let Ok(mut slot) = slots[i].lock() {
+                *slot = Some(result);
+            }
+        }
+    };
+    let jobs = options.jobs.clamp(1, total.max(1));
+    std::thread::scope(|scope| {
+        for _ in 1..jobs {
+            scope.spawn(worker);
+        }
+        worker();
+    });
+    // Every run ended in its slot unless a failure stopped the queue, and then that failure
+    // is in a slot: an empty slot is a run never started.
+    let mut runs = Vec::with_capacity(total);
+    for slot in slots {
+        match slot.into_inner().ok().flatten() {
+            Some(Ok(run)) => runs.push(run),
+            Some(Err(e)) => return Err(e),
+            None => {}
+        }
     }
     let results = StudyResults {
         studies: studies.to_vec(),
@@ -320,6 +355,37 @@ pub fn run_studies(
     };
     let report = crate::report::write_report(&results, &options.out)?;
     Ok((results, report))
+}
+
+/// One scene run of a study and its files.
+fn run_one(
+    key: &str,
+    scene: &Scene,
+    options: &StudyOptions,
+    progress: Box<dyn Progress + Send + '_>,
+) -> Result<SceneRun, StudyError> {
+    let run_options = RunOptions {
+        cycles_per_stage: Some(options.cycles_per_stage),
+        // The single jump is compared on its worn profile only.
+        skip_worn_response: key == SINGLE_JUMP_RUN,
+    };
+    let mut prefixed = Prefixed {
+        inner: progress,
+        prefix: key.to_string(),
+    };
+    prefixed.note(&scene.description);
+    let outcome =
+        run_scene(key, scene, &run_options, &mut prefixed).map_err(|source| StudyError::Run {
+            scene: key.to_string(),
+            source: Box::new(source),
+        })?;
+    let dir = options.out.join(key);
+    write_run(&outcome, &dir)?;
+    Ok(SceneRun {
+        key: key.to_string(),
+        dir,
+        outcome,
+    })
 }
 
 /// `path` relative to `base` when it lies inside it (for links in the report).

@@ -54,7 +54,7 @@ fn bad_names_and_options_are_bad_input() {
     let mut o = StudyOptions::new(&dir);
     o.cycles_per_stage = 0;
     let studies = study::resolve("clearance").expect("known study");
-    let e = study::run_studies(&studies, &o, &mut ()).unwrap_err();
+    let e = study::run_studies(&studies, &o, &()).unwrap_err();
     assert!(e.is_bad_input(), "{e}");
     assert!(!dir.join("report.md").exists());
 }
@@ -70,7 +70,7 @@ fn tiny_study_writes_a_report_listing_every_scene() {
     let studies = study::resolve("clearance").expect("known study");
     let mut studies = studies;
     studies.extend(study::resolve("extrapolation").expect("known study"));
-    let (results, path) = study::run_studies(&studies, &o, &mut ()).expect("study runs");
+    let (results, path) = study::run_studies(&studies, &o, &()).expect("study runs");
     // lgres is shared by both studies and run once.
     let keys: Vec<&str> = results.runs.iter().map(|r| r.key.as_str()).collect();
     assert_eq!(keys, ["lgres-c02", "lgres", study::SINGLE_JUMP_RUN]);
@@ -89,4 +89,52 @@ fn tiny_study_writes_a_report_listing_every_scene() {
     assert!(dir.join("extrapolation_wear_A.png").is_file());
     assert!(dir.join("clearance_wear_B.png").is_file());
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `value` with every `wall_time_s` removed: the only field allowed to differ between runs.
+fn without_wall_times(mut value: serde_json::Value) -> serde_json::Value {
+    match &mut value {
+        serde_json::Value::Object(map) => {
+            map.remove("wall_time_s");
+            for v in map.values_mut() {
+                *v = without_wall_times(std::mem::take(v));
+            }
+        }
+        serde_json::Value::Array(items) => {
+            for v in items.iter_mut() {
+                *v = without_wall_times(std::mem::take(v));
+            }
+        }
+        _ => {}
+    }
+    value
+}
+
+#[test]
+fn parallel_runs_give_the_same_results_as_serial_ones() {
+    let studies = study::resolve("clearance").expect("known study");
+    let summaries = |jobs: usize| {
+        let dir = std::env::temp_dir().join(format!("lgres-study-j{jobs}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let mut o = StudyOptions::new(&dir);
+        o.cycles_per_stage = 1;
+        o.response_cycles = 1;
+        o.cycles_represented = Some(1e4);
+        o.jobs = jobs;
+        let (results, _) = study::run_studies(&studies, &o, &()).expect("study runs");
+        let _ = std::fs::remove_dir_all(&dir);
+        results
+            .runs
+            .iter()
+            .map(|r| {
+                let json = serde_json::to_value(&r.outcome.summary).expect("serialisable");
+                (r.key.clone(), without_wall_times(json))
+            })
+            .collect::<Vec<_>>()
+    };
+    let serial = summaries(1);
+    let parallel = summaries(2);
+    assert_eq!(serial.len(), 2, "the clearance study has two scenes");
+    // Same runs, in the same order, with bit-identical numbers.
+    assert_eq!(serial, parallel);
 }
