@@ -372,6 +372,9 @@ pub struct Panel<'a> {
     pub series: Vec<Series<'a>>,
     /// Horizontal dashed lines: (value, legend label).
     pub levels: Vec<(f64, &'a str)>,
+    /// Legend in the upper-left corner instead of the lower-left, for curves that rise to the
+    /// right and would otherwise run under it.
+    pub legend_top: bool,
 }
 
 /// Tick label of a log axis: powers of ten only (the ticks between stay unlabelled).
@@ -472,7 +475,11 @@ pub fn log_panels(
                 .label_font((FONT, 13))
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
-                .position(SeriesLabelPosition::LowerLeft)
+                .position(if panel.legend_top {
+                    SeriesLabelPosition::UpperLeft
+                } else {
+                    SeriesLabelPosition::LowerLeft
+                })
                 .draw()?;
         }
         Ok(())
