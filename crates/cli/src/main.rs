@@ -52,7 +52,7 @@ struct Overrides {
     cycles_per_stage: Option<u32>,
     /// `study`: scene runs at once (default: the machine's cores; results do not depend on it).
     #[arg(long, global = true, value_name = "N")]
-    jobs: Option<usize>,
+    jobs: Option<std::num::NonZeroUsize>,
 }
 
 /// K used by `run` when `--cycles-per-stage` is not given: quick, see [`Overrides`].

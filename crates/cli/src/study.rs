@@ -34,7 +34,7 @@ pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
     }
     options.rtol = o.rtol;
     if let Some(j) = o.jobs {
-        options.jobs = j;
+        options.jobs = j.get();
     }
     println!(
         "study {name}: {} response cycles per scene, K = {} cycles per wear stage, {} run(s) at \
