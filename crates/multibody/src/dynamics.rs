@@ -11,14 +11,15 @@ use std::cell::RefCell;
 use std::time::{Duration, Instant};
 
 use diffsol::{
-    NalgebraContext, NalgebraLU, NalgebraMat, NalgebraVec, OdeBuilder, OdeEquationsImplicit,
-    OdeSolverMethod, OdeSolverProblem, OdeSolverStopReason, Vector, VectorCommon,
+    NalgebraContext, NalgebraMat, NalgebraVec, OdeBuilder, OdeEquationsImplicit, OdeSolverMethod,
+    OdeSolverProblem, OdeSolverStopReason, Vector, VectorCommon,
 };
 use nalgebra::DMatrix;
 
 use crate::constraints::ConstraintOwner;
 use crate::error::{EvaluationError, SimulationError};
 use crate::force::ForceElement;
+use crate::iteration::SecondOrderLu;
 use crate::system::{Baumgarte, Evaluator, State, System};
 use crate::trajectory::Trajectory;
 
@@ -586,12 +587,12 @@ impl Run<'_, '_> {
         let t0 = problem.t0;
         let error = |e| integrator_error(t0, e);
         match self.options.integrator {
-            Integrator::Bdf => self.step_loop(problem.bdf::<NalgebraLU<f64>>().map_err(error)?),
+            Integrator::Bdf => self.step_loop(problem.bdf::<SecondOrderLu>().map_err(error)?),
             Integrator::TrBdf2 => {
-                self.step_loop(problem.tr_bdf2::<NalgebraLU<f64>>().map_err(error)?)
+                self.step_loop(problem.tr_bdf2::<SecondOrderLu>().map_err(error)?)
             }
             Integrator::Esdirk34 => {
-                self.step_loop(problem.esdirk34::<NalgebraLU<f64>>().map_err(error)?)
+                self.step_loop(problem.esdirk34::<SecondOrderLu>().map_err(error)?)
             }
             Integrator::Tsit45 => self.step_loop(problem.tsit45().map_err(error)?),
         }

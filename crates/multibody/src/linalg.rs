@@ -27,6 +27,11 @@ impl DenseLu {
         }
     }
 
+    /// Order of the matrices this factors.
+    pub fn size(&self) -> usize {
+        self.factors.nrows()
+    }
+
     /// Factors `matrix` (copied, so the caller keeps it). A pivot below `relative_tolerance`
     /// times the largest entry of the matrix counts as singular.
     ///
