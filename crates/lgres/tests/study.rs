@@ -59,14 +59,21 @@ fn bad_names_and_options_are_bad_input() {
     assert!(!dir.join("report.md").exists());
 }
 
-#[test]
-fn tiny_study_writes_a_report_listing_every_scene() {
-    let dir = std::env::temp_dir().join(format!("lgres-study-{}", std::process::id()));
+/// Options of a tiny study writing to a fresh temporary folder named after `name`.
+fn tiny_options(name: &str) -> StudyOptions {
+    let dir = std::env::temp_dir().join(format!("lgres-study-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let mut o = StudyOptions::new(&dir);
     o.cycles_per_stage = 1;
     o.response_cycles = 1;
     o.cycles_represented = Some(1e4);
+    o
+}
+
+#[test]
+fn tiny_study_writes_a_report_listing_every_scene() {
+    let o = tiny_options("report");
+    let dir = o.out.clone();
     let studies = study::resolve("clearance").expect("known study");
     let mut studies = studies;
     studies.extend(study::resolve("extrapolation").expect("known study"));
@@ -114,15 +121,10 @@ fn without_wall_times(mut value: serde_json::Value) -> serde_json::Value {
 fn parallel_runs_give_the_same_results_as_serial_ones() {
     let studies = study::resolve("clearance").expect("known study");
     let summaries = |jobs: usize| {
-        let dir = std::env::temp_dir().join(format!("lgres-study-j{jobs}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        let mut o = StudyOptions::new(&dir);
-        o.cycles_per_stage = 1;
-        o.response_cycles = 1;
-        o.cycles_represented = Some(1e4);
+        let mut o = tiny_options(&format!("j{jobs}"));
         o.jobs = jobs;
         let (results, _) = study::run_studies(&studies, &o, &()).expect("study runs");
-        let _ = std::fs::remove_dir_all(&dir);
+        let _ = std::fs::remove_dir_all(&o.out);
         results
             .runs
             .iter()
