@@ -27,6 +27,15 @@ impl Bars {
     }
 }
 
+/// Bars go to stderr on a terminal and nowhere otherwise.
+fn draw_target(visible: bool) -> ProgressDrawTarget {
+    if visible {
+        ProgressDrawTarget::stderr()
+    } else {
+        ProgressDrawTarget::hidden()
+    }
+}
+
 /// One line of bars per study run in progress (runs go on in parallel threads).
 pub struct StudyBars {
     multi: MultiProgress,
@@ -36,13 +45,8 @@ pub struct StudyBars {
 impl StudyBars {
     pub fn new() -> Self {
         let visible = std::io::stdout().is_terminal();
-        let target = if visible {
-            ProgressDrawTarget::stderr()
-        } else {
-            ProgressDrawTarget::hidden()
-        };
         Self {
-            multi: MultiProgress::with_draw_target(target),
+            multi: MultiProgress::with_draw_target(draw_target(visible)),
             visible,
         }
     }
@@ -68,18 +72,14 @@ impl lgres::study::StudyProgress for StudyBars {
 impl lgres::run::Progress for Bars {
     fn phase(&mut self, label: &str, cycles: f64) {
         self.finish();
-        let target = if self.visible {
-            ProgressDrawTarget::stderr()
-        } else {
-            ProgressDrawTarget::hidden()
-        };
         let length = Some((cycles * TICKS_PER_CYCLE) as u64);
         let bar = match &self.multi {
+            // The shared display draws it.
             Some(multi) => multi.add(ProgressBar::with_draw_target(
                 length,
                 ProgressDrawTarget::hidden(),
             )),
-            None => ProgressBar::with_draw_target(length, target),
+            None => ProgressBar::with_draw_target(length, draw_target(self.visible)),
         };
         if let Ok(style) = ProgressStyle::with_template(
             "{msg:<36} [{bar:40}] {percent:>3}% {elapsed_precise} (eta {eta})",
