@@ -23,16 +23,36 @@ pub struct ContactDiagnostics {
     pub bearing_radius: f64,
     /// Local (possibly worn) pin radius in the contact direction (m).
     pub pin_radius: f64,
-    /// Normal relative velocity `v_n = dδ/dt` (m/s), positive when penetrating. It is the
-    /// material-point velocity `(v_j^Q − v_i^Q)·n`: exactly `dδ/dt` for round surfaces; on a worn
-    /// one it leaves out the profile sweeping past the contact direction (see `joint`).
+    /// Penetration rate `δ̇ = ∇δ·q̇` (m/s), positive when penetrating: the rate the damping and
+    /// the onset velocity use. For round surfaces it is the material normal velocity
+    /// `(v_j^Q − v_i^Q)·n`; on a worn one it also holds the profile sweeping past (see `joint`).
     pub normal_velocity: f64,
-    /// Tangential relative velocity `v_t` of the pin on the bearing (m/s).
+    /// Sliding velocity `v_t` of the pin's material point on the bearing's, along the contact
+    /// tangent (m/s): the physical sliding speed.
     pub tangential_velocity: f64,
-    /// Normal force magnitude `F_n ≥ 0` (N).
+    /// The paper's sliding velocity `δ φ̇` (m/s): the derivative of the geometric contact
+    /// point, which leaves out the spin of the pin in the bearing (see [`crate::SlidingVelocity`]).
+    pub geometric_sliding_velocity: f64,
+    /// Normal force magnitude `F_n ≥ 0` (N): the load between the surfaces.
     pub normal_force: f64,
-    /// Signed friction force along the tangent `t` (N): `c_f c_d F_n sgn(v_t)`.
+    /// Signed friction force along the contact tangent (N): `c_f c_d F_n sgn(v_t)`.
     pub friction_force: f64,
     /// Global position of the contact point on the bearing surface (m).
     pub contact_point: [f64; 2],
+    /// Energy stored in the contact's elastic potential `V = K δⁿ⁺¹/(n+1)` (J; 0 when free).
+    pub elastic_energy: f64,
+    /// Power the normal force dissipates beyond its elastic part (W, ≥ 0 for a dissipative
+    /// law): `(F_n − F_e) δ̇`, plus the stored energy released where the damped force clamps.
+    pub damping_power: f64,
+    /// Power friction dissipates on the relative sliding of the material points (W):
+    /// `F_t v_t`, ≥ 0 whenever the friction opposes the material sliding.
+    pub friction_power: f64,
+    /// Bearing profile slope `dR_i/dα` in the contact direction (m/rad; 0 for round).
+    pub bearing_slope: f64,
+    /// Pin profile slope `dR_j/dα` in the contact direction (m/rad; 0 for round).
+    pub pin_slope: f64,
+    /// Bearing profile curvature `d²R_i/dα²` in the contact direction (m/rad²).
+    pub bearing_curvature: f64,
+    /// Pin profile curvature `d²R_j/dα²` in the contact direction (m/rad²).
+    pub pin_curvature: f64,
 }

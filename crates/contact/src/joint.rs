@@ -8,34 +8,71 @@
 //! body frames, at `φ − θ_i` (bearing) and `φ − θ_j` (pin), giving the local radii `R_i`, `R_j`,
 //! the local clearance `c(φ) = R_i − R_j` and the penetration `δ = |e| − c(φ)`.
 //!
-//! # Worn (non-circular) surfaces
-//! We keep `n = e/|e|` for the contact direction, and use the **local** radii in the conformal
-//! Hertz formula (effective radius `R = R_i R_j/(R_i − R_j)`, stiffness
-//! `K = 4/(3(ε_i + ε_j)) √R`). This ignores the tilt of the true surface normal and the local
-//! curvature change a worn profile has (its radius of curvature is not its radius); it is the
-//! model's (and the paper's) treatment, adequate while the wear depth varies slowly along the
-//! arc. Because `R_i`, `R_j` depend on the direction `φ`, and `φ` on both bodies' positions,
-//! the profile slopes `dR/dα` enter the Jacobian through `∂φ/∂q`, both in `δ` and in `K`.
+//! # Round surfaces
+//! The normal force `F_n` of the law acts along the line of centres: `−(F_n n + F_t t)` on the
+//! pin at its contact point `r_j^c + R_j n`, the opposite on the bearing at `r_i^c + R_i n`.
+//! Each body gets the moment of its force about its own centroid. The two points are `δ n`
+//! apart, so the pair of forces has a net moment `−δ F_t` about any point (zero without
+//! friction): the pair is otherwise in balance. The damping rate is the material normal
+//! velocity `v_n = (v_j^Q − v_i^Q)·n = dδ/dt`.
 //!
-//! The damping velocity is the **material** normal velocity `v_n = (v_j^Q − v_i^Q)·n`, which
-//! equals `d|e|/dt`; for round surfaces that is `dδ/dt`. On a worn surface `dδ/dt` also has the
-//! term `−dc/dt` of the profile sweeping past the contact direction, which is geometry, not an
-//! approach of material, and so is deliberately not damped.
+//! # Worn (non-round) surfaces
+//! The local radii in the contact direction give the penetration and the conformal Hertz
+//! stiffness (effective radius `R = R_i R_j/(R_i − R_j)`). Since they depend on `φ` and the body
+//! angles, so do `δ` and `K`, and a force along the line of centres would not be conservative:
+//! orbiting pins would pump energy in. The force is instead the gradient of the stored energy
+//! `V = K W(δ)` (module `general`): `−F_n m` on the pin centre with
+//! `m = n − ((R_i' − R_j')/|e|) t`, torques `+F_n R_j'` on the pin and `−F_n R_i'` on the
+//! bearing, a small `∇K` term; damping and the onset velocity use `δ̇ = ∇δ·q̇`, friction acts
+//! along the contact tangent (perpendicular to `m`) under the load `F_n |m|`. For round
+//! surfaces this is the force above; the round kernel is kept because it is cheaper.
 //!
-//! # Forces
-//! Force on the pin `F = −(F_n n + F_t t)` acting at the pin contact point `r_j^c + R_j n`; the
-//! opposite force on the bearing acts at the bearing contact point `r_i^c + R_i n`. Each body gets
-//! the moment of its force about its own centroid. The two points are `δ n` apart, so the pair of
-//! forces has a net moment `−δ F_t` about any point (zero without friction): the pair is
-//! otherwise in balance.
+//! The model stays a line-of-centres model: it describes the contact while the profile is
+//! smooth and shallow against the clearance (`|R_i' − R_j'|/|e|` small, the pin able to follow
+//! the worn dent). Callers should check these at the contacts (the diagnostics report slopes
+//! and curvatures); [`ClearanceJoint::outline_overlap`] measures the true overlap of the two
+//! outlines for comparison.
+//!
+//! Which sliding velocity drives friction is a choice ([`SlidingVelocity`]): the material
+//! points' (physical, default) or the paper's `δ φ̇`.
 
 use nalgebra::{Matrix2, SMatrix, Vector2, Vector3};
 
 use crate::diagnostics::ContactDiagnostics;
 use crate::error::{ContactError, finite, in_range, positive};
 use crate::friction::{FrictionLaw, FrictionLawKind};
-use crate::normal::{NormalLaw, NormalLawKind};
+use crate::normal::{NormalForce, NormalLaw, NormalLawKind};
 use crate::surface::{RadiusSample, SurfaceProfile};
+
+mod general;
+
+/// Which relative velocity of the contact counts as sliding (for friction, and for wear).
+///
+/// The physical choice is the velocity of the pin's **material** point on the bearing's
+/// (docs/model.md §1): it includes the pin spinning in its bearing, so it is of the order of
+/// `ω_rel R`. The paper (Sec. 2.1) differentiates the **geometric** contact point
+/// `r^c + R n` instead, which gives `δ φ̇`: the spin drops out and the sliding speed shrinks by
+/// about `δ/|e|`. This is why the paper's wear depths are ~30× smaller than the material
+/// choice gives with the same wear coefficient; the option lets a scene reproduce the paper.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SlidingVelocity {
+    /// `(v_j^Q − v_i^Q)·t` of the material points (physical; the default).
+    #[default]
+    Material,
+    /// `δ φ̇`, the derivative of the geometric contact point (the paper's).
+    Paper,
+}
+
+impl SlidingVelocity {
+    /// The sliding velocity this choice reads from a contact's diagnostics (m/s).
+    pub fn of(self, diagnostics: &ContactDiagnostics) -> f64 {
+        match self {
+            Self::Material => diagnostics.tangential_velocity,
+            Self::Paper => diagnostics.geometric_sliding_velocity,
+        }
+    }
+}
 
 /// Partials of the six generalized forces with respect to the twelve body coordinates.
 ///
@@ -210,10 +247,22 @@ pub struct JointKinematics {
     pub bearing_point_velocity: Vector2<f64>,
     /// Velocity of the pin body's material point at its contact point (m/s).
     pub pin_point_velocity: Vector2<f64>,
+    /// Rate of the eccentricity `ė` (velocity of the pin centre relative to the bearing
+    /// centre, m/s).
+    pub eccentricity_rate: Vector2<f64>,
     /// Normal relative velocity `v_n = (v_j^Q − v_i^Q)·n` (m/s), positive when approaching.
     pub normal_velocity: f64,
     /// Tangential relative velocity `v_t = (v_j^Q − v_i^Q)·t` (m/s).
     pub tangential_velocity: f64,
+}
+
+/// Where the pin's outline reaches deepest into (or nearest to) the bearing's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutlineOverlap {
+    /// Largest radial overlap of the outlines (m; negative: apart).
+    pub depth: f64,
+    /// Global direction of the deepest pin point from the bearing centre (rad).
+    pub angle: f64,
 }
 
 /// Generalized contact forces on both bodies and what was seen on the way.
@@ -259,6 +308,10 @@ pub struct ClearanceJoint<B, P, N = NormalLawKind, F = FrictionLawKind> {
     modulus_factor: f64,
     normal_law: N,
     friction_law: F,
+    /// Which sliding velocity the friction law sees.
+    friction_sliding: SlidingVelocity,
+    /// Both surfaces round and material sliding: the round-surface kernel applies.
+    round: bool,
 }
 
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
@@ -283,6 +336,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         }
         validate_profiles(&bearing.profile, &pin.profile)?;
         let compliance = bearing.material.compliance() + pin.material.compliance();
+        let round = bearing.profile.is_round() && pin.profile.is_round();
         Ok(Self {
             bearing_centre: Vector2::from(bearing.centre),
             pin_centre: Vector2::from(pin.centre),
@@ -293,7 +347,23 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             modulus_factor: 4.0 / (3.0 * compliance),
             normal_law,
             friction_law,
+            friction_sliding: SlidingVelocity::Material,
+            round,
         })
+    }
+
+    /// The same joint with friction driven by `sliding` (default [`SlidingVelocity::Material`]).
+    pub fn with_friction_sliding(mut self, sliding: SlidingVelocity) -> Self {
+        self.friction_sliding = sliding;
+        self.round = self.bearing_profile.is_round()
+            && self.pin_profile.is_round()
+            && sliding == SlidingVelocity::Material;
+        self
+    }
+
+    /// Which sliding velocity the friction law sees.
+    pub fn friction_sliding(&self) -> SlidingVelocity {
+        self.friction_sliding
     }
 
     /// The same joint with new surface profiles (e.g. after a wear stage), validated again.
@@ -303,6 +373,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_profile: P2,
     ) -> Result<ClearanceJoint<B2, P2, N, F>, ContactError> {
         validate_profiles(&bearing_profile, &pin_profile)?;
+        let round = bearing_profile.is_round()
+            && pin_profile.is_round()
+            && self.friction_sliding == SlidingVelocity::Material;
         Ok(ClearanceJoint {
             bearing_centre: self.bearing_centre,
             pin_centre: self.pin_centre,
@@ -313,6 +386,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             modulus_factor: self.modulus_factor,
             normal_law: self.normal_law,
             friction_law: self.friction_law,
+            friction_sliding: self.friction_sliding,
+            round,
         })
     }
 
@@ -370,9 +445,15 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_body: &BodyState,
         onset_velocity: Option<f64>,
     ) -> ContactForces {
-        let kin = self.kinematics(bearing_body, pin_body);
+        let geometry = self.geometry(bearing_body, pin_body);
+        let kin = kinematics_from(&geometry, bearing_body, pin_body);
         if kin.penetration < 0.0 {
             return free_forces(&kin, bearing_body, pin_body);
+        }
+        if !self.round {
+            return self
+                .general_values(&geometry, &kin, bearing_body, pin_body, onset_velocity)
+                .forces;
         }
         let stiffness = self.stiffness(kin.bearing.radius, kin.pin.radius);
         let onset = onset_velocity.unwrap_or(kin.normal_velocity);
@@ -382,7 +463,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let friction = self
             .friction_law
             .evaluate(kin.tangential_velocity, normal.force);
-        assemble(&kin, bearing_body, pin_body, normal.force, friction.force)
+        assemble(&kin, bearing_body, pin_body, &normal, friction.force)
     }
 
     /// Generalized forces and their exact partials (layout: [`ContactJacobian`]).
@@ -405,66 +486,29 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 ContactJacobian::zeros(),
             );
         }
+        if !self.round {
+            return self.general_forces_and_jacobian(
+                &geometry,
+                &kin,
+                bearing_body,
+                pin_body,
+                onset_velocity,
+            );
+        }
         let onset = onset_velocity.unwrap_or(kin.normal_velocity);
         let (n, t) = (kin.normal, kin.tangent);
-        let rho = kin.eccentricity_norm;
-
-        // Positions: eccentricity, |e| and the contact direction φ.
-        let mut d_ecc = Rows2::zeros();
-        d_ecc[(0, 0)] = -1.0;
-        d_ecc[(1, 1)] = -1.0;
-        d_ecc.set_column(COL_THETA_I, &-perp(&geometry.bearing_centre_arm));
-        d_ecc[(0, 3)] = 1.0;
-        d_ecc[(1, 4)] = 1.0;
-        d_ecc.set_column(COL_THETA_J, &perp(&geometry.pin_centre_arm));
-        let d_rho: Row = n.transpose() * d_ecc;
-        let d_phi: Row = t.transpose() * d_ecc / rho;
-
-        // Local radii through the body-frame angles φ − θ.
-        let mut d_bearing_radius = d_phi * kin.bearing.slope;
-        d_bearing_radius[COL_THETA_I] -= kin.bearing.slope;
-        let mut d_pin_radius = d_phi * kin.pin.slope;
-        d_pin_radius[COL_THETA_J] -= kin.pin.slope;
+        let p = PositionPartials::new(&geometry);
+        let (d_rho, d_phi) = (p.d_rho, p.d_phi);
+        let (d_bearing_radius, d_pin_radius) = (p.d_bearing_radius, p.d_pin_radius);
         let d_penetration = d_rho - d_bearing_radius + d_pin_radius;
 
-        // Stiffness through the effective radius.
-        let (r_i, r_j) = (kin.bearing.radius, kin.pin.radius);
-        let clearance = r_i - r_j;
-        let effective_radius = r_i * r_j / clearance;
-        let stiffness = self.modulus_factor * effective_radius.sqrt();
-        let d_effective_radius =
-            (d_pin_radius * (r_i * r_i) - d_bearing_radius * (r_j * r_j)) / (clearance * clearance);
-        let d_stiffness = d_effective_radius * (0.5 * stiffness / effective_radius);
+        let (stiffness, d_stiffness) = self.stiffness_partials(&kin, &p);
 
         // Arms from the centroids to the contact points, and the relative velocity.
-        let bearing_arm = kin.bearing_point - bearing_body.position();
-        let pin_arm = kin.pin_point - pin_body.position();
-        let d_bearing_arm = arm_partials(
-            &geometry.bearing_centre_arm,
-            COL_THETA_I,
-            &n,
-            &t,
-            r_i,
-            &d_bearing_radius,
-            &d_phi,
-        );
-        let d_pin_arm = arm_partials(
-            &geometry.pin_centre_arm,
-            COL_THETA_J,
-            &n,
-            &t,
-            r_j,
-            &d_pin_radius,
-            &d_phi,
-        );
-        let mut d_rel_vel = rotate_columns(&d_pin_arm) * pin_body.omega
-            - rotate_columns(&d_bearing_arm) * bearing_body.omega;
-        d_rel_vel[(0, COL_VEL_I)] -= 1.0;
-        d_rel_vel[(1, COL_VEL_I + 1)] -= 1.0;
-        d_rel_vel.set_column(COL_VEL_I + 2, &-perp(&bearing_arm));
-        d_rel_vel[(0, COL_VEL_J)] += 1.0;
-        d_rel_vel[(1, COL_VEL_J + 1)] += 1.0;
-        d_rel_vel.set_column(COL_VEL_J + 2, &perp(&pin_arm));
+        let arms = ArmPartials::new(&geometry, &kin, bearing_body, pin_body, &p);
+        let (bearing_arm, pin_arm) = (arms.bearing_arm, arms.pin_arm);
+        let (d_bearing_arm, d_pin_arm, d_rel_vel) =
+            (arms.d_bearing_arm, arms.d_pin_arm, arms.d_relative_velocity);
         let d_normal_velocity: Row = n.transpose() * d_rel_vel + d_phi * kin.tangential_velocity;
         let d_tangential_velocity: Row = t.transpose() * d_rel_vel - d_phi * kin.normal_velocity;
 
@@ -496,8 +540,58 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         jacobian.fixed_rows_mut::<2>(3).copy_from(&d_pin_force);
         jacobian.set_row(5, &d_pin_moment);
 
-        let forces = assemble(&kin, bearing_body, pin_body, normal.force, friction.force);
+        let forces = assemble(&kin, bearing_body, pin_body, &normal, friction.force);
         (forces, jacobian)
+    }
+
+    /// The true overlap of the two outlines: the largest distance by which a point of the pin's
+    /// outline (sampled at `samples` body-frame angles) lies outside the bearing's outline,
+    /// measured radially from the bearing centre, and the global direction of that point.
+    ///
+    /// For round surfaces it equals the penetration `δ` (up to the sampling); on worn ones it
+    /// shows contacts the line-of-centres `δ` misses (a pin touching the side of a dent).
+    /// Negative when the outlines are apart. Costs two profile samples per point.
+    pub fn outline_overlap(
+        &self,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        samples: usize,
+    ) -> OutlineOverlap {
+        let bearing_centre = bearing_body.position() + bearing_body.rotate(&self.bearing_centre);
+        let pin_centre = pin_body.position() + pin_body.rotate(&self.pin_centre);
+        let mut deepest = OutlineOverlap {
+            depth: f64::NEG_INFINITY,
+            angle: 0.0,
+        };
+        for k in 0..samples.max(1) {
+            let alpha = std::f64::consts::TAU * k as f64 / samples.max(1) as f64;
+            let (s, c) = (alpha + pin_body.theta).sin_cos();
+            let point = pin_centre + Vector2::new(c, s) * self.pin_profile.sample(alpha).radius;
+            let offset = point - bearing_centre;
+            let angle = offset.y.atan2(offset.x);
+            let depth = offset.norm()
+                - self
+                    .bearing_profile
+                    .sample(angle - bearing_body.theta)
+                    .radius;
+            if depth > deepest.depth {
+                deepest = OutlineOverlap { depth, angle };
+            }
+        }
+        deepest
+    }
+
+    /// Stiffness `K` through the effective radius, and its partials.
+    #[inline]
+    fn stiffness_partials(&self, kin: &JointKinematics, p: &PositionPartials) -> (f64, Row) {
+        let (r_i, r_j) = (kin.bearing.radius, kin.pin.radius);
+        let clearance = r_i - r_j;
+        let effective_radius = r_i * r_j / clearance;
+        let stiffness = self.modulus_factor * effective_radius.sqrt();
+        let d_effective_radius = (p.d_pin_radius * (r_i * r_i) - p.d_bearing_radius * (r_j * r_j))
+            / (clearance * clearance);
+        let d_stiffness = d_effective_radius * (0.5 * stiffness / effective_radius);
+        (stiffness, d_stiffness)
     }
 
     fn geometry(&self, bearing_body: &BodyState, pin_body: &BodyState) -> Geometry {
@@ -578,6 +672,9 @@ fn kinematics_from(
     let pin_point_velocity =
         pin_body.velocity() + perp(&(pin_point - pin_body.position())) * pin_body.omega;
     let relative_velocity = pin_point_velocity - bearing_point_velocity;
+    let eccentricity_rate = pin_body.velocity() + perp(&geometry.pin_centre_arm) * pin_body.omega
+        - bearing_body.velocity()
+        - perp(&geometry.bearing_centre_arm) * bearing_body.omega;
     JointKinematics {
         eccentricity: geometry.eccentricity,
         eccentricity_norm: geometry.eccentricity_norm,
@@ -591,17 +688,45 @@ fn kinematics_from(
         pin_point,
         bearing_point_velocity,
         pin_point_velocity,
+        eccentricity_rate,
         normal_velocity: relative_velocity.dot(&n),
         tangential_velocity: relative_velocity.dot(&t),
     }
+}
+
+impl JointKinematics {
+    /// Rate of the contact direction, `φ̇ = t·ė/|e|` (rad/s; 0 for concentric centres).
+    pub fn contact_angle_rate(&self) -> f64 {
+        if self.eccentricity_norm > 0.0 {
+            self.tangent.dot(&self.eccentricity_rate) / self.eccentricity_norm
+        } else {
+            0.0
+        }
+    }
+
+    /// Relative velocity of the pin's material point on the bearing's at the contact (m/s).
+    pub fn relative_velocity(&self) -> Vector2<f64> {
+        self.pin_point_velocity - self.bearing_point_velocity
+    }
+}
+
+/// What a contact state loads and dissipates, for [`ContactDiagnostics`].
+#[derive(Clone, Copy, Default)]
+struct Loads {
+    normal_velocity: f64,
+    tangential_velocity: f64,
+    normal_force: f64,
+    friction_force: f64,
+    elastic_energy: f64,
+    damping_power: f64,
+    friction_power: f64,
 }
 
 fn diagnostics(
     kin: &JointKinematics,
     bearing_body: &BodyState,
     pin_body: &BodyState,
-    normal_force: f64,
-    friction_force: f64,
+    loads: &Loads,
 ) -> ContactDiagnostics {
     let wrap = |angle: f64| angle.rem_euclid(std::f64::consts::TAU);
     ContactDiagnostics {
@@ -613,11 +738,19 @@ fn diagnostics(
         pin_angle: wrap(kin.contact_angle - pin_body.theta),
         bearing_radius: kin.bearing.radius,
         pin_radius: kin.pin.radius,
-        normal_velocity: kin.normal_velocity,
-        tangential_velocity: kin.tangential_velocity,
-        normal_force,
-        friction_force,
+        normal_velocity: loads.normal_velocity,
+        tangential_velocity: loads.tangential_velocity,
+        geometric_sliding_velocity: kin.penetration * kin.contact_angle_rate(),
+        normal_force: loads.normal_force,
+        friction_force: loads.friction_force,
         contact_point: [kin.bearing_point.x, kin.bearing_point.y],
+        elastic_energy: loads.elastic_energy,
+        damping_power: loads.damping_power,
+        friction_power: loads.friction_power,
+        bearing_slope: kin.bearing.slope,
+        pin_slope: kin.pin.slope,
+        bearing_curvature: kin.bearing.curvature,
+        pin_curvature: kin.pin.curvature,
     }
 }
 
@@ -626,27 +759,139 @@ fn free_forces(
     bearing_body: &BodyState,
     pin_body: &BodyState,
 ) -> ContactForces {
+    let loads = Loads {
+        normal_velocity: kin.normal_velocity,
+        tangential_velocity: kin.tangential_velocity,
+        ..Loads::default()
+    };
     ContactForces {
         bearing: Vector3::zeros(),
         pin: Vector3::zeros(),
-        diagnostics: diagnostics(kin, bearing_body, pin_body, 0.0, 0.0),
+        diagnostics: diagnostics(kin, bearing_body, pin_body, &loads),
     }
 }
 
+/// Forces of the round-surface kernel: `−(F_n n + F_t t)` on the pin at its contact point.
 fn assemble(
     kin: &JointKinematics,
     bearing_body: &BodyState,
     pin_body: &BodyState,
-    normal_force: f64,
+    normal: &NormalForce,
     friction_force: f64,
 ) -> ContactForces {
-    let pin_force = -(kin.normal * normal_force + kin.tangent * friction_force);
+    let pin_force = -(kin.normal * normal.force + kin.tangent * friction_force);
     let pin_moment = cross(&(kin.pin_point - pin_body.position()), &pin_force);
     let bearing_moment = cross(&(kin.bearing_point - bearing_body.position()), &-pin_force);
+    let loads = Loads {
+        normal_velocity: kin.normal_velocity,
+        tangential_velocity: kin.tangential_velocity,
+        normal_force: normal.force,
+        friction_force,
+        elastic_energy: normal.potential,
+        damping_power: (normal.force - normal.elastic) * kin.normal_velocity,
+        friction_power: friction_force * kin.tangential_velocity,
+    };
     ContactForces {
         bearing: Vector3::new(-pin_force.x, -pin_force.y, bearing_moment),
         pin: Vector3::new(pin_force.x, pin_force.y, pin_moment),
-        diagnostics: diagnostics(kin, bearing_body, pin_body, normal_force, friction_force),
+        diagnostics: diagnostics(kin, bearing_body, pin_body, &loads),
+    }
+}
+
+/// Partials of the positional quantities with respect to the twelve coordinates.
+struct PositionPartials {
+    /// `∂|e|`.
+    d_rho: Row,
+    /// `∂φ`.
+    d_phi: Row,
+    /// `∂R_i` through the body-frame angle `φ − θ_i`.
+    d_bearing_radius: Row,
+    /// `∂R_j` through `φ − θ_j`.
+    d_pin_radius: Row,
+}
+
+impl PositionPartials {
+    #[inline]
+    fn new(geometry: &Geometry) -> Self {
+        let n = geometry.normal;
+        let t = perp(&n);
+        let mut d_ecc = Rows2::zeros();
+        d_ecc[(0, 0)] = -1.0;
+        d_ecc[(1, 1)] = -1.0;
+        d_ecc.set_column(COL_THETA_I, &-perp(&geometry.bearing_centre_arm));
+        d_ecc[(0, 3)] = 1.0;
+        d_ecc[(1, 4)] = 1.0;
+        d_ecc.set_column(COL_THETA_J, &perp(&geometry.pin_centre_arm));
+        let d_rho: Row = n.transpose() * d_ecc;
+        let d_phi: Row = t.transpose() * d_ecc / geometry.eccentricity_norm;
+        let mut d_bearing_radius = d_phi * geometry.bearing.slope;
+        d_bearing_radius[COL_THETA_I] -= geometry.bearing.slope;
+        let mut d_pin_radius = d_phi * geometry.pin.slope;
+        d_pin_radius[COL_THETA_J] -= geometry.pin.slope;
+        Self {
+            d_rho,
+            d_phi,
+            d_bearing_radius,
+            d_pin_radius,
+        }
+    }
+}
+
+/// The arms from the centroids to the contact points `r^c + R n` and the material relative
+/// velocity there, with their partials.
+struct ArmPartials {
+    bearing_arm: Vector2<f64>,
+    pin_arm: Vector2<f64>,
+    d_bearing_arm: Rows2,
+    d_pin_arm: Rows2,
+    d_relative_velocity: Rows2,
+}
+
+impl ArmPartials {
+    #[inline]
+    fn new(
+        geometry: &Geometry,
+        kin: &JointKinematics,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        p: &PositionPartials,
+    ) -> Self {
+        let (n, t) = (kin.normal, kin.tangent);
+        let bearing_arm = kin.bearing_point - bearing_body.position();
+        let pin_arm = kin.pin_point - pin_body.position();
+        let d_bearing_arm = arm_partials(
+            &geometry.bearing_centre_arm,
+            COL_THETA_I,
+            &n,
+            &t,
+            kin.bearing.radius,
+            &p.d_bearing_radius,
+            &p.d_phi,
+        );
+        let d_pin_arm = arm_partials(
+            &geometry.pin_centre_arm,
+            COL_THETA_J,
+            &n,
+            &t,
+            kin.pin.radius,
+            &p.d_pin_radius,
+            &p.d_phi,
+        );
+        let mut d_rel_vel = rotate_columns(&d_pin_arm) * pin_body.omega
+            - rotate_columns(&d_bearing_arm) * bearing_body.omega;
+        d_rel_vel[(0, COL_VEL_I)] -= 1.0;
+        d_rel_vel[(1, COL_VEL_I + 1)] -= 1.0;
+        d_rel_vel.set_column(COL_VEL_I + 2, &-perp(&bearing_arm));
+        d_rel_vel[(0, COL_VEL_J)] += 1.0;
+        d_rel_vel[(1, COL_VEL_J + 1)] += 1.0;
+        d_rel_vel.set_column(COL_VEL_J + 2, &perp(&pin_arm));
+        Self {
+            bearing_arm,
+            pin_arm,
+            d_bearing_arm,
+            d_pin_arm,
+            d_relative_velocity: d_rel_vel,
+        }
     }
 }
 

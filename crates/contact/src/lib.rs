@@ -81,7 +81,7 @@ pub use friction::{
 };
 pub use joint::{
     BodyState, ClearanceJoint, ContactForces, ContactJacobian, JointKinematics, JointSurface,
-    Material, MaterialParams,
+    Material, MaterialParams, OutlineOverlap, SlidingVelocity,
 };
 pub use normal::{
     DEFAULT_HERTZ_EXPONENT, DEFAULT_ONSET_VELOCITY_FLOOR, DampedHertzParams, Flores, Hertz,

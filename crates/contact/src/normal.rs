@@ -36,9 +36,19 @@ pub struct NormalForce {
     pub d_velocity: f64,
     /// `∂F_n/∂K` (m^n).
     pub d_stiffness: f64,
+    /// The conservative part `F_e` of the force (N), `K δⁿ` here, even where the damped force
+    /// clamps to zero: the energy books and the worn-surface force need it.
+    pub elastic: f64,
+    /// The potential `V` of the conservative part (J), with `∂V/∂δ = F_e`; `K δⁿ⁺¹/(n + 1)`
+    /// here. Linear in `K` like the force, so `∂V/∂K = V/K`.
+    pub potential: f64,
 }
 
 /// A normal contact force law.
+///
+/// The force must be linear in the stiffness `K` and split into a conservative part `F_e(δ)`
+/// with potential `V(δ)` (reported in [`NormalForce`]) and a dissipative rest: a worn joint's
+/// stiffness depends on the contact direction, and its energy-consistent force needs `∂V/∂K`.
 pub trait NormalLaw {
     /// Force for stiffness `stiffness` (N/m^n), penetration `penetration ≥ 0` (m), penetration
     /// rate `velocity` (m/s) and onset velocity `onset_velocity` (m/s, floored by the law).
@@ -64,17 +74,24 @@ fn power_law_with_damping(
     if penetration <= 0.0 {
         return NormalForce::default();
     }
-    let factor = 1.0 + damping_rate * velocity;
-    if factor <= 0.0 {
-        return NormalForce::default();
-    }
     let delta_n = penetration.powf(exponent);
     let elastic = stiffness * delta_n;
+    let potential = elastic * penetration / (exponent + 1.0);
+    let factor = 1.0 + damping_rate * velocity;
+    if factor <= 0.0 {
+        return NormalForce {
+            elastic,
+            potential,
+            ..NormalForce::default()
+        };
+    }
     NormalForce {
         force: elastic * factor,
         d_penetration: exponent * elastic / penetration * factor,
         d_velocity: elastic * damping_rate,
         d_stiffness: delta_n * factor,
+        elastic,
+        potential,
     }
 }
 

@@ -13,16 +13,26 @@ pub struct RadiusSample {
     /// Derivative of the radius with respect to the body-frame angle (m/rad). It enters the
     /// exact Jacobian of the contact force, so it must be the true derivative of `radius`.
     pub slope: f64,
+    /// Second derivative of the radius with respect to the angle (m/rad²). On a non-round
+    /// surface the energy-consistent contact force contains the slope, so its exact Jacobian
+    /// needs this; it must be the true derivative of `slope`.
+    pub curvature: f64,
 }
 
 /// Radius of a circular-ish surface as a smooth, 2π-periodic function of the body-frame angle.
 ///
 /// Implementations must accept any finite angle (not only `[0, 2π)`) and must be continuous,
-/// with a continuous slope, everywhere including across 0/2π: a stiff integrator must not see
-/// a jump.
+/// with a continuous slope and curvature, everywhere including across 0/2π: a stiff integrator
+/// must not see a jump.
 pub trait SurfaceProfile {
-    /// Radius and slope at body-frame angle `angle` (rad).
+    /// Radius, slope and curvature at body-frame angle `angle` (rad).
     fn sample(&self, angle: f64) -> RadiusSample;
+
+    /// Whether the radius is constant at every angle. A joint whose two surfaces are round takes
+    /// the cheaper round-surface code path; `false` (the default) is always correct.
+    fn is_round(&self) -> bool {
+        false
+    }
 }
 
 /// A perfectly round surface of constant radius: the unworn pin or bearing.
@@ -45,7 +55,12 @@ impl SurfaceProfile for CircularProfile {
         RadiusSample {
             radius: self.radius,
             slope: 0.0,
+            curvature: 0.0,
         }
+    }
+
+    fn is_round(&self) -> bool {
+        true
     }
 }
 
@@ -53,5 +68,9 @@ impl<P: SurfaceProfile + ?Sized> SurfaceProfile for &P {
     #[inline]
     fn sample(&self, angle: f64) -> RadiusSample {
         (**self).sample(angle)
+    }
+
+    fn is_round(&self) -> bool {
+        (**self).is_round()
     }
 }

@@ -11,10 +11,13 @@
 
 mod common;
 
-use common::{BEARING_RADIUS, CLEARANCE, WavyProfile, steel};
+use common::{
+    BEARING_RADIUS, CLEARANCE, WavyProfile, generalized_forces, random_state, state_vector, steel,
+    worn_joint,
+};
 use contact::{
-    Ambrosio, BodyState, ClearanceJoint, ContactJacobian, FrictionLaw, FrictionLawKind,
-    JointSurface, LankaraniNikravesh, NormalLaw, NormalLawKind, SurfaceProfile,
+    BodyState, ClearanceJoint, ContactJacobian, FrictionLaw, FrictionLawKind, JointSurface,
+    NormalLaw, NormalLawKind, SlidingVelocity, SurfaceProfile,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -32,135 +35,6 @@ enum Regime {
     FrictionRamp,
     /// |v_t| below v_0 (no friction).
     Sticking,
-}
-
-fn worn_joint() -> ClearanceJoint<WavyProfile, WavyProfile, LankaraniNikravesh, Ambrosio> {
-    let bearing = WavyProfile {
-        base: BEARING_RADIUS,
-        modes: [(2.0, 2e-5, -1e-5), (3.0, 0.0, 1.5e-5)],
-    };
-    let pin = WavyProfile {
-        base: BEARING_RADIUS - CLEARANCE,
-        modes: [(1.0, -1e-5, 2e-5), (4.0, 5e-6, 0.0)],
-    };
-    ClearanceJoint::new(
-        JointSurface {
-            centre: [0.04, -0.02],
-            profile: bearing,
-            material: steel(),
-        },
-        JointSurface {
-            centre: [-0.03, 0.025],
-            profile: pin,
-            material: steel(),
-        },
-        LankaraniNikravesh::new(0.9).expect("valid"),
-        Ambrosio::new(0.15, 1e-4, 1e-3).expect("valid"),
-    )
-    .expect("valid joint")
-}
-
-fn state_vector(bearing: &BodyState, pin: &BodyState) -> [f64; 12] {
-    [
-        bearing.x,
-        bearing.y,
-        bearing.theta,
-        pin.x,
-        pin.y,
-        pin.theta,
-        bearing.vx,
-        bearing.vy,
-        bearing.omega,
-        pin.vx,
-        pin.vy,
-        pin.omega,
-    ]
-}
-
-fn states_from(z: &[f64; 12]) -> (BodyState, BodyState) {
-    (
-        BodyState::new([z[0], z[1], z[2]], [z[6], z[7], z[8]]),
-        BodyState::new([z[3], z[4], z[5]], [z[9], z[10], z[11]]),
-    )
-}
-
-fn generalized_forces<B, P, N, F>(
-    joint: &ClearanceJoint<B, P, N, F>,
-    z: &[f64; 12],
-    onset: f64,
-) -> [f64; 6]
-where
-    B: SurfaceProfile,
-    P: SurfaceProfile,
-    N: NormalLaw,
-    F: FrictionLaw,
-{
-    let (bearing, pin) = states_from(z);
-    let f = joint.forces(&bearing, &pin, Some(onset));
-    [
-        f.bearing.x,
-        f.bearing.y,
-        f.bearing.z,
-        f.pin.x,
-        f.pin.y,
-        f.pin.z,
-    ]
-}
-
-/// Places the pin body so that the joint penetrates by `target` along a random direction, then
-/// sets the pin's velocity so that `v_n` and `v_t` take the requested values.
-fn random_state<B, P, N, F>(
-    joint: &ClearanceJoint<B, P, N, F>,
-    rng: &mut ChaCha8Rng,
-    target_penetration: f64,
-    normal_velocity: f64,
-    tangential_velocity: f64,
-) -> (BodyState, BodyState)
-where
-    B: SurfaceProfile,
-    P: SurfaceProfile,
-    N: NormalLaw,
-    F: FrictionLaw,
-{
-    let bearing = BodyState::new(
-        [
-            rng.random_range(-0.1..0.1),
-            rng.random_range(-0.1..0.1),
-            rng.random_range(-3.0..3.0),
-        ],
-        [
-            rng.random_range(-0.2..0.2),
-            rng.random_range(-0.2..0.2),
-            rng.random_range(-2.0..2.0),
-        ],
-    );
-    let mut pin = BodyState::new(
-        [bearing.x, bearing.y, rng.random_range(-3.0..3.0)],
-        [
-            rng.random_range(-0.2..0.2),
-            rng.random_range(-0.2..0.2),
-            rng.random_range(-2.0..2.0),
-        ],
-    );
-    // Fixed-point iteration on the pin position: δ depends on the direction through the radii.
-    let phi: f64 = rng.random_range(-3.1..3.1);
-    for _ in 0..50 {
-        let kin = joint.kinematics(&bearing, &pin);
-        let correction = target_penetration - kin.penetration;
-        let direction = if kin.eccentricity_norm > 1e-6 {
-            kin.normal
-        } else {
-            nalgebra::Vector2::new(phi.cos(), phi.sin())
-        };
-        pin.x += correction * direction.x;
-        pin.y += correction * direction.y;
-    }
-    let kin = joint.kinematics(&bearing, &pin);
-    let dn = normal_velocity - kin.normal_velocity;
-    let dt = tangential_velocity - kin.tangential_velocity;
-    pin.vx += dn * kin.normal.x + dt * kin.tangent.x;
-    pin.vy += dn * kin.normal.y + dt * kin.tangent.y;
-    (bearing, pin)
 }
 
 fn finite_difference_jacobian<B, P, N, F>(
@@ -256,9 +130,10 @@ fn check_regime<B, P, N, F>(
 
         // Steps: ≤ 1e-3 δ in position (arms ≤ 0.1 m, so 1e-3 δ / 0.1 in angle), and ≤ 1e-3 of
         // the distance from v_t to the ramp corners in velocity.
+        let sliding = joint.friction_sliding().of(&forces.diagnostics);
         let distance_to_corner = [1e-4, 1e-3]
             .iter()
-            .map(|corner| (tangential.abs() - corner).abs())
+            .map(|corner| (sliding.abs() - corner).abs())
             .fold(f64::INFINITY, f64::min)
             .max(1e-12);
         let hq = (1e-3 * penetration).min(1e-9);
@@ -314,6 +189,29 @@ fn jacobian_matches_finite_differences_in_friction_ramp() {
 fn jacobian_matches_finite_differences_below_stick_velocity() {
     // 1 + χ v_n/δ̇⁻ ≥ 0.28 with χ = 0.1425 (L–N at c_e = 0.9): away from the clamp.
     check_regime(&worn_joint(), Regime::Sticking, 4, 100, 5.0);
+}
+
+#[test]
+fn jacobian_matches_finite_differences_with_the_papers_sliding_velocity() {
+    // Friction driven by δ φ̇ instead of the material sliding (SlidingVelocity::Paper).
+    let joint = worn_joint().with_friction_sliding(SlidingVelocity::Paper);
+    check_regime(&joint, Regime::DeepSliding, 5, 200, 5.0);
+}
+
+#[test]
+fn jacobian_matches_finite_differences_on_steep_profiles() {
+    // Slopes |R_i' − R_j'|/|e| up to about 1 (the model's validity limit is far below).
+    let joint = worn_joint();
+    let bearing = WavyProfile {
+        base: BEARING_RADIUS,
+        modes: [(2.0, 1.2e-4, -0.6e-4), (3.0, 0.0, 0.8e-4)],
+    };
+    let pin = WavyProfile {
+        base: BEARING_RADIUS - CLEARANCE - 2e-4,
+        modes: [(1.0, -0.5e-4, 1e-4), (4.0, 2e-5, 0.0)],
+    };
+    let steep = joint.with_profiles(bearing, pin).expect("valid profiles");
+    check_regime(&steep, Regime::DeepSliding, 6, 200, 5.0);
 }
 
 #[test]

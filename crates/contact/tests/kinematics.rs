@@ -85,10 +85,18 @@ fn worn_profiles_are_sampled_in_their_own_body_frames() {
     );
     // Stiffness from the local radii.
     let k = joint.stiffness(local_bearing_radius, BEARING_RADIUS - CLEARANCE);
-    let expected_force = Hertz::default()
+    let law_force = Hertz::default()
         .evaluate(k, expected_penetration, 0.0, 0.0)
         .force;
+    // The reported load is |F_n m|, m = n − (R_i'/|e|) t on this worn bearing.
+    let slope_ratio = -2e-5 * (phi - theta_i).sin() / depth;
+    let expected_force = law_force * (1.0 + slope_ratio * slope_ratio).sqrt();
     approx::assert_relative_eq!(d.normal_force, expected_force, max_relative = 1e-8);
+    approx::assert_relative_eq!(
+        d.bearing_slope,
+        -2e-5 * (phi - theta_i).sin(),
+        max_relative = 1e-12
+    );
     // Contact point on the bearing surface, in the contact direction.
     approx::assert_relative_eq!(
         d.contact_point[0],
@@ -100,4 +108,36 @@ fn worn_profiles_are_sampled_in_their_own_body_frames() {
         local_bearing_radius * phi.sin(),
         max_relative = 1e-12
     );
+}
+
+#[test]
+fn outline_overlap_equals_penetration_on_round_surfaces_and_sees_a_dent_wall() {
+    use contact::{Frictionless, Hertz};
+    let joint = common::round_joint([0.0, 0.0], [0.0, 0.0], Hertz::default(), Frictionless);
+    let bearing = BodyState::at_rest(0.0, 0.0, 0.3);
+    let pin = BodyState::at_rest(0.0, -(CLEARANCE + 2e-5), -0.7);
+    let overlap = joint.outline_overlap(&bearing, &pin, 3600);
+    // Sampling error of a round pin: R (1 − cos(π/N)) ≈ 1.9e-8 m at N = 3600.
+    approx::assert_abs_diff_eq!(overlap.depth, 2e-5, epsilon = 2e-8);
+    approx::assert_abs_diff_eq!(overlap.angle, -std::f64::consts::FRAC_PI_2, epsilon = 2e-3);
+    // A bearing with ridges every 60° (radius 50 µm smaller at 0°, larger at ±30°): a pin
+    // pushed towards −30° sits 10 µm short of the groove there, while its outline overlaps the
+    // ridges at 0° and −60° by tens of µm, which the line of centres does not see.
+    let bumpy = common::WavyProfile {
+        base: BEARING_RADIUS,
+        modes: [(6.0, -5e-5, 0.0), (1.0, 0.0, 0.0)],
+    };
+    let worn = joint
+        .with_profiles(bumpy, *joint.pin_profile())
+        .expect("valid profiles");
+    let bearing = BodyState::at_rest(0.0, 0.0, 0.0);
+    let direction = -std::f64::consts::FRAC_PI_6;
+    let rho = CLEARANCE + 5e-5 - 1e-5;
+    let pin = BodyState::at_rest(rho * direction.cos(), rho * direction.sin(), 0.0);
+    let line_of_centres = worn.penetration(&bearing, &pin);
+    let overlap = worn.outline_overlap(&bearing, &pin, 3600);
+    approx::assert_abs_diff_eq!(line_of_centres, -1e-5, epsilon = 1e-9);
+    assert!(overlap.depth > 1.5e-5, "{overlap:?}");
+    // Deepest on a ridge flank (the ridges at 0° and −60° are symmetric about −30°).
+    assert!((overlap.angle - direction).abs() > 0.25, "{overlap:?}");
 }

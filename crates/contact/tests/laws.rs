@@ -108,7 +108,14 @@ fn force_clamps_to_zero_when_separating_fast() {
     let law = LankaraniNikravesh::new(0.9).unwrap();
     // χ = 0.1425: adhesive below δ̇ = −δ̇⁻/χ ≈ −7.02 δ̇⁻.
     let f = law.evaluate(K, 1e-5, -8.0 * 0.1, 0.1);
-    assert_eq!(f, contact::NormalForce::default());
+    assert_eq!(f.force, 0.0);
+    assert_eq!(
+        (f.d_penetration, f.d_velocity, f.d_stiffness),
+        (0.0, 0.0, 0.0)
+    );
+    // The elastic part and its potential are still reported (energy books).
+    approx::assert_relative_eq!(f.elastic, K * 1e-5f64.powf(1.5), max_relative = 1e-12);
+    approx::assert_relative_eq!(f.potential, f.elastic * 1e-5 / 2.5, max_relative = 1e-12);
     let f = law.evaluate(K, 1e-5, -6.0 * 0.1, 0.1);
     assert!(f.force > 0.0);
 }
@@ -132,7 +139,15 @@ proptest! {
             let f = law.evaluate(K, delta, vel, onset);
             prop_assert!(f.force >= 0.0 && f.force.is_finite(), "{law:?}: {f:?}");
             if f.force == 0.0 {
-                prop_assert_eq!(f, contact::NormalForce::default());
+                prop_assert_eq!((f.d_penetration, f.d_velocity, f.d_stiffness), (0.0, 0.0, 0.0));
+            }
+            // The conservative part: F_e = ∂V/∂δ, both ≥ 0, and zero out of contact.
+            prop_assert!(f.elastic >= 0.0 && f.potential >= 0.0);
+            if delta > 0.0 {
+                let n = match law { NormalLawKind::Hertz(_) | NormalLawKind::LankaraniNikravesh(_) => exponent, _ => 1.5 };
+                prop_assert!((f.potential - f.elastic * delta / (n + 1.0)).abs() <= 1e-12 * f.potential);
+            } else {
+                prop_assert_eq!((f.elastic, f.potential), (0.0, 0.0));
             }
             if delta <= 0.0 {
                 prop_assert_eq!(f.force, 0.0);

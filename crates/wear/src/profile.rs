@@ -59,6 +59,9 @@ pub struct WornProfile {
     /// `N / 2π`, cached: cells per radian.
     #[serde(skip)]
     cells_per_rad: f64,
+    /// No cell is worn: the surface is round, and a joint may take the round-surface kernel.
+    #[serde(skip)]
+    unworn: bool,
 }
 
 /// The serialized form, validated on the way in.
@@ -126,11 +129,13 @@ impl WornProfile {
             });
         }
         let cells_per_rad = depth.len() as f64 / TAU;
+        let unworn = depth.iter().all(|h| *h == 0.0);
         Ok(Self {
             side,
             nominal_radius,
             depth,
             cells_per_rad,
+            unworn,
         })
     }
 
@@ -181,6 +186,20 @@ impl WornProfile {
     /// Interpolated wear depth `h(θ)` and its derivative `dh/dθ` at body-frame angle `angle`.
     #[inline]
     pub fn wear_depth(&self, angle: f64) -> (f64, f64) {
+        let (value, slope, _) = self.spline(angle);
+        (value, slope)
+    }
+
+    /// Second derivative `d²h/dθ²` of the interpolated depth at body-frame angle `angle`
+    /// (piecewise linear in the angle: the spline is C²).
+    #[inline]
+    pub fn wear_curvature(&self, angle: f64) -> f64 {
+        self.spline(angle).2
+    }
+
+    /// `h`, `dh/dθ` and `d²h/dθ²` of the B-spline at `angle`.
+    #[inline]
+    fn spline(&self, angle: f64) -> (f64, f64, f64) {
         let n = self.depth.len();
         // Control point k sits at u = k (the cell centre).
         let u = angle.rem_euclid(TAU) * self.cells_per_rad - 0.5;
@@ -200,7 +219,12 @@ impl WornProfile {
         let du =
             (-s * s * c0 + (3.0 * t2 - 4.0 * t) * c1 + (-3.0 * t2 + 2.0 * t + 1.0) * c2 + t2 * c3)
                 / 2.0;
-        (value, du * self.cells_per_rad)
+        let duu = s * c0 + (3.0 * t - 2.0) * c1 + (1.0 - 3.0 * t) * c2 + t * c3;
+        (
+            value,
+            du * self.cells_per_rad,
+            duu * self.cells_per_rad * self.cells_per_rad,
+        )
     }
 
     /// Volume removed from this surface over hinge width `width` (m³):
@@ -257,6 +281,7 @@ impl WornProfile {
         for (h, dh) in self.depth.iter_mut().zip(increment) {
             *h += amplification * dh;
         }
+        self.unworn = self.depth.iter().all(|h| *h == 0.0);
     }
 
     /// Largest pin wear `h/2` after adding `amplification · increment`, for the worn-through guard.
@@ -282,12 +307,17 @@ impl WornProfile {
 impl SurfaceProfile for WornProfile {
     #[inline]
     fn sample(&self, angle: f64) -> RadiusSample {
-        let (h, dh) = self.wear_depth(angle);
+        let (h, dh, ddh) = self.spline(angle);
         let k = self.side.radius_per_depth();
         RadiusSample {
             radius: self.nominal_radius + k * h,
             slope: k * dh,
+            curvature: k * ddh,
         }
+    }
+
+    fn is_round(&self) -> bool {
+        self.unworn
     }
 }
 

@@ -6,6 +6,8 @@ use contact::{
     Ambrosio, BodyState, CircularProfile, ClearanceJoint, FrictionLaw, ImpactMemory, JointSurface,
     LankaraniNikravesh, Material, NormalLaw, RadiusSample, SurfaceProfile,
 };
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
 
 /// LGRES joint A: bearing radius 0.05 m, clearance 0.5 mm.
 pub const BEARING_RADIUS: f64 = 0.05;
@@ -26,12 +28,18 @@ impl SurfaceProfile for WavyProfile {
     fn sample(&self, angle: f64) -> RadiusSample {
         let mut radius = self.base;
         let mut slope = 0.0;
+        let mut curvature = 0.0;
         for (k, a, b) in self.modes {
             let (s, c) = (k * angle).sin_cos();
             radius += a * c + b * s;
             slope += k * (-a * s + b * c);
+            curvature -= k * k * (a * c + b * s);
         }
-        RadiusSample { radius, slope }
+        RadiusSample {
+            radius,
+            slope,
+            curvature,
+        }
     }
 }
 
@@ -191,4 +199,139 @@ where
         previous = current;
     }
     None
+}
+
+pub fn state_vector(bearing: &BodyState, pin: &BodyState) -> [f64; 12] {
+    [
+        bearing.x,
+        bearing.y,
+        bearing.theta,
+        pin.x,
+        pin.y,
+        pin.theta,
+        bearing.vx,
+        bearing.vy,
+        bearing.omega,
+        pin.vx,
+        pin.vy,
+        pin.omega,
+    ]
+}
+
+pub fn states_from(z: &[f64; 12]) -> (BodyState, BodyState) {
+    (
+        BodyState::new([z[0], z[1], z[2]], [z[6], z[7], z[8]]),
+        BodyState::new([z[3], z[4], z[5]], [z[9], z[10], z[11]]),
+    )
+}
+
+pub fn generalized_forces<B, P, N, F>(
+    joint: &ClearanceJoint<B, P, N, F>,
+    z: &[f64; 12],
+    onset: f64,
+) -> [f64; 6]
+where
+    B: SurfaceProfile,
+    P: SurfaceProfile,
+    N: NormalLaw,
+    F: FrictionLaw,
+{
+    let (bearing, pin) = states_from(z);
+    let f = joint.forces(&bearing, &pin, Some(onset));
+    [
+        f.bearing.x,
+        f.bearing.y,
+        f.bearing.z,
+        f.pin.x,
+        f.pin.y,
+        f.pin.z,
+    ]
+}
+
+/// Places the pin body so that the joint penetrates by `target` along a random direction, then
+/// sets the pin's velocity so that `v_n` and `v_t` take the requested values.
+pub fn random_state<B, P, N, F>(
+    joint: &ClearanceJoint<B, P, N, F>,
+    rng: &mut ChaCha8Rng,
+    target_penetration: f64,
+    normal_velocity: f64,
+    tangential_velocity: f64,
+) -> (BodyState, BodyState)
+where
+    B: SurfaceProfile,
+    P: SurfaceProfile,
+    N: NormalLaw,
+    F: FrictionLaw,
+{
+    let bearing = BodyState::new(
+        [
+            rng.random_range(-0.1..0.1),
+            rng.random_range(-0.1..0.1),
+            rng.random_range(-3.0..3.0),
+        ],
+        [
+            rng.random_range(-0.2..0.2),
+            rng.random_range(-0.2..0.2),
+            rng.random_range(-2.0..2.0),
+        ],
+    );
+    let mut pin = BodyState::new(
+        [bearing.x, bearing.y, rng.random_range(-3.0..3.0)],
+        [
+            rng.random_range(-0.2..0.2),
+            rng.random_range(-0.2..0.2),
+            rng.random_range(-2.0..2.0),
+        ],
+    );
+    // Fixed-point iteration on the pin position: δ depends on the direction through the radii.
+    let phi: f64 = rng.random_range(-3.1..3.1);
+    for _ in 0..50 {
+        let kin = joint.kinematics(&bearing, &pin);
+        let correction = target_penetration - kin.penetration;
+        let direction = if kin.eccentricity_norm > 1e-6 {
+            kin.normal
+        } else {
+            nalgebra::Vector2::new(phi.cos(), phi.sin())
+        };
+        pin.x += correction * direction.x;
+        pin.y += correction * direction.y;
+    }
+    // The rates the kernel sees (δ̇ along ∇δ, v_t along the contact tangent) are linear in the
+    // pin's velocity and close to its components along n and t: iterate the correction.
+    for _ in 0..30 {
+        let kin = joint.kinematics(&bearing, &pin);
+        let d = joint.forces(&bearing, &pin, Some(1.0)).diagnostics;
+        let dn = normal_velocity - d.normal_velocity;
+        let dt = tangential_velocity - d.tangential_velocity;
+        pin.vx += dn * kin.normal.x + dt * kin.tangent.x;
+        pin.vy += dn * kin.normal.y + dt * kin.tangent.y;
+    }
+    (bearing, pin)
+}
+
+/// Joint A with smooth non-circular (worn-looking) surfaces and off-centroid centres.
+pub fn worn_joint() -> ClearanceJoint<WavyProfile, WavyProfile, LankaraniNikravesh, Ambrosio> {
+    let bearing = WavyProfile {
+        base: BEARING_RADIUS,
+        modes: [(2.0, 2e-5, -1e-5), (3.0, 0.0, 1.5e-5)],
+    };
+    let pin = WavyProfile {
+        base: BEARING_RADIUS - CLEARANCE,
+        modes: [(1.0, -1e-5, 2e-5), (4.0, 5e-6, 0.0)],
+    };
+    ClearanceJoint::new(
+        JointSurface {
+            centre: [0.04, -0.02],
+            profile: bearing,
+            material: steel(),
+        },
+        JointSurface {
+            centre: [-0.03, 0.025],
+            profile: pin,
+            material: steel(),
+        },
+        LankaraniNikravesh::new(0.9).expect("valid"),
+        Ambrosio::new(0.15, 1e-4, 1e-3).expect("valid"),
+    )
+    .expect("valid joint")
 }
