@@ -1,6 +1,6 @@
 //! Archard wear accumulated over one stage's accepted integration steps.
 
-use contact::ContactDiagnostics;
+use contact::{ContactDiagnostics, SlidingVelocity};
 
 use crate::error::{WearError, finite, non_negative, positive};
 use crate::joint::{ContactArc, WornJoint};
@@ -15,6 +15,7 @@ use crate::profile::{check_increment, deposit_arc, layer_volume};
 #[derive(Clone, Debug, PartialEq)]
 pub struct StageWear {
     wear_coefficient: f64,
+    sliding: SlidingVelocity,
     hinge_width: f64,
     bearing_radius: f64,
     pin_radius: f64,
@@ -28,6 +29,7 @@ impl StageWear {
     pub fn new(joint: &WornJoint) -> Self {
         Self {
             wear_coefficient: joint.wear_coefficient(),
+            sliding: joint.sliding(),
             hinge_width: joint.hinge_width(),
             bearing_radius: joint.bearing().nominal_radius(),
             pin_radius: joint.pin().nominal_radius(),
@@ -62,12 +64,13 @@ impl StageWear {
     /// Adds the wear of one accepted step of length `dt` (s) that went from state `start` to
     /// state `end`.
     ///
-    /// Quadrature: per-endpoint trapezoid. Each end deposits `K_d p |v_t| · dt/2` on every
-    /// cell of its own contact arc (on both surfaces, at its own body-frame angles), with
-    /// `p = F_n / (AB · w)` and the arc from [`ContactArc`]. An end that is out of contact or
+    /// Quadrature: per-endpoint trapezoid. Each end deposits `K_d p |v_t| · dt/2` over its own
+    /// contact arc (on both surfaces, at its own body-frame angles), with the mean pressure
+    /// `p = F_n / (AB · w)` distributed across the arc elliptically (Hertz), the arc from
+    /// [`ContactArc`] and `v_t` the joint's chosen sliding velocity ([`WornJoint::sliding`]). An end that is out of contact or
     /// carries no force contributes nothing, so a step where contact begins or ends gets half
     /// a step of wear from the loaded end (first-order at the onset; steps there are short).
-    /// Edge cells get the fraction of their width the arc covers.
+    /// Edge cells get the part of the distribution that falls on them.
     ///
     /// Errors name the first non-finite diagnostic field of a loaded end, or a bad `dt`; the
     /// record is unchanged when the step is rejected this way.
@@ -103,7 +106,13 @@ impl StageWear {
             return Ok(None);
         }
         let force = non_negative("normal_force", d.normal_force)?;
-        let speed = finite("tangential_velocity", d.tangential_velocity)?.abs();
+        let speed = match self.sliding {
+            SlidingVelocity::Material => finite("tangential_velocity", d.tangential_velocity)?,
+            SlidingVelocity::Paper => {
+                finite("geometric_sliding_velocity", d.geometric_sliding_velocity)?
+            }
+        }
+        .abs();
         finite("eccentricity", d.eccentricity)?;
         finite("pin_angle", d.pin_angle)?;
         finite("bearing_angle", d.bearing_angle)?;

@@ -1,5 +1,6 @@
 //! A worn clearance joint: wear parameters, the bearing and pin surfaces, the contact arc.
 
+use contact::SlidingVelocity;
 use serde::{Deserialize, Serialize};
 
 use crate::accumulate::StageWear;
@@ -107,6 +108,9 @@ pub struct WornJoint {
     hinge_width: f64,
     bearing: WornProfile,
     pin: WornProfile,
+    /// Which sliding velocity drives Archard wear.
+    #[serde(default)]
+    sliding: SlidingVelocity,
 }
 
 #[derive(Deserialize)]
@@ -115,12 +119,15 @@ struct JointData {
     hinge_width: f64,
     bearing: WornProfile,
     pin: WornProfile,
+    #[serde(default)]
+    sliding: SlidingVelocity,
 }
 
 impl TryFrom<JointData> for WornJoint {
     type Error = WearError;
     fn try_from(d: JointData) -> Result<Self, WearError> {
         WornJoint::from_profiles(d.wear_coefficient, d.hinge_width, d.bearing, d.pin)
+            .map(|joint| joint.with_sliding(d.sliding))
     }
 }
 
@@ -173,7 +180,20 @@ impl WornJoint {
             hinge_width,
             bearing,
             pin,
+            sliding: SlidingVelocity::Material,
         })
+    }
+
+    /// The same joint with wear driven by `sliding` (default: the material sliding velocity;
+    /// [`SlidingVelocity::Paper`] reproduces the paper's `δ φ̇`, about 30× less wear).
+    pub fn with_sliding(mut self, sliding: SlidingVelocity) -> Self {
+        self.sliding = sliding;
+        self
+    }
+
+    /// Which sliding velocity drives the wear.
+    pub fn sliding(&self) -> SlidingVelocity {
+        self.sliding
     }
 
     /// `K_d` (m²/N).

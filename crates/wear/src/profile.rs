@@ -327,9 +327,11 @@ pub(crate) fn layer_volume(depths: &[f64], radius: f64, width: f64) -> f64 {
     0.5 * depths.iter().sum::<f64>() * radius * dtheta * width
 }
 
-/// Adds `amount · (covered fraction of the cell)` to every cell of `buf` that the arc
-/// `[center − half, center + half]` (rad) overlaps. Fractional edge cells make the deposited
-/// volume exactly `amount · 2·half / Δθ` cells' worth, free of cell-quantisation noise.
+/// Deposits depth over the arc `[center − half, center + half]` (rad) with the elliptic
+/// (Hertzian) pressure distribution `p(u) = (4/π) p̄ √(1 − u²)`, `u` the position across the arc:
+/// a cell gets `amount ×` the integral of the weight over the part of it under the arc, so
+/// the deposited volume is exactly `amount · 2·half / Δθ` cells' worth (as a flat box would
+/// give) but the deposit has no sharp edges, which keeps amplified profiles smooth.
 pub(crate) fn deposit_arc(buf: &mut [f64], center: f64, half: f64, amount: f64) {
     let n = buf.len();
     let cells_per_rad = n as f64 / TAU;
@@ -340,15 +342,23 @@ pub(crate) fn deposit_arc(buf: &mut [f64], center: f64, half: f64, amount: f64) 
     }
     let mid = center.rem_euclid(TAU) * cells_per_rad;
     let (lo, hi) = (mid - half_cells, mid + half_cells);
+    // ∫ (4/π)√(1 − u²) du in cell units, as an antiderivative of the position x.
+    let scale = 4.0 / std::f64::consts::PI * half_cells;
+    let antiderivative = |x: f64| {
+        let u = ((x - mid) / half_cells).clamp(-1.0, 1.0);
+        0.5 * scale * (u * (1.0 - u * u).sqrt() + u.asin())
+    };
     // lo > −N/2 − 1 and hi < 3N/2 + 1: shifting by N keeps indices unsigned.
     let first = (lo.floor() + n as f64) as usize;
     let last = (hi.ceil() + n as f64) as usize;
+    let mut below = antiderivative(lo);
     for k in first..last {
-        let edge = k as f64 - n as f64;
-        let covered = hi.min(edge + 1.0) - lo.max(edge);
-        if covered > 0.0 {
-            buf[k % n] += amount * covered;
+        let edge = k as f64 - n as f64 + 1.0;
+        let above = antiderivative(edge.min(hi));
+        if above > below {
+            buf[k % n] += amount * (above - below);
         }
+        below = above;
     }
 }
 

@@ -60,18 +60,24 @@ fn pin_on_turning_bearing_matches_archard() {
     let dtheta = TAU / cells as f64;
     let centre = |k: usize| (k as f64 + 0.5) * dtheta;
 
-    // Pin: cells wholly inside the fixed arc wear for the whole time.
+    // Pin: cells inside the fixed arc wear for the whole time, with the elliptic (Hertzian)
+    // pressure distribution (4/π) p̄ √(1 − u²) across the arc; the cell average of that weight
+    // differs from its centre value by < 1e-3 away from the arc's ends.
     let mut inside = 0;
     for (k, &h) in stage.pin().iter().enumerate() {
         let off = (centre(k) - pin_angle).abs();
-        if off < a - dtheta {
-            assert_relative_eq!(h, rate * total, max_relative = 1e-9);
+        if off < 0.8 * a {
+            let weight = 4.0 / std::f64::consts::PI * (1.0 - (off / a).powi(2)).sqrt();
+            assert_relative_eq!(h, rate * total * weight, max_relative = 1e-3);
             inside += 1;
         } else if off > a + dtheta {
             assert_eq!(h, 0.0, "pin cell {k} outside the arc");
         }
     }
-    assert!(inside > 50, "the arc should cover many cells, got {inside}");
+    assert!(
+        inside >= 40,
+        "the arc should cover many cells, got {inside}"
+    );
 
     // Bearing: cells the whole arc swept over wear for 2γ/ω.
     let end = bearing_start - omega * total;
@@ -178,4 +184,23 @@ fn bad_diagnostics_and_steps_name_the_field() {
     assert_eq!(named(stage.accumulate_step(&bad, &good, 1e-3)), "pin_angle");
     // Nothing was deposited by the rejected calls.
     assert_eq!(stage.max_depth(), 0.0);
+}
+
+#[test]
+fn paper_sliding_wears_with_the_geometric_contact_point_speed() {
+    use contact::SlidingVelocity;
+    let material = joint(1000);
+    let paper = joint(1000).with_sliding(SlidingVelocity::Paper);
+    assert_eq!(paper.sliding(), SlidingVelocity::Paper);
+    let mut s = loaded(2000.0, 0.1, 5e-6, 2.0, 4.0);
+    s.geometric_sliding_velocity = -0.004;
+    let (mut a, mut b) = (material.start_stage(), paper.start_stage());
+    a.accumulate_step(&s, &s, 1e-3).unwrap();
+    b.accumulate_step(&s, &s, 1e-3).unwrap();
+    assert_relative_eq!(
+        b.archard_volume(),
+        0.04 * a.archard_volume(),
+        max_relative = 1e-12
+    );
+    assert_relative_eq!(b.max_depth(), 0.04 * a.max_depth(), max_relative = 1e-12);
 }
