@@ -324,25 +324,7 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
         "response: {} cycle(s) of {:.3} s; peaks are statistics of per-cycle maxima",
         r.cycles, s.period_s
     );
-    for j in &r.joints {
-        let (a, b) = (&j.normal_force_all, &j.normal_force_after_transient);
-        println!(
-            "  joint {}: peak F_n {:.2} kN (all), {:.2} kN after {} s (median of {} cycle peaks \
-             {:.2} kN, range {:.2}–{:.2} kN); max penetration {:.2} µm; dissipation/cycle: \
-             friction {:.3} J, all {:.3} J",
-            j.name,
-            a.max * 1e-3,
-            b.max * 1e-3,
-            s.transient_window_s,
-            b.cycles,
-            b.cycle_median * 1e-3,
-            b.cycle_min * 1e-3,
-            b.cycle_max * 1e-3,
-            j.max_penetration_m * 1e6,
-            j.friction_dissipation_per_cycle_j,
-            j.contact_dissipation_per_cycle_j
-        );
-    }
+    print_joints(r, s.transient_window_s);
     let d = &r.deviation_after_transient;
     println!(
         "  {} vs ideal after {} s: |Δx| {:.1} µm, |Δy| {:.1} µm, |Δv| {:.4}/{:.4} m/s, |Δa| \
@@ -397,21 +379,45 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
         }
     }
     if let Some(r) = &s.worn_response {
-        for j in &r.joints {
-            println!(
-                "worn response, joint {}: peak F_n after {} s {:.2} kN (median {:.2} kN)",
-                j.name,
-                s.transient_window_s,
-                j.normal_force_after_transient.max * 1e-3,
-                j.normal_force_after_transient.cycle_median * 1e-3
-            );
-        }
+        println!("worn response (on the surfaces after the last stage):");
+        print_joints(r, s.transient_window_s);
     }
     println!(
         "wrote {files} files to {} in {:.1} s total",
         out.display(),
         s.wall_time_s
     );
+}
+
+/// Per-joint peaks and energy books of one response, and what the books flag.
+fn print_joints(r: &lgres::run::ResponseSummary, window: f64) {
+    for j in &r.joints {
+        let (a, b) = (&j.normal_force_all, &j.normal_force_after_transient);
+        println!(
+            "  joint {}: peak F_n {:.2} kN (all), {:.2} kN after {} s (median of {} cycle peaks \
+             {:.2} kN, range {:.2}–{:.2} kN); max penetration {:.2} µm",
+            j.name,
+            a.max * 1e-3,
+            b.max * 1e-3,
+            window,
+            b.cycles,
+            b.cycle_median * 1e-3,
+            b.cycle_min * 1e-3,
+            b.cycle_max * 1e-3,
+            j.max_penetration_m * 1e6,
+        );
+        println!(
+            "    dissipated per cycle: {:.3} J (damping {:.3} J + friction {:.3} J; books close \
+             to {:.1e} J)",
+            j.contact_dissipation_per_cycle_j,
+            j.damping_dissipation_per_cycle_j,
+            j.friction_dissipation_per_cycle_j,
+            j.energy_books_residual_per_cycle_j
+        );
+    }
+    for w in &r.energy_warnings {
+        println!("  WARNING: {w}");
+    }
 }
 
 /// `wearsim stress`: runs [`lgres::stress`], prints each case as it ends, writes the tables.

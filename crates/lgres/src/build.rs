@@ -85,10 +85,14 @@ pub struct JointHandle {
 pub trait ClearanceProbe {
     /// Contact state at `(q, q̇)` (see [`ClearanceForce::evaluate`]).
     fn contact(&self, q: &[f64], qd: &[f64]) -> contact::ContactForces;
-    /// Friction work over accepted steps, J (≤ 0).
-    fn friction_work(&self) -> f64;
+    /// Energy dissipated by friction over accepted steps, J.
+    fn friction_dissipation(&self) -> f64;
+    /// Energy dissipated by the normal force's damping over accepted steps, J.
+    fn damping_dissipation(&self) -> f64;
     /// Largest normal force at an accepted step end, N.
     fn peak_normal_force(&self) -> f64;
+    /// Contact state at the end of the last accepted step.
+    fn last_diagnostics(&self) -> Option<&contact::ContactDiagnostics>;
 }
 
 impl<B, P> ClearanceProbe for ClearanceForce<B, P>
@@ -99,11 +103,17 @@ where
     fn contact(&self, q: &[f64], qd: &[f64]) -> contact::ContactForces {
         self.evaluate(q, qd)
     }
-    fn friction_work(&self) -> f64 {
-        ClearanceForce::friction_work(self)
+    fn friction_dissipation(&self) -> f64 {
+        ClearanceForce::friction_dissipation(self)
+    }
+    fn damping_dissipation(&self) -> f64 {
+        ClearanceForce::damping_dissipation(self)
     }
     fn peak_normal_force(&self) -> f64 {
         ClearanceForce::peak_normal_force(self)
+    }
+    fn last_diagnostics(&self) -> Option<&contact::ContactDiagnostics> {
+        ClearanceForce::last_diagnostics(self)
     }
 }
 
@@ -160,7 +170,8 @@ pub fn unworn_joints(scene: &Scene) -> Result<Vec<Option<WornJoint>>, BuildError
                 source,
             };
             let params = WearParams::new(w.k_d, w.width, w.cells).map_err(wrap)?;
-            WornJoint::new(&params, c.bearing_radius, c.pin_radius()).map_err(wrap)
+            let joint = WornJoint::new(&params, c.bearing_radius, c.pin_radius()).map_err(wrap)?;
+            Ok(joint.map(|j| j.with_sliding(c.sliding.wear)))
         })
         .collect()
 }
@@ -392,5 +403,6 @@ fn round_joint(
         normal,
         friction,
     )
+    .map(|joint| joint.with_friction_sliding(c.sliding.friction))
     .map_err(err("clearance"))
 }

@@ -30,8 +30,10 @@ pub struct ClearanceForce<B = CircularProfile, P = CircularProfile> {
     /// Steps that start before this time add no wear: lets a stage skip the start-up transient
     /// of its concentric initial state (MODEL §8) while still covering whole drive cycles.
     wear_start: f64,
-    /// Work of friction on the relative sliding over accepted steps (J, ≤ 0).
-    friction_work: f64,
+    /// Energy friction dissipated on the material sliding over accepted steps (J).
+    friction_dissipation: f64,
+    /// Energy the normal force dissipated beyond its elastic part over accepted steps (J).
+    damping_dissipation: f64,
     /// Largest normal force at an accepted step end (N).
     peak_normal_force: f64,
 }
@@ -59,7 +61,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile> ClearanceForce<B, P> {
             last: None,
             wear: None,
             wear_start: f64::NEG_INFINITY,
-            friction_work: 0.0,
+            friction_dissipation: 0.0,
+            damping_dissipation: 0.0,
             peak_normal_force: 0.0,
         }
     }
@@ -87,9 +90,17 @@ impl<B: SurfaceProfile, P: SurfaceProfile> ClearanceForce<B, P> {
         self.last.as_ref()
     }
 
-    /// Work of friction on the relative sliding over the accepted steps so far (J, ≤ 0).
-    pub fn friction_work(&self) -> f64 {
-        self.friction_work
+    /// Energy friction dissipated over the accepted steps so far, `∫ F_t v_t dt` on the
+    /// material sliding (J; ≥ 0 unless the friction is driven by another velocity than the
+    /// material one and then works against it).
+    pub fn friction_dissipation(&self) -> f64 {
+        self.friction_dissipation
+    }
+
+    /// Energy the normal force dissipated beyond its elastic part over the accepted steps so
+    /// far, `∫ (F_n − F_e) δ̇ dt` (J; ≥ 0 for a dissipative law).
+    pub fn damping_dissipation(&self) -> f64 {
+        self.damping_dissipation
     }
 
     /// Largest normal force at an accepted step end so far (N).
@@ -176,11 +187,9 @@ where
         let previous = self.last.unwrap_or(current);
         self.memory.update(&previous, &current);
         let dt = t - t_previous;
-        // Trapezoid over the step, the same quadrature as the wear: friction power |F_t v_t|.
-        self.friction_work -= 0.5
-            * dt
-            * ((previous.friction_force * previous.tangential_velocity).abs()
-                + (current.friction_force * current.tangential_velocity).abs());
+        // Trapezoid over the step, the same quadrature as the wear.
+        self.friction_dissipation += 0.5 * dt * (previous.friction_power + current.friction_power);
+        self.damping_dissipation += 0.5 * dt * (previous.damping_power + current.damping_power);
         self.peak_normal_force = self.peak_normal_force.max(current.normal_force);
         if t_previous >= self.wear_start
             && let Some(wear) = &mut self.wear

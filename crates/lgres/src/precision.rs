@@ -452,7 +452,7 @@ impl Setup<'_> {
         let mut wear_volume = Vec::new();
         for h in &joints {
             if let Some(p) = h.probe(built.system.elements()) {
-                friction -= p.friction_work();
+                friction += p.friction_dissipation();
             }
             contact_work -= result
                 .energy

@@ -229,11 +229,23 @@ pub struct JointSummary {
     pub max_penetration_m: f64,
     /// Largest eccentricity, m.
     pub max_eccentricity_m: f64,
-    /// Friction work per cycle (dissipated, ≥ 0), J, from `ClearanceForce::friction_work`.
+    /// Energy friction dissipates per cycle, `∫ F_t v_t dt` on the material sliding, J
+    /// (`ClearanceForce::friction_dissipation`, trapezoid over accepted steps).
     pub friction_dissipation_per_cycle_j: f64,
-    /// Work done on the joint per cycle by its whole contact force (damping + friction, net of
-    /// the small elastic energy stored at the end), J, from the energy audit.
+    /// Energy the normal force dissipates per cycle beyond its elastic part,
+    /// `∫ (F_n − F_e) δ̇ dt`, J (`ClearanceForce::damping_dissipation`).
+    pub damping_dissipation_per_cycle_j: f64,
+    /// Elastic energy stored in the contact at the start of the run, J.
+    pub elastic_energy_start_j: f64,
+    /// Elastic energy stored in the contact at the end of the run, J.
+    pub elastic_energy_end_j: f64,
+    /// Energy the whole contact force takes out of the mechanism per cycle, from the energy
+    /// audit's work `W` (Gauss quadrature on the integrator's interpolant) net of the stored
+    /// energy: `(−W − (V_end − V_start)) / cycles`, J. Equals damping + friction up to
+    /// quadrature error; an elastic, frictionless contact gives zero.
     pub contact_dissipation_per_cycle_j: f64,
+    /// `contact_dissipation − damping − friction` per cycle, J: how well the books close.
+    pub energy_books_residual_per_cycle_j: f64,
 }
 
 /// Largest deviation of the recorded body from the ideal mechanism.
@@ -297,12 +309,16 @@ pub struct ResponseSummary {
     pub deviation: Deviation,
     /// The same after the start-up window.
     pub deviation_after_transient: Deviation,
-    /// Energy dissipated per cycle by all clearance joints, J (energy audit).
+    /// Energy dissipated per cycle by all clearance joints, J: the sum of the joints'
+    /// `contact_dissipation_per_cycle_j` (energy audit, net of stored elastic energy).
     pub dissipated_per_cycle_j: f64,
-    /// Of which friction, J (`ClearanceForce::friction_work`).
+    /// Of which friction, J (sum of the joints' `friction_dissipation_per_cycle_j`).
     pub friction_per_cycle_j: f64,
-    /// The rest: normal-force damping, J (difference of the two above).
+    /// Of which normal-force damping, J (sum of `damping_dissipation_per_cycle_j`).
     pub damping_per_cycle_j: f64,
+    /// What the energy books say is wrong, if anything: a contact that puts energy into the
+    /// mechanism (negative dissipation) is reported here, never as dissipation.
+    pub energy_warnings: Vec<String>,
     /// Integrator numbers (absent for the kinematic path).
     pub numerics: Option<Numerics>,
 }
@@ -479,7 +495,7 @@ pub fn run_scene(
             ideal,
             contact: Vec::new(),
         };
-        let summary = summarize(&scene, &response, None, None, cycles, t_end);
+        let summary = summarize(&scene, &response, None, cycles, t_end);
         (response, summary, None, None)
     } else {
         let (response, summary) = respond(&scene, &[], &times, &ideal, body, progress, "response")?;
@@ -643,6 +659,14 @@ fn respond(
     let opts = simulation_options(scene, t_end, OutputTimes::At(times.to_vec()), false);
     progress.phase(what, f64::from(cycles));
     let joints = built.joints.clone();
+    let initial_energy: Vec<f64> = joints
+        .iter()
+        .map(|h| {
+            h.probe(built.system.elements()).map_or(0.0, |p| {
+                p.contact(&state.q, &state.qd).diagnostics.elastic_energy
+            })
+        })
+        .collect();
     let mut recorder = Recorder {
         body,
         joints: &joints,
@@ -690,22 +714,68 @@ fn respond(
         ideal: ideal.clone(),
         contact,
     };
-    let summary = summarize(
-        scene,
-        &response,
-        Some((&built, &result)),
-        Some(&joints),
-        cycles,
-        t_end,
-    );
+    let audit = Audit {
+        built: &built,
+        result: &result,
+        joints: &joints,
+        initial_energy: &initial_energy,
+    };
+    let summary = summarize(scene, &response, Some(audit), cycles, t_end);
     Ok((response, summary))
 }
+
+/// What a dynamic run leaves for its energy books.
+struct Audit<'a> {
+    built: &'a Built,
+    result: &'a SimulationResult,
+    joints: &'a [JointHandle],
+    /// Elastic energy stored in each joint at the start (joint order).
+    initial_energy: &'a [f64],
+}
+
+/// Energy books of one joint over a run (J, totals).
+#[derive(Default)]
+struct JointBooks {
+    friction: f64,
+    damping: f64,
+    stored_start: f64,
+    stored_end: f64,
+    audited: f64,
+}
+
+impl Audit<'_> {
+    fn books(&self, k: usize, name: &str) -> JointBooks {
+        let probe = self
+            .joints
+            .get(k)
+            .and_then(|h| h.probe(self.built.system.elements()));
+        let work = self
+            .result
+            .energy
+            .as_ref()
+            .and_then(|e| e.element_work.iter().find(|(n, _)| n == name))
+            .map_or(0.0, |(_, w)| *w);
+        let stored_start = self.initial_energy.get(k).copied().unwrap_or(0.0);
+        let stored_end = probe
+            .and_then(|p| p.last_diagnostics())
+            .map_or(0.0, |d| d.elastic_energy);
+        JointBooks {
+            friction: probe.map_or(0.0, |p| p.friction_dissipation()),
+            damping: probe.map_or(0.0, |p| p.damping_dissipation()),
+            stored_start,
+            stored_end,
+            audited: -work - (stored_end - stored_start),
+        }
+    }
+}
+
+/// Dissipation below this (J per cycle) counts as round-off of the books, not as energy put in.
+const DISSIPATION_FLOOR_J: f64 = 0.05;
 
 fn summarize(
     scene: &Scene,
     response: &Response,
-    run: Option<(&Built, &SimulationResult)>,
-    joints: Option<&[JointHandle]>,
+    audit: Option<Audit<'_>>,
     cycles: u32,
     t_end: f64,
 ) -> ResponseSummary {
@@ -713,21 +783,30 @@ fn summarize(
     let window = scene.run.transient_window;
     let per_cycle = 1.0 / f64::from(cycles);
     let mut joint_summaries = Vec::new();
-    let (mut dissipated, mut friction) = (0.0, 0.0);
+    let (mut dissipated, mut friction, mut damping) = (0.0, 0.0, 0.0);
+    let mut energy_warnings = Vec::new();
     for (k, series) in response.contact.iter().enumerate() {
-        let handle = joints.and_then(|j| j.get(k));
-        let friction_work = match (run, handle) {
-            (Some((built, _)), Some(h)) => h
-                .probe(built.system.elements())
-                .map_or(0.0, |p| -p.friction_work()),
-            _ => 0.0,
-        };
-        let contact_work = run
-            .and_then(|(_, r)| r.energy.as_ref())
-            .and_then(|e| e.element_work.iter().find(|(n, _)| n == &series.name))
-            .map_or(0.0, |(_, w)| -w);
-        dissipated += contact_work;
-        friction += friction_work;
+        let books = audit
+            .as_ref()
+            .map_or_else(JointBooks::default, |a| a.books(k, &series.name));
+        dissipated += books.audited;
+        friction += books.friction;
+        damping += books.damping;
+        for (what, value) in [
+            ("its contact force", books.audited),
+            ("its normal force's damping", books.damping),
+            ("its friction", books.friction),
+        ] {
+            if value * per_cycle < -DISSIPATION_FLOOR_J {
+                energy_warnings.push(format!(
+                    "joint {}: {what} put {:.3} J per cycle INTO the mechanism (negative \
+                     dissipation): the contact is not dissipative on these surfaces, so its \
+                     forces are not physical results",
+                    series.name,
+                    -value * per_cycle
+                ));
+            }
+        }
         joint_summaries.push(JointSummary {
             name: series.name.clone(),
             clearance_m: series.clearance,
@@ -740,8 +819,13 @@ fn summarize(
             ),
             max_penetration_m: series.penetration.iter().copied().fold(f64::MIN, f64::max),
             max_eccentricity_m: series.eccentricity.iter().copied().fold(0.0, f64::max),
-            friction_dissipation_per_cycle_j: friction_work * per_cycle,
-            contact_dissipation_per_cycle_j: contact_work * per_cycle,
+            friction_dissipation_per_cycle_j: books.friction * per_cycle,
+            damping_dissipation_per_cycle_j: books.damping * per_cycle,
+            elastic_energy_start_j: books.stored_start,
+            elastic_energy_end_j: books.stored_end,
+            contact_dissipation_per_cycle_j: books.audited * per_cycle,
+            energy_books_residual_per_cycle_j: (books.audited - books.damping - books.friction)
+                * per_cycle,
         });
     }
     ResponseSummary {
@@ -752,8 +836,9 @@ fn summarize(
         deviation_after_transient: deviation(response, window),
         dissipated_per_cycle_j: dissipated * per_cycle,
         friction_per_cycle_j: friction * per_cycle,
-        damping_per_cycle_j: (dissipated - friction) * per_cycle,
-        numerics: run.map(|(_, r)| numerics(r)),
+        damping_per_cycle_j: damping * per_cycle,
+        energy_warnings,
+        numerics: audit.map(|a| numerics(a.result)),
     }
 }
 

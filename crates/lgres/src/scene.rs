@@ -311,6 +311,10 @@ pub struct ClearanceJoint {
     /// Archard wear of both surfaces; absent: no wear.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wear: Option<WearSpec>,
+    /// Which sliding velocity drives friction and wear (default: the material points', the
+    /// physical one; `paper` is the paper's `δ φ̇`, see docs/model.md §9).
+    #[serde(default, skip_serializing_if = "Sliding::is_default")]
+    pub sliding: Sliding,
     /// Treat as an ideal revolute joint (2 constraint equations, centres coincide) — the
     /// reference mechanism of the studies. Contact and wear settings are then unused.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
@@ -321,6 +325,25 @@ impl ClearanceJoint {
     /// Pin (journal) radius `R_j = R_i − c`, m.
     pub fn pin_radius(&self) -> f64 {
         self.bearing_radius - self.clearance
+    }
+}
+
+/// The sliding velocity each of friction and wear uses, e.g.
+/// `sliding = { friction = "material", wear = "paper" }`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sliding {
+    /// For the friction force.
+    #[serde(default)]
+    pub friction: contact::SlidingVelocity,
+    /// For Archard wear.
+    #[serde(default)]
+    pub wear: contact::SlidingVelocity,
+}
+
+impl Sliding {
+    fn is_default(&self) -> bool {
+        *self == Self::default()
     }
 }
 
