@@ -53,6 +53,10 @@ struct Overrides {
     /// `study`: scene runs at once (default: the machine's cores; results do not depend on it).
     #[arg(long, global = true, value_name = "N")]
     jobs: Option<std::num::NonZeroUsize>,
+    /// `run`: start from the worn surfaces an earlier run wrote into DIR (its last-stage
+    /// wear_<joint>_stage<k>.csv files, for the joints of the same names).
+    #[arg(long, global = true, value_name = "DIR")]
+    surfaces: Option<PathBuf>,
 }
 
 /// K used by `run` when `--cycles-per-stage` is not given: quick, see [`Overrides`].
@@ -305,6 +309,7 @@ fn run(spec: &str, o: &Overrides) -> Result<(), CliError> {
     let out = out_dir(o, &name);
     let options = RunOptions {
         cycles_per_stage: Some(o.cycles_per_stage.unwrap_or(QUICK_CYCLES_PER_STAGE)),
+        surfaces: o.surfaces.clone(),
         ..RunOptions::default()
     };
     let mut bars = progress::Bars::new();
@@ -393,6 +398,15 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
 fn print_joints(r: &lgres::run::ResponseSummary, window: f64) {
     for j in &r.joints {
         let (a, b) = (&j.normal_force_all, &j.normal_force_after_transient);
+        if let Some(v) = j.validity.as_ref().filter(|v| !v.inside) {
+            println!(
+                "  joint {}: OUTSIDE the contact model's validity, so its force peaks are not \
+                 results (summary.json has them, and the measures): {}",
+                j.name,
+                v.reasons.join("; ")
+            );
+            continue;
+        }
         println!(
             "  joint {}: peak F_n {:.2} kN (all), {:.2} kN after {} s (median of {} cycle peaks \
              {:.2} kN, range {:.2}–{:.2} kN); max penetration {:.2} µm",

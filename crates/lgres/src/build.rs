@@ -93,6 +93,8 @@ pub trait ClearanceProbe {
     fn peak_normal_force(&self) -> f64;
     /// Contact state at the end of the last accepted step.
     fn last_diagnostics(&self) -> Option<&contact::ContactDiagnostics>;
+    /// True overlap of the two outlines at `q` (see `contact::ClearanceJoint::outline_overlap`).
+    fn outline_overlap(&self, q: &[f64], samples: usize) -> contact::OutlineOverlap;
 }
 
 impl<B, P> ClearanceProbe for ClearanceForce<B, P>
@@ -114,6 +116,9 @@ where
     }
     fn last_diagnostics(&self) -> Option<&contact::ContactDiagnostics> {
         ClearanceForce::last_diagnostics(self)
+    }
+    fn outline_overlap(&self, q: &[f64], samples: usize) -> contact::OutlineOverlap {
+        ClearanceForce::outline_overlap(self, q, samples)
     }
 }
 

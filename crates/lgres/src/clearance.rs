@@ -85,6 +85,12 @@ impl<B: SurfaceProfile, P: SurfaceProfile> ClearanceForce<B, P> {
             .forces(&bearing, &pin, self.memory.onset_velocity())
     }
 
+    /// True overlap of the worn outlines at positions `q` (`samples` points on the pin).
+    pub fn outline_overlap(&self, q: &[f64], samples: usize) -> contact::OutlineOverlap {
+        let [bearing, pin] = self.states(q, q);
+        self.joint.outline_overlap(&bearing, &pin, samples)
+    }
+
     /// Diagnostics at the end of the last accepted step (`None` before the first).
     pub fn last_diagnostics(&self) -> Option<&ContactDiagnostics> {
         self.last.as_ref()

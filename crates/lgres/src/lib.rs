@@ -37,3 +37,5 @@ pub mod scene;
 pub mod scenes;
 pub mod stress;
 pub mod study;
+pub mod surfaces;
+pub mod validity;

@@ -28,6 +28,7 @@ use wear::{Extrapolation, StagePlan, StageWear, StagingError, WornJoint};
 use crate::build::{BuildError, Built, JointHandle, Surfaces, build, unworn_joints};
 use crate::clearance::WornClearanceForce;
 use crate::scene::{self, Scene};
+use crate::validity::{Limits, Tally, Validity};
 
 /// Receives progress; every method defaults to doing nothing (`()` ignores everything).
 pub trait Progress {
@@ -44,8 +45,12 @@ pub trait Progress {
 impl Progress for () {}
 
 /// Overrides of the scene's run settings.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct RunOptions {
+    /// Start from the worn surfaces of an earlier run: the folder holding its last-stage
+    /// `wear_<joint>_stage<k>.csv` files (see [`crate::surfaces`]). The response run and the
+    /// stages then begin from those surfaces.
+    pub surfaces: Option<std::path::PathBuf>,
     /// Simulated cycles per wear stage `K` instead of `run.cycles_per_stage`; the
     /// amplification is rescaled so a stage still stands for `K_scene × amplification` cycles.
     pub cycles_per_stage: Option<u32>,
@@ -83,6 +88,9 @@ pub enum RunError {
     /// Wear staging failed (e.g. a pin worn through, too many sub-steps).
     #[error("wear staging: {0}")]
     Wear(#[from] wear::WearError),
+    /// The worn surfaces to start from could not be loaded (file and joint named).
+    #[error(transparent)]
+    Surfaces(#[from] crate::surfaces::SurfacesError),
     /// The scene has no drive period (validation normally catches this).
     #[error("run.period: no drive period; give run.period")]
     NoPeriod,
@@ -105,6 +113,7 @@ impl RunError {
         matches!(
             self,
             RunError::Build(_)
+                | RunError::Surfaces(_)
                 | RunError::Assembly { .. }
                 | RunError::NoPeriod
                 | RunError::NoResponseBody
@@ -169,6 +178,9 @@ pub struct ContactSeries {
     pub ex_bearing: Vec<f64>,
     /// See `ex_bearing`.
     pub ey_bearing: Vec<f64>,
+    /// Whether the worn geometry stayed inside the contact model's validity (measured at the
+    /// output frames; `None` until the run is over).
+    pub validity: Option<Validity>,
 }
 
 /// One simulated response with its reference.
@@ -229,6 +241,9 @@ pub struct JointSummary {
     pub max_penetration_m: f64,
     /// Largest eccentricity, m.
     pub max_eccentricity_m: f64,
+    /// Whether the (worn) geometry stayed where the contact model holds, with the measures
+    /// (see [`crate::validity`]). Force peaks of a run outside it are not results.
+    pub validity: Option<Validity>,
     /// Energy friction dissipates per cycle, `∫ F_t v_t dt` on the material sliding, J
     /// (`ClearanceForce::friction_dissipation`, trapezoid over accepted steps).
     pub friction_dissipation_per_cycle_j: f64,
@@ -487,6 +502,11 @@ pub fn run_scene(
     progress.finish();
 
     let active = scene.active_clearance_joints().count() > 0;
+    let unworn = unworn_joints(&scene)?;
+    let initial = match &options.surfaces {
+        Some(dir) => crate::surfaces::load_last_stage(dir, &scene, &unworn)?,
+        None => unworn,
+    };
     let mut wear_history = Vec::new();
     let (response, response_summary, wear_summary, worn) = if !active {
         let response = Response {
@@ -498,12 +518,19 @@ pub fn run_scene(
         let summary = summarize(&scene, &response, None, cycles, t_end);
         (response, summary, None, None)
     } else {
-        let (response, summary) = respond(&scene, &[], &times, &ideal, body, progress, "response")?;
+        // The unworn response samples round surfaces (no wear code); one from loaded surfaces
+        // samples those.
+        let start: &[Option<WornJoint>] = if options.surfaces.is_some() {
+            &initial
+        } else {
+            &[]
+        };
+        let (response, summary) =
+            respond(&scene, start, &times, &ideal, body, progress, "response")?;
         let mut wear_summary = None;
         let mut worn = None;
-        let unworn = unworn_joints(&scene)?;
-        if scene.run.wear_stages > 0 && unworn.iter().any(Option::is_some) {
-            let (history, mut ws, surfaces) = stages(&scene, &unworn, period, progress)?;
+        if scene.run.wear_stages > 0 && initial.iter().any(Option::is_some) {
+            let (history, mut ws, surfaces) = stages(&scene, &initial, period, progress)?;
             ws.scene_cycles_per_stage = scene_k;
             wear_history = history;
             wear_summary = Some(ws);
@@ -589,9 +616,16 @@ struct Recorder<'a> {
     times: Vec<f64>,
     motion: Motion,
     contact: Vec<ContactSeries>,
+    /// Validity measures per joint (same order as `contact`).
+    validity: Vec<Tally>,
     progress: &'a mut dyn Progress,
     record: bool,
 }
+
+/// Points on the pin outline for the true-overlap check (0.5° apart).
+const OVERLAP_SAMPLES: usize = 720;
+/// The overlap is measured at every this-many-th output frame near contact.
+const OVERLAP_EVERY: usize = 4;
 
 impl Observer for Recorder<'_> {
     fn output(&mut self, frame: &Frame<'_>) {
@@ -600,11 +634,26 @@ impl Observer for Recorder<'_> {
         }
         self.times.push(frame.t);
         self.motion.push(self.body, frame.q, frame.qd, frame.qdd);
-        for (series, handle) in self.contact.iter_mut().zip(self.joints) {
-            let d = handle
-                .probe(frame.elements)
+        let frame_index = self.times.len();
+        for ((series, handle), tally) in self
+            .contact
+            .iter_mut()
+            .zip(self.joints)
+            .zip(&mut self.validity)
+        {
+            let probe = handle.probe(frame.elements);
+            let d = probe
                 .map(|p| p.contact(frame.q, frame.qd).diagnostics)
                 .unwrap_or_default();
+            // On round surfaces the overlap is δ itself: measure it on worn ones only.
+            let overlap = probe
+                .filter(|_| {
+                    handle.worn
+                        && frame_index % OVERLAP_EVERY == 0
+                        && d.penetration > -0.25 * handle.clearance
+                })
+                .map(|p| p.outline_overlap(frame.q, OVERLAP_SAMPLES).depth);
+            tally.frame(&d, overlap);
             series.normal_force.push(d.normal_force);
             series.friction_force.push(d.friction_force);
             series.penetration.push(d.penetration);
@@ -681,6 +730,10 @@ fn respond(
                 ..Default::default()
             })
             .collect(),
+        validity: joints
+            .iter()
+            .map(|j| Tally::new(j.clearance, Limits::default()))
+            .collect(),
         progress,
         record: true,
     };
@@ -694,11 +747,15 @@ fn respond(
     let Recorder {
         times: rec_times,
         motion,
-        contact,
+        mut contact,
+        validity,
         progress,
         ..
     } = recorder;
     progress.finish();
+    for (series, tally) in contact.iter_mut().zip(validity) {
+        series.validity = Some(tally.finish());
+    }
     if let Some(k) = (0..rec_times.len()).find(|&k| {
         motion.series().iter().any(|s| !s[k].is_finite())
             || contact.iter().any(|c| !c.normal_force[k].is_finite())
@@ -819,6 +876,7 @@ fn summarize(
             ),
             max_penetration_m: series.penetration.iter().copied().fold(f64::MIN, f64::max),
             max_eccentricity_m: series.eccentricity.iter().copied().fold(0.0, f64::max),
+            validity: series.validity.clone(),
             friction_dissipation_per_cycle_j: books.friction * per_cycle,
             damping_dissipation_per_cycle_j: books.damping * per_cycle,
             elastic_energy_start_j: books.stored_start,
@@ -933,7 +991,7 @@ type Staged = (Vec<JointWearHistory>, WearSummary, Vec<Option<WornJoint>>);
 /// (one slot per active clearance joint).
 fn stages(
     scene: &Scene,
-    unworn: &[Option<WornJoint>],
+    initial: &[Option<WornJoint>],
     period: f64,
     progress: &mut dyn Progress,
 ) -> Result<Staged, RunError> {
@@ -959,7 +1017,7 @@ fn stages(
     let t_end = wear_start + f64::from(k) * period;
     let slots: Vec<Option<usize>> = {
         let mut next = 0;
-        unworn
+        initial
             .iter()
             .map(|w| {
                 w.as_ref().map(|_| {
@@ -969,10 +1027,10 @@ fn stages(
             })
             .collect()
     };
-    let mut joints: Vec<WornJoint> = unworn.iter().flatten().cloned().collect();
+    let mut joints: Vec<WornJoint> = initial.iter().flatten().cloned().collect();
     let names: Vec<String> = scene
         .active_clearance_joints()
-        .zip(unworn)
+        .zip(initial)
         .filter(|(_, w)| w.is_some())
         .map(|(c, _)| c.name.clone())
         .collect();
@@ -1014,6 +1072,7 @@ fn stages(
             times: Vec::new(),
             motion: Motion::default(),
             contact: Vec::new(),
+            validity: Vec::new(),
             progress: &mut *progress,
             record: false,
         };
@@ -1089,7 +1148,7 @@ fn stages(
             }
         })
         .collect();
-    let mut surfaces = vec![None; unworn.len()];
+    let mut surfaces = vec![None; initial.len()];
     for (slot, index) in slots.iter().enumerate() {
         if let Some(i) = index {
             surfaces[slot] = joints.get(*i).cloned();

@@ -1224,6 +1224,11 @@ fn resolve_extends(
 fn merge(base: &mut toml::Table, patch: toml::Table) {
     for (key, value) in patch {
         match (base.get_mut(&key), value) {
+            // A tagged table whose tag changes (e.g. `friction = { law = "none" }` over an
+            // Ambrósio law) is replaced: the old law's parameters do not belong to the new one.
+            (Some(toml::Value::Table(b)), toml::Value::Table(p)) if !same_tag(b, &p) => {
+                *b = p;
+            }
             (Some(toml::Value::Table(b)), toml::Value::Table(p)) => merge(b, p),
             (Some(toml::Value::Array(b)), toml::Value::Array(p))
                 if all_named(b) && all_named(&p) =>
@@ -1244,6 +1249,16 @@ fn merge(base: &mut toml::Table, patch: toml::Table) {
             }
         }
     }
+}
+
+/// Whether two tables agree on their serde tag (`law` or `kind`), or do not both carry one.
+fn same_tag(base: &toml::Table, patch: &toml::Table) -> bool {
+    ["law", "kind"]
+        .iter()
+        .all(|tag| match (base.get(*tag), patch.get(*tag)) {
+            (Some(a), Some(b)) => a == b,
+            _ => true,
+        })
 }
 
 fn all_named(items: &[toml::Value]) -> bool {

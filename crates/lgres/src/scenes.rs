@@ -41,6 +41,14 @@ pub const BUILTINS: &[Builtin] = &[
         "LGRES with Table 1's printed inertias (x1e-3 kg m^2)"
     ),
     builtin!(
+        "lgres-paper",
+        "LGRES with the paper's wear formulation (delta*phi_dot sliding, K = 100, one jump)"
+    ),
+    builtin!(
+        "lgres-elastic",
+        "LGRES with elastic, frictionless contact (energy check on worn surfaces)"
+    ),
+    builtin!(
         "lgres-ideal",
         "LGRES with ideal joints A and B (reference mechanism)"
     ),

@@ -368,6 +368,7 @@ fn run_one(
         cycles_per_stage: Some(options.cycles_per_stage),
         // The single jump is compared on its worn profile only.
         skip_worn_response: key == SINGLE_JUMP_RUN,
+        ..RunOptions::default()
     };
     let mut prefixed = Prefixed {
         inner: progress,

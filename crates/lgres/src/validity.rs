@@ -1,0 +1,195 @@
+//! Is the worn geometry still inside what the contact model describes? Measured at the
+//! contacts of every response run, per joint.
+//!
+//! The clearance joint is a line-of-centres model: the penetration is measured along the line
+//! through the two centres, and the pin is assumed to reach the bottom of whatever the bearing
+//! offers there. A worn profile breaks that when it is steep or rough against the clearance.
+//! Four measures, each with a limit ([`Limits`]):
+//! - **slope** `|R_i' − R_j'|/|e|` at loaded frames: the tilt of the contact normal from the
+//!   line of centres (the tangential part of the force direction `m`). Above 0.3 the contact
+//!   normal is more than 17° off and `δ` overstates the normal gap by more than 4 %.
+//! - **conformity** `(R_j'' − R_i'')/c` at loaded frames (small-slope form of "the pin's
+//!   curvature exceeds the bearing's"): at 1 the worn dent is as curved as the pin, beyond it
+//!   the pin touches the dent's flanks instead of its bottom.
+//! - **unloaded penetration**: frames whose penetration exceeds 1 % of the clearance but carry no
+//!   force (the damped law clamped), as a fraction of the frames with that penetration.
+//! - **outline overlap**: the true overlap of the worn outlines
+//!   ([`contact::ClearanceJoint::outline_overlap`]) against the line-of-centres `δ`, at a subset
+//!   of frames: the largest difference, relative to the clearance, and the frames where the
+//!   outlines overlap while `δ < 0` (contacts the model misses).
+
+use contact::ContactDiagnostics;
+use serde::Serialize;
+
+/// The limits a run's worn geometry must stay within.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Limits {
+    /// Largest `|R_i' − R_j'|/|e|` at a loaded frame.
+    pub slope_ratio: f64,
+    /// Largest `(R_j'' − R_i'')/c` at a loaded frame.
+    pub conformity_ratio: f64,
+    /// Largest fraction of penetrating frames (δ > 1 % of c) that carry no force.
+    pub unloaded_fraction: f64,
+    /// Largest `|overlap − max(δ, 0)| / c` over the checked frames.
+    pub overlap_error: f64,
+    /// Largest fraction of the checked frames where the outlines overlap but `δ < 0`.
+    pub missed_contact_fraction: f64,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            slope_ratio: 0.3,
+            conformity_ratio: 1.0,
+            unloaded_fraction: 0.01,
+            overlap_error: 0.1,
+            missed_contact_fraction: 0.01,
+        }
+    }
+}
+
+/// What was measured for one joint in one response run, against the limits.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Validity {
+    /// Every measure within its limit.
+    pub inside: bool,
+    /// One sentence per measure beyond its limit.
+    pub reasons: Vec<String>,
+    /// Frames with the pin loaded (`F_n > 0`).
+    pub loaded_frames: usize,
+    /// Largest `|R_i' − R_j'|/|e|` at a loaded frame.
+    pub max_slope_ratio: f64,
+    /// Largest `(R_j'' − R_i'')/c` at a loaded frame.
+    pub max_conformity_ratio: f64,
+    /// Frames with `δ` above 1 % of the clearance.
+    pub penetrating_frames: usize,
+    /// Of those, frames without force.
+    pub unloaded_penetrating_frames: usize,
+    /// Frames where the outline overlap was measured.
+    pub overlap_frames: usize,
+    /// Largest `|overlap − max(δ, 0)|` over those frames, m.
+    pub max_overlap_error_m: f64,
+    /// Frames where the outlines overlap but `δ < 0`.
+    pub missed_contact_frames: usize,
+    /// The limits applied.
+    pub limits: Limits,
+}
+
+/// Accumulates the measures frame by frame.
+#[derive(Debug, Clone)]
+pub struct Tally {
+    clearance: f64,
+    validity: Validity,
+}
+
+impl Tally {
+    /// An empty tally for a joint of nominal clearance `clearance` (m).
+    pub fn new(clearance: f64, limits: Limits) -> Self {
+        Self {
+            clearance,
+            validity: Validity {
+                inside: true,
+                reasons: Vec::new(),
+                loaded_frames: 0,
+                max_slope_ratio: 0.0,
+                max_conformity_ratio: 0.0,
+                penetrating_frames: 0,
+                unloaded_penetrating_frames: 0,
+                overlap_frames: 0,
+                max_overlap_error_m: 0.0,
+                missed_contact_frames: 0,
+                limits,
+            },
+        }
+    }
+
+    /// Adds one output frame; `overlap` is the true outline overlap where it was measured.
+    pub fn frame(&mut self, d: &ContactDiagnostics, overlap: Option<f64>) {
+        let v = &mut self.validity;
+        if d.in_contact && d.normal_force > 0.0 {
+            v.loaded_frames += 1;
+            let slope = (d.bearing_slope - d.pin_slope).abs() / d.eccentricity;
+            let local_clearance = d.bearing_radius - d.pin_radius;
+            let conformity = (d.pin_curvature - d.bearing_curvature) / local_clearance;
+            v.max_slope_ratio = v.max_slope_ratio.max(slope);
+            v.max_conformity_ratio = v.max_conformity_ratio.max(conformity);
+        }
+        if d.penetration > 0.01 * self.clearance {
+            v.penetrating_frames += 1;
+            if d.normal_force == 0.0 {
+                v.unloaded_penetrating_frames += 1;
+            }
+        }
+        if let Some(overlap) = overlap {
+            v.overlap_frames += 1;
+            v.max_overlap_error_m = v
+                .max_overlap_error_m
+                .max((overlap - d.penetration.max(0.0)).abs());
+            if overlap > 0.0 && d.penetration < 0.0 {
+                v.missed_contact_frames += 1;
+            }
+        }
+    }
+
+    /// The verdict.
+    pub fn finish(mut self) -> Validity {
+        let v = &mut self.validity;
+        let l = v.limits;
+        let fraction = |part: usize, whole: usize| {
+            if whole == 0 {
+                0.0
+            } else {
+                part as f64 / whole as f64
+            }
+        };
+        let checks = [
+            (
+                v.max_slope_ratio > l.slope_ratio,
+                format!(
+                    "profile slope |R_i' − R_j'|/|e| reaches {:.2} (limit {})",
+                    v.max_slope_ratio, l.slope_ratio
+                ),
+            ),
+            (
+                v.max_conformity_ratio > l.conformity_ratio,
+                format!(
+                    "the worn dent is {:.1}× as curved as the pin can follow, (R_j'' − R_i'')/c \
+                     (limit {})",
+                    v.max_conformity_ratio, l.conformity_ratio
+                ),
+            ),
+            (
+                fraction(v.unloaded_penetrating_frames, v.penetrating_frames) > l.unloaded_fraction,
+                format!(
+                    "{} of {} frames with δ > 1 % of the clearance carry no force",
+                    v.unloaded_penetrating_frames, v.penetrating_frames
+                ),
+            ),
+            (
+                v.max_overlap_error_m > l.overlap_error * self.clearance,
+                format!(
+                    "the true overlap of the worn outlines differs from δ by up to {:.1} µm \
+                     ({:.0} % of the clearance; limit {:.0} %)",
+                    v.max_overlap_error_m * 1e6,
+                    100.0 * v.max_overlap_error_m / self.clearance,
+                    100.0 * l.overlap_error
+                ),
+            ),
+            (
+                fraction(v.missed_contact_frames, v.overlap_frames) > l.missed_contact_fraction,
+                format!(
+                    "in {} of {} checked frames the outlines overlap where δ < 0 (missed \
+                     contacts)",
+                    v.missed_contact_frames, v.overlap_frames
+                ),
+            ),
+        ];
+        v.reasons = checks
+            .into_iter()
+            .filter(|(failed, _)| *failed)
+            .map(|(_, reason)| reason)
+            .collect();
+        v.inside = v.reasons.is_empty();
+        self.validity
+    }
+}
