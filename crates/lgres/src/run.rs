@@ -649,7 +649,7 @@ impl Observer for Recorder<'_> {
             let overlap = probe
                 .filter(|_| {
                     handle.worn
-                        && frame_index % OVERLAP_EVERY == 0
+                        && frame_index.is_multiple_of(OVERLAP_EVERY)
                         && d.penetration > -0.25 * handle.clearance
                 })
                 .map(|p| p.outline_overlap(frame.q, OVERLAP_SAMPLES).depth);
