@@ -157,6 +157,9 @@ pub struct Surfaces<'a> {
     /// Accumulate the stage's wear on worn joints for accepted steps starting at or after this
     /// time (s); `None`: no accumulation.
     pub accumulate_from: Option<f64>,
+    /// Also keep the wear of the steps starting before this time apart (the first half of
+    /// the stage's cycles), for the convergence check of a stage.
+    pub split_halves_at: Option<f64>,
 }
 
 /// The unworn [`WornJoint`] of every active clearance joint (scene order); `None` where the
@@ -327,6 +330,9 @@ pub fn build(scene: &Scene, surfaces: Surfaces<'_>) -> Result<Built, BuildError>
                 let mut force = ClearanceForce::new(&c.name, bearing, pin, joint);
                 if let Some(t0) = surfaces.accumulate_from {
                     force = force.with_stage_wear(w.start_stage(), t0);
+                    if let Some(split) = surfaces.split_halves_at {
+                        force = force.with_halves(w.start_stage(), split);
+                    }
                 }
                 system.add_element(Box::new(force))
             }

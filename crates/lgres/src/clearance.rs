@@ -27,6 +27,9 @@ pub struct ClearanceForce<B = CircularProfile, P = CircularProfile> {
     last: Option<ContactDiagnostics>,
     /// Wear of the current stage (`None`: wear off).
     wear: Option<StageWear>,
+    /// The part of `wear` from steps that start before the split time: compared with the
+    /// rest, it tells whether the stage's cycles give a converged wear estimate.
+    first_half: Option<(f64, StageWear)>,
     /// Steps that start before this time add no wear: lets a stage skip the start-up transient
     /// of its concentric initial state (MODEL §8) while still covering whole drive cycles.
     wear_start: f64,
@@ -60,6 +63,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile> ClearanceForce<B, P> {
             memory: ImpactMemory::new(),
             last: None,
             wear: None,
+            first_half: None,
             wear_start: f64::NEG_INFINITY,
             friction_dissipation: 0.0,
             damping_dissipation: 0.0,
@@ -124,6 +128,11 @@ impl<B: SurfaceProfile, P: SurfaceProfile> ClearanceForce<B, P> {
         self.wear.take()
     }
 
+    /// Takes the first half's wear buffer out (see [`WornClearanceForce::with_halves`]).
+    pub fn take_first_half(&mut self) -> Option<StageWear> {
+        self.first_half.take().map(|(_, wear)| wear)
+    }
+
     fn states(&self, q: &[f64], qd: &[f64]) -> [BodyState; 2] {
         self.bodies.map(|body| match body {
             Some(BodyId(k)) => BodyState::new(
@@ -149,6 +158,14 @@ impl WornClearanceForce {
     pub fn with_stage_wear(mut self, stage: StageWear, wear_start: f64) -> Self {
         self.wear = Some(stage);
         self.wear_start = wear_start;
+        self
+    }
+
+    /// Also keeps the wear of the steps that start before `split` (s) apart, so that the two
+    /// halves of a stage's cycles can be compared; `first_half` is an empty record of the
+    /// same joint.
+    pub fn with_halves(mut self, first_half: StageWear, split: f64) -> Self {
+        self.first_half = Some((split, first_half));
         self
     }
 }
@@ -202,11 +219,18 @@ where
         {
             // The diagnostics come from the kernel, so they are finite and consistent; a
             // rejection here would be a kernel bug, not a user error.
-            if let Err(error) = wear.accumulate_step(&previous, &current, dt) {
-                debug_assert!(
-                    false,
-                    "wear accumulation rejected kernel diagnostics: {error}"
-                );
+            let first = self
+                .first_half
+                .as_mut()
+                .filter(|(split, _)| t_previous < *split)
+                .map(|(_, wear)| wear);
+            for wear in std::iter::once(wear).chain(first) {
+                if let Err(error) = wear.accumulate_step(&previous, &current, dt) {
+                    debug_assert!(
+                        false,
+                        "wear accumulation rejected kernel diagnostics: {error}"
+                    );
+                }
             }
         }
         self.last = Some(current);

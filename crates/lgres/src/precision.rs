@@ -393,6 +393,7 @@ impl Setup<'_> {
             Surfaces {
                 worn: &unworn,
                 accumulate_from: wear.then_some(scene.run.transient_window),
+                split_halves_at: None,
             },
         )
         .map_err(|e| e.to_string())?;

@@ -379,7 +379,13 @@ pub struct WearSummary {
     /// Every sub-step: stage, amplification applied, deepest cell after it (m) and the bound
     /// on the relative clearance change it caused.
     pub substeps: Vec<SubstepSummary>,
-    /// Single-jump warnings.
+    /// Convergence of each sub-step's wear estimate: the largest disagreement of the two
+    /// halves of its K cycles (absent for odd K), against [`HALVES_TOLERANCE`].
+    pub max_halves_difference: Option<f64>,
+    /// Whether every sub-step's two halves agree within [`HALVES_TOLERANCE`] (false for odd K:
+    /// not checked).
+    pub converged: bool,
+    /// Single-jump warnings, and the convergence check's verdict when it fails.
     pub warnings: Vec<String>,
     /// Per wearing joint, after the last stage.
     pub joints: Vec<JointWearSummary>,
@@ -398,6 +404,13 @@ pub struct SubstepSummary {
     pub max_depth_m: f64,
     /// Bound on the relative local-clearance change of the update.
     pub change_fraction: f64,
+    /// Bound on the change of the clearance slope `|Δc'|/c0` of the update, 1/rad.
+    pub slope_change: f64,
+    /// Bound on the change of the clearance curvature `|Δc''|/c0` of the update, 1/rad².
+    pub curvature_change: f64,
+    /// How far the wear of the two halves of the sub-step's K cycles disagree, per cell,
+    /// relative to the peak (see `halves_difference`); absent for odd K.
+    pub halves_difference: Option<f64>,
 }
 
 /// What `summary.json` holds.
@@ -702,6 +715,7 @@ fn respond(
         Surfaces {
             worn,
             accumulate_from: None,
+            split_halves_at: None,
         },
     )?;
     let state = assemble(&built, what)?;
@@ -984,6 +998,35 @@ fn deviation(r: &Response, from: f64) -> Deviation {
     }
 }
 
+/// Largest disagreement of the two halves of a sub-step's cycles, per cell relative to the
+/// peak, for which a stage's wear counts as converged in K.
+pub const HALVES_TOLERANCE: f64 = 0.25;
+
+/// How far the wear of the two halves of a stage's cycles disagree: the largest per-cell
+/// difference `|h₁ − h₂|` over both surfaces, relative to the largest per-cell mean
+/// `(h₁ + h₂)/2` (the halves are `first` and `total − first`). 0 for identical halves; a
+/// converged per-cycle estimate gives a small value, one chaotic cycle against another a large
+/// one.
+fn halves_difference(first: &StageWear, total: &StageWear) -> f64 {
+    let mut largest_difference: f64 = 0.0;
+    let mut largest_mean: f64 = 0.0;
+    for (a, t) in [
+        (first.bearing(), total.bearing()),
+        (first.pin(), total.pin()),
+    ] {
+        for (h1, ht) in a.iter().zip(t) {
+            let h2 = ht - h1;
+            largest_difference = largest_difference.max((h1 - h2).abs());
+            largest_mean = largest_mean.max(0.5 * ht);
+        }
+    }
+    if largest_mean > 0.0 {
+        largest_difference / largest_mean
+    } else {
+        0.0
+    }
+}
+
 /// Per-stage history, summary and final surfaces (one slot per active clearance joint).
 type Staged = (Vec<JointWearHistory>, WearSummary, Vec<Option<WornJoint>>);
 
@@ -1005,6 +1048,8 @@ fn stages(
             Extrapolation::Adaptive {
                 max_fraction: r.max_clearance_change,
                 max_substeps: Extrapolation::DEFAULT_MAX_SUBSTEPS,
+                max_slope_change: r.max_slope_change,
+                max_curvature_change: r.max_curvature_change,
             }
         } else {
             Extrapolation::SingleJump {
@@ -1047,6 +1092,8 @@ fn stages(
     let mut substeps = Vec::new();
     let mut details = Vec::new();
     let mut warnings = Vec::new();
+    // Per sub-step: how far the two halves of its K cycles disagree (even K only).
+    let halves: std::cell::RefCell<Vec<Option<f64>>> = std::cell::RefCell::default();
     let mut runner = |ctx: wear::RunContext, current: &[WornJoint]| {
         let worn: Vec<Option<WornJoint>> = slots
             .iter()
@@ -1058,6 +1105,10 @@ fn stages(
             Surfaces {
                 worn: &worn,
                 accumulate_from: Some(wear_start),
+                // Whole cycles in each half: only for an even K.
+                split_halves_at: k
+                    .is_multiple_of(2)
+                    .then(|| wear_start + f64::from(k / 2) * period),
             },
         )?;
         let state = assemble(&built, &what)?;
@@ -1085,20 +1136,26 @@ fn stages(
             })?;
         progress.finish();
         let mut out: Vec<StageWear> = Vec::with_capacity(names.len());
+        let mut difference: Option<f64> = None;
         for h in built.joints.iter().filter(|h| h.worn) {
-            let wear = built
-                .system
-                .element_mut::<WornClearanceForce>(h.element)
-                .and_then(WornClearanceForce::take_stage_wear)
-                .ok_or_else(|| RunError::Simulation {
-                    what: what.clone(),
-                    source: SimulationError::InvalidOptions(format!(
-                        "joint {} lost its wear buffer",
-                        h.name
-                    )),
-                })?;
+            let element = built.system.element_mut::<WornClearanceForce>(h.element);
+            let lost = || RunError::Simulation {
+                what: what.clone(),
+                source: SimulationError::InvalidOptions(format!(
+                    "joint {} lost its wear buffer",
+                    h.name
+                )),
+            };
+            let element = element.ok_or_else(lost)?;
+            let first = element.take_first_half();
+            let wear = element.take_stage_wear().ok_or_else(lost)?;
+            if let Some(first) = first {
+                let d = halves_difference(&first, &wear);
+                difference = Some(difference.map_or(d, |x: f64| x.max(d)));
+            }
             out.push(wear);
         }
+        halves.borrow_mut().push(difference);
         Ok::<_, RunError>(out)
     };
     for stage in 0..plan.stages {
@@ -1108,11 +1165,21 @@ fn stages(
             Err(StagingError::Runner(e)) => return Err(e),
         };
         substeps.push(report.substeps.len());
-        details.extend(report.substeps.iter().map(|r| SubstepSummary {
-            stage: stage + 1,
-            amplification: r.amplification,
-            max_depth_m: r.max_depth,
-            change_fraction: r.max_change_fraction,
+        let first = details.len();
+        details.extend(report.substeps.iter().enumerate().map(|(i, r)| {
+            SubstepSummary {
+                stage: stage + 1,
+                amplification: r.amplification,
+                max_depth_m: r.max_depth,
+                change_fraction: r.max_change_fraction,
+                slope_change: r.joints.iter().map(|j| j.slope_change).fold(0.0, f64::max),
+                curvature_change: r
+                    .joints
+                    .iter()
+                    .map(|j| j.curvature_change)
+                    .fold(0.0, f64::max),
+                halves_difference: halves.borrow().get(first + i).copied().flatten(),
+            }
         }));
         if let Some(w) = report.warning {
             let text = format!("warning: {w}");
@@ -1121,6 +1188,25 @@ fn stages(
         for (h, j) in history.iter_mut().zip(&joints) {
             h.stages.push(j.clone());
         }
+    }
+    let max_halves_difference = details
+        .iter()
+        .filter_map(|d| d.halves_difference)
+        .reduce(f64::max);
+    let converged = max_halves_difference.is_some_and(|d| d <= HALVES_TOLERANCE);
+    match max_halves_difference {
+        None => warnings.push(format!(
+            "warning: K = {k} simulated cycle(s) per sub-step: the wear of one chaotic cycle is \
+             not a converged estimate, and with odd K it cannot be checked; give an even K \
+             (--cycles-per-stage 2 or more)"
+        )),
+        Some(d) if d > HALVES_TOLERANCE => warnings.push(format!(
+            "warning: the two halves of a sub-step's K = {k} cycles wear differently by up to \
+             {:.0} % of the peak (tolerance {:.0} %): the stage's wear is not converged in K",
+            100.0 * d,
+            100.0 * HALVES_TOLERANCE
+        )),
+        Some(_) => {}
     }
     for w in &warnings {
         progress.note(w);
@@ -1163,14 +1249,19 @@ fn stages(
         wear_start_s: wear_start,
         extrapolation: if r.adaptive_extrapolation {
             format!(
-                "adaptive (each sub-step changes a local clearance by at most {:.0} %)",
-                100.0 * r.max_clearance_change
+                "adaptive (each sub-step changes a local clearance by at most {:.0} %, its slope \
+                 by at most {} c0/rad and its curvature by at most {} c0/rad²)",
+                100.0 * r.max_clearance_change,
+                r.max_slope_change,
+                r.max_curvature_change
             )
         } else {
             "single-jump (the paper's)".into()
         },
         substeps_per_stage: substeps,
         substeps: details,
+        max_halves_difference,
+        converged,
         warnings,
         joints: joints_summary,
         wall_time_s: started.elapsed().as_secs_f64(),

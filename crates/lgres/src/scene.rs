@@ -574,6 +574,14 @@ pub struct RunSettings {
     /// Largest clearance change per extrapolation step, as a fraction of the current clearance.
     #[serde(default = "max_clearance_change")]
     pub max_clearance_change: f64,
+    /// Largest change of the clearance's slope per extrapolation step, `|Δc'|/c0` (1/rad):
+    /// keeps the worn profile inside the contact model's slope limit |c'|/|e| ≤ 0.3.
+    #[serde(default = "max_slope_change")]
+    pub max_slope_change: f64,
+    /// Largest change of the clearance's curvature per extrapolation step, `|Δc''|/c0`
+    /// (1/rad²): keeps the pin able to follow the worn dent (conformity ≤ 1).
+    #[serde(default = "max_curvature_change")]
+    pub max_curvature_change: f64,
     /// Start-up window excluded from peak statistics, s.
     #[serde(default = "transient_window")]
     pub transient_window: f64,
@@ -598,6 +606,12 @@ fn max_clearance_change() -> f64 {
 fn transient_window() -> f64 {
     0.1
 }
+fn max_slope_change() -> f64 {
+    wear::Extrapolation::DEFAULT_SLOPE_CHANGE
+}
+fn max_curvature_change() -> f64 {
+    wear::Extrapolation::DEFAULT_CURVATURE_CHANGE
+}
 
 impl Default for RunSettings {
     fn default() -> Self {
@@ -609,6 +623,8 @@ impl Default for RunSettings {
             amplification: amplification(),
             adaptive_extrapolation: true,
             max_clearance_change: max_clearance_change(),
+            max_slope_change: max_slope_change(),
+            max_curvature_change: max_curvature_change(),
             transient_window: transient_window(),
             response_body: None,
         }
@@ -1127,6 +1143,8 @@ impl Validator {
         if self.number("run.max_clearance_change", f, true) && f > 1.0 {
             self.push("run.max_clearance_change", f, "must lie in (0, 1]");
         }
+        self.number("run.max_slope_change", r.max_slope_change, true);
+        self.number("run.max_curvature_change", r.max_curvature_change, true);
         if let Some(name) = &r.response_body
             && !matches!(s.resolve(name), Some(BodyRef::Body(_)))
         {

@@ -498,6 +498,7 @@ fn run_case_inner(case: &StressCase) -> CaseResult {
     let surfaces = Surfaces {
         worn: &worn,
         accumulate_from: (case.surfaces == SurfaceSetup::WearOn).then_some(0.0),
+        split_halves_at: None,
     };
     let mut built = match build(scene, surfaces) {
         Ok(b) => b,

@@ -252,6 +252,26 @@ impl WornJoint {
             + self.pin.relative_opening(wear.pin(), c0))
     }
 
+    /// How much applying `wear` with amplification 1 changes the shape of the local clearance
+    /// `c = R_i − R_j`, relative to the shape it has: the change of its slope, `|Δc'|`, over
+    /// `c0 + |c'|`, and of its curvature, `|Δc''|`, over `c0 + |c''|` (largest values over the
+    /// cells, the two surfaces' added; angles in radians). Like the clearance-change bound, a
+    /// limit on these lets a sub-step change the profile's shape by a bounded fraction, so the
+    /// linear extrapolation of the wear stays credible while the dents deepen. Linear in the
+    /// amplification.
+    pub fn shape_change_per_amplification(
+        &self,
+        wear: &StageWear,
+    ) -> Result<(f64, f64), WearError> {
+        self.check(wear)?;
+        let c0 = self.nominal_clearance();
+        let (bs, bc) = self.bearing.shape_change(wear.bearing());
+        let (ps, pc) = self.pin.shape_change(wear.pin());
+        let (cbs, cbc) = self.bearing.shape();
+        let (cps, cpc) = self.pin.shape();
+        Ok(((bs + ps) / (c0 + cbs + cps), (bc + pc) / (c0 + cbc + cpc)))
+    }
+
     /// Ends a stage: adds `amplification ×` the stage's depths to the surfaces and returns
     /// the clearance-change bound of this update (see
     /// [`clearance_change_per_amplification`](Self::clearance_change_per_amplification)).

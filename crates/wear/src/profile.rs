@@ -293,6 +293,18 @@ impl WornProfile {
             .fold(0.0, f64::max)
     }
 
+    /// Largest slope `|Δh'|/2` and curvature `|Δh''|/2` (m/rad, m/rad²) that adding
+    /// `increment` (amplification 1) gives this surface's radius, at the cell centres, where
+    /// the B-spline's derivatives are the central differences of the cell depths.
+    pub(crate) fn shape_change(&self, increment: &[f64]) -> (f64, f64) {
+        shape_of(increment, self.cells_per_rad)
+    }
+
+    /// Largest slope `|h'|/2` and curvature `|h''|/2` of this surface's radius change so far
+    /// (m/rad, m/rad²), at the cell centres.
+    pub(crate) fn shape(&self) -> (f64, f64) {
+        shape_of(&self.depth, self.cells_per_rad)
+    }
     /// Largest `(Δh_k/2) / (c0 + h_k/2)` over cells: this surface's share of the relative
     /// change of the local clearance per unit amplification (`c0` nominal clearance).
     pub(crate) fn relative_opening(&self, increment: &[f64], nominal_clearance: f64) -> f64 {
@@ -302,6 +314,22 @@ impl WornProfile {
             .map(|(h, dh)| 0.5 * dh / (nominal_clearance + 0.5 * h))
             .fold(0.0, f64::max)
     }
+}
+
+/// Largest `|h'|/2` and `|h''|/2` of cell depths `depths` at the cell centres (central
+/// differences: the uniform cubic B-spline's exact derivatives there).
+fn shape_of(depths: &[f64], per_rad: f64) -> (f64, f64) {
+    let n = depths.len();
+    let mut slope: f64 = 0.0;
+    let mut curvature: f64 = 0.0;
+    for k in 0..n {
+        let before = depths[(k + n - 1) % n];
+        let after = depths[(k + 1) % n];
+        slope = slope.max(0.25 * (after - before).abs() * per_rad);
+        curvature =
+            curvature.max(0.5 * (after - 2.0 * depths[k] + before).abs() * per_rad * per_rad);
+    }
+    (slope, curvature)
 }
 
 impl SurfaceProfile for WornProfile {

@@ -21,12 +21,22 @@ use crate::joint::WornJoint;
 #[serde(rename_all = "snake_case")]
 pub enum Extrapolation {
     /// Sub-steps, each changing any local clearance by at most `max_fraction` of its current
-    /// value; fails with [`WearError::SubstepLimit`] after `max_substeps` sub-steps.
+    /// value and the clearance's slope and curvature by at most `max_slope_change` and
+    /// `max_curvature_change` (relative to the nominal clearance, per rad and rad²); fails
+    /// with [`WearError::SubstepLimit`] after `max_substeps` sub-steps.
     Adaptive {
         /// Largest relative clearance change per sub-step, in `(0, 1]`.
         max_fraction: f64,
         /// Most sub-steps (K-cycle re-runs) per stage.
         max_substeps: usize,
+        /// Largest relative change of the clearance's slope per sub-step, `|Δc'|/(c0 + |c'|)`
+        /// (> 0; infinite: no bound); see [`WornJoint::shape_change_per_amplification`].
+        #[serde(default = "unbounded")]
+        max_slope_change: f64,
+        /// Largest relative change of the clearance's curvature per sub-step,
+        /// `|Δc''|/(c0 + |c''|)` (> 0; infinite: no bound).
+        #[serde(default = "unbounded")]
+        max_curvature_change: f64,
     },
     /// The paper's single jump; the stage report carries a warning when the jump changes a
     /// local clearance by more than `warn_fraction`.
@@ -42,11 +52,18 @@ impl Extrapolation {
     /// Default sub-step limit per stage.
     pub const DEFAULT_MAX_SUBSTEPS: usize = 200;
 
-    /// Adaptive with the default fraction (10 %) and sub-step limit.
+    /// Default bound on the relative change of the clearance's slope per sub-step.
+    pub const DEFAULT_SLOPE_CHANGE: f64 = 0.25;
+    /// Default bound on the relative change of the clearance's curvature per sub-step.
+    pub const DEFAULT_CURVATURE_CHANGE: f64 = 0.25;
+
+    /// Adaptive with the default fraction (10 %), shape bounds and sub-step limit.
     pub fn adaptive() -> Self {
         Self::Adaptive {
             max_fraction: Self::DEFAULT_FRACTION,
             max_substeps: Self::DEFAULT_MAX_SUBSTEPS,
+            max_slope_change: Self::DEFAULT_SLOPE_CHANGE,
+            max_curvature_change: Self::DEFAULT_CURVATURE_CHANGE,
         }
     }
 
@@ -62,6 +79,8 @@ impl Extrapolation {
             Self::Adaptive {
                 max_fraction,
                 max_substeps,
+                max_slope_change,
+                max_curvature_change,
             } => {
                 require(
                     "max_substeps",
@@ -69,6 +88,12 @@ impl Extrapolation {
                     max_substeps > 0,
                     ">= 1",
                 )?;
+                for (name, bound) in [
+                    ("max_slope_change", max_slope_change),
+                    ("max_curvature_change", max_curvature_change),
+                ] {
+                    require(name, bound, bound > 0.0, "> 0 (infinite: no bound)")?;
+                }
                 ("max_fraction", max_fraction)
             }
             Self::SingleJump { warn_fraction } => ("warn_fraction", warn_fraction),
@@ -81,6 +106,10 @@ impl Extrapolation {
         )?;
         Ok(())
     }
+}
+
+fn unbounded() -> f64 {
+    f64::INFINITY
 }
 
 /// A staged-wear plan: `stages` stages, each standing for `amplification ×` the simulated
@@ -133,6 +162,12 @@ pub struct JointSubstep {
     pub max_pin_depth: f64,
     /// Bound on the relative local-clearance change of this update.
     pub change_fraction: f64,
+    /// Bound on the relative change of the clearance slope, `|Δc'|/(c0 + |c'|)`, of this
+    /// update.
+    pub slope_change: f64,
+    /// Bound on the relative change of the clearance curvature, `|Δc''|/(c0 + |c''|)`, of
+    /// this update.
+    pub curvature_change: f64,
 }
 
 /// One amplification sub-step (a single jump is one sub-step).
@@ -249,20 +284,40 @@ where
             }
             .into());
         }
-        let per_unit = joints
-            .iter()
-            .zip(&wear)
-            .map(|(joint, w)| joint.clearance_change_per_amplification(w))
-            .try_fold(0.0, |acc: f64, x| x.map(|x| acc.max(x)))?;
+        let mut per_unit: f64 = 0.0;
+        let (mut slope_per_unit, mut curvature_per_unit): (f64, f64) = (0.0, 0.0);
+        for (joint, w) in joints.iter().zip(&wear) {
+            per_unit = per_unit.max(joint.clearance_change_per_amplification(w)?);
+            let (slope, curvature) = joint.shape_change_per_amplification(w)?;
+            slope_per_unit = slope_per_unit.max(slope);
+            curvature_per_unit = curvature_per_unit.max(curvature);
+        }
         let remaining = plan.amplification - used;
         let amplification = match plan.extrapolation {
-            // The small slack avoids a needless re-run for a rounding-sized remainder.
-            Extrapolation::Adaptive { max_fraction, .. }
-                if per_unit * remaining > max_fraction * (1.0 + 1e-9) =>
-            {
-                max_fraction / per_unit
+            Extrapolation::Adaptive {
+                max_fraction,
+                max_slope_change,
+                max_curvature_change,
+                ..
+            } => {
+                // The largest amplification every bound allows; the small slack avoids a
+                // needless re-run for a rounding-sized remainder.
+                let allowed = [
+                    (per_unit, max_fraction),
+                    (slope_per_unit, max_slope_change),
+                    (curvature_per_unit, max_curvature_change),
+                ]
+                .iter()
+                .filter(|(rate, _)| *rate > 0.0)
+                .map(|(rate, bound)| bound / rate)
+                .fold(f64::INFINITY, f64::min);
+                if allowed * (1.0 + 1e-9) < remaining {
+                    allowed
+                } else {
+                    remaining
+                }
             }
-            _ => remaining,
+            Extrapolation::SingleJump { .. } => remaining,
         };
         let substep = apply_all(joints, &wear, amplification, context)?;
         used += amplification;
@@ -311,11 +366,14 @@ fn apply_all(
         joints: Vec::with_capacity(joints.len()),
     };
     for (joint, w) in joints.iter_mut().zip(wear) {
+        let (slope, curvature) = joint.shape_change_per_amplification(w)?;
         let change_fraction = joint.apply(w, amplification)?;
         let step = JointSubstep {
             max_bearing_depth: joint.bearing().peak().0,
             max_pin_depth: joint.pin().peak().0,
             change_fraction,
+            slope_change: amplification * slope,
+            curvature_change: amplification * curvature,
         };
         report.max_depth = report
             .max_depth

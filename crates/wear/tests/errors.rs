@@ -140,6 +140,8 @@ fn plans() {
         with(Extrapolation::Adaptive {
             max_fraction: f,
             max_substeps: 10,
+            max_slope_change: f64::INFINITY,
+            max_curvature_change: f64::INFINITY,
         })
     };
     for bad in [0.0, -0.1, 1.5, f64::NAN] {
@@ -158,7 +160,9 @@ fn plans() {
         name(
             with(Extrapolation::Adaptive {
                 max_fraction: 0.1,
-                max_substeps: 0
+                max_substeps: 0,
+                max_slope_change: f64::INFINITY,
+                max_curvature_change: f64::INFINITY,
             })
             .validate()
             .unwrap_err()

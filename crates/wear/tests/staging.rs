@@ -4,6 +4,7 @@ mod common;
 
 use approx::assert_relative_eq;
 use common::*;
+use contact::SurfaceProfile;
 use std::convert::Infallible;
 use wear::{
     Extrapolation, RunContext, StagePlan, StageWear, StagingError, WearError, WornJoint, run_stages,
@@ -45,10 +46,23 @@ fn measured_change(before: &WornJoint, after: &WornJoint, shift: isize) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The paper's plan, adaptive in the clearance change only (no shape bounds).
+fn fraction_only(stages: usize) -> StagePlan {
+    StagePlan {
+        extrapolation: Extrapolation::Adaptive {
+            max_fraction: Extrapolation::DEFAULT_FRACTION,
+            max_substeps: Extrapolation::DEFAULT_MAX_SUBSTEPS,
+            max_slope_change: f64::INFINITY,
+            max_curvature_change: f64::INFINITY,
+        },
+        ..StagePlan::paper(stages)
+    }
+}
+
 #[test]
 fn adaptive_split_obeys_fraction_and_sums_to_factor() {
     let mut joints = vec![joint(1000), joint(500)];
-    let plan = StagePlan::paper(2);
+    let plan = fraction_only(2);
     let mut calls = Vec::new();
     let mut history = vec![joints.clone()];
     let reports = run_stages(&mut joints, &plan, |ctx: RunContext, js: &[WornJoint]| {
@@ -119,11 +133,9 @@ fn constant_wear_extrapolates_linearly_whatever_the_split() {
         StageWear::from_depths(j, b.clone(), b).unwrap()
     };
     let mut adaptive = vec![joint0.clone()];
-    let r = run_stages(
-        &mut adaptive,
-        &StagePlan::paper(1),
-        |_, js: &[WornJoint]| Ok::<_, Infallible>(vec![fixed(&js[0])]),
-    )
+    let r = run_stages(&mut adaptive, &fraction_only(1), |_, js: &[WornJoint]| {
+        Ok::<_, Infallible>(vec![fixed(&js[0])])
+    })
     .unwrap();
     assert!(r[0].substeps.len() > 1);
     let mut jump = vec![joint0];
@@ -176,6 +188,8 @@ fn substep_limit_and_runner_errors_surface() {
         extrapolation: Extrapolation::Adaptive {
             max_fraction: 0.1,
             max_substeps: 3,
+            max_slope_change: f64::INFINITY,
+            max_curvature_change: f64::INFINITY,
         },
         ..StagePlan::paper(1)
     };
@@ -209,4 +223,67 @@ fn substep_limit_and_runner_errors_surface() {
             found: 0
         })
     ));
+}
+
+#[test]
+fn shape_bounds_limit_slope_and_curvature_of_each_substep() {
+    // A smooth bump (Gaussian, 8 cells wide) on both surfaces; bounds chosen so that the
+    // curvature one governs.
+    let bump = |k: usize| 1e-9 * (-((k as f64 - 500.0) / 8.0).powi(2)).exp();
+    let wear = |j: &WornJoint| {
+        let b: Vec<f64> = (0..1000).map(bump).collect();
+        StageWear::from_depths(j, b.clone(), b).unwrap()
+    };
+    let plan = StagePlan {
+        extrapolation: Extrapolation::Adaptive {
+            max_fraction: 1.0,
+            max_substeps: 1000,
+            max_slope_change: 0.05,
+            max_curvature_change: 0.25,
+        },
+        ..StagePlan::paper(1)
+    };
+    let mut js = vec![joint(1000)];
+    let mut before = js[0].clone();
+    let mut changes = Vec::new();
+    let r = run_stages(&mut js, &plan, |_, current: &[WornJoint]| {
+        // Independent measure of the previous update: the change of the spline's own
+        // curvature of c = R_i − R_j, at the cell centres (bearing and pin cells aligned).
+        let after = &current[0];
+        let c0 = after.nominal_clearance();
+        let change = (0..1000)
+            .map(|k| {
+                let a = (k as f64 + 0.5) * std::f64::consts::TAU / 1000.0;
+                let curvature =
+                    |w: &WornJoint| w.bearing().sample(a).curvature - w.pin().sample(a).curvature;
+                (curvature(after) - curvature(&before)).abs() / c0
+            })
+            .fold(0.0, f64::max);
+        changes.push(change);
+        before = after.clone();
+        Ok::<_, Infallible>(vec![wear(after)])
+    })
+    .unwrap();
+    let substeps = &r[0].substeps;
+    assert!(substeps.len() > 5, "{} sub-steps", substeps.len());
+    let sum: f64 = substeps.iter().map(|s| s.amplification).sum();
+    assert_relative_eq!(sum, 20_000.0, max_relative = 1e-12);
+    for s in substeps {
+        let j = &s.joints[0];
+        assert!(
+            j.curvature_change <= 0.25 * (1.0 + 1e-9),
+            "{}",
+            j.curvature_change
+        );
+        assert!(j.slope_change <= 0.05 * (1.0 + 1e-9), "{}", j.slope_change);
+    }
+    // The measured curvature change of each full sub-step (skip the first call: nothing
+    // applied yet) equals the bound that governed it.
+    for (measured, s) in changes[1..].iter().zip(substeps) {
+        assert!(
+            (measured - s.joints[0].curvature_change).abs() <= 1e-6 * s.joints[0].curvature_change,
+            "measured {measured}, bound {}",
+            s.joints[0].curvature_change
+        );
+    }
 }
