@@ -112,6 +112,7 @@ fn wear_on_first_stage_is_bitwise_wear_off() {
         Surfaces {
             worn: &unworn,
             accumulate_from: Some(0.0),
+            split_halves_at: None,
         },
         t_end,
     );
@@ -132,6 +133,7 @@ fn stage_wear_accumulates_after_its_start() {
             Surfaces {
                 worn: &unworn,
                 accumulate_from: Some(from),
+                split_halves_at: None,
             },
         )
         .unwrap();
