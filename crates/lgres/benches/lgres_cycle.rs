@@ -28,6 +28,7 @@ fn cycle(c: &mut Criterion) {
             &scene,
             Surfaces {
                 worn: &unworn,
+                split_halves_at: None,
                 accumulate_from: Some(0.0),
             },
         )

@@ -1047,7 +1047,7 @@ fn stages(
         extrapolation: if r.adaptive_extrapolation {
             Extrapolation::Adaptive {
                 max_fraction: r.max_clearance_change,
-                max_substeps: Extrapolation::DEFAULT_MAX_SUBSTEPS,
+                max_substeps: r.max_substeps as usize,
                 max_slope_change: r.max_slope_change,
                 max_curvature_change: r.max_curvature_change,
             }

@@ -574,14 +574,17 @@ pub struct RunSettings {
     /// Largest clearance change per extrapolation step, as a fraction of the current clearance.
     #[serde(default = "max_clearance_change")]
     pub max_clearance_change: f64,
-    /// Largest change of the clearance's slope per extrapolation step, `|Δc'|/c0` (1/rad):
-    /// keeps the worn profile inside the contact model's slope limit |c'|/|e| ≤ 0.3.
+    /// Largest relative change of the clearance's slope per extrapolation step,
+    /// `|Δc'|/(c0 + |c'|)`: bounds how fast a sub-step reshapes the worn profile.
     #[serde(default = "max_slope_change")]
     pub max_slope_change: f64,
-    /// Largest change of the clearance's curvature per extrapolation step, `|Δc''|/c0`
-    /// (1/rad²): keeps the pin able to follow the worn dent (conformity ≤ 1).
+    /// Largest relative change of the clearance's curvature per extrapolation step,
+    /// `|Δc''|/(c0 + |c''|)`.
     #[serde(default = "max_curvature_change")]
     pub max_curvature_change: f64,
+    /// Most extrapolation sub-steps per stage; a stage that needs more fails, naming this.
+    #[serde(default = "max_substeps")]
+    pub max_substeps: u32,
     /// Start-up window excluded from peak statistics, s.
     #[serde(default = "transient_window")]
     pub transient_window: f64,
@@ -606,6 +609,9 @@ fn max_clearance_change() -> f64 {
 fn transient_window() -> f64 {
     0.1
 }
+fn max_substeps() -> u32 {
+    400
+}
 fn max_slope_change() -> f64 {
     wear::Extrapolation::DEFAULT_SLOPE_CHANGE
 }
@@ -625,6 +631,7 @@ impl Default for RunSettings {
             max_clearance_change: max_clearance_change(),
             max_slope_change: max_slope_change(),
             max_curvature_change: max_curvature_change(),
+            max_substeps: max_substeps(),
             transient_window: transient_window(),
             response_body: None,
         }
@@ -1145,6 +1152,9 @@ impl Validator {
         }
         self.number("run.max_slope_change", r.max_slope_change, true);
         self.number("run.max_curvature_change", r.max_curvature_change, true);
+        if r.max_substeps == 0 {
+            self.push("run.max_substeps", 0, "must be at least 1");
+        }
         if let Some(name) = &r.response_body
             && !matches!(s.resolve(name), Some(BodyRef::Body(_)))
         {
