@@ -36,7 +36,7 @@ struct Overrides {
     /// Output folder (default: out/<scene>).
     #[arg(long, global = true, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Drive cycles of the response run (scene: run.cycles).
+    /// Drive cycles of the response run (scene: run.cycles, at least 1).
     #[arg(long, global = true)]
     cycles: Option<u32>,
     /// Wear stages (scene: run.wear_stages).
@@ -48,8 +48,19 @@ struct Overrides {
     /// Simulated cycles per wear stage K (scene: run.cycles_per_stage, the paper's 100). The
     /// amplification is rescaled so a stage still stands for the scene's K × amplification
     /// cycles. `run` defaults to 1 so it finishes in seconds; give 100 for the paper's staging.
-    #[arg(long, global = true, value_name = "K")]
+    #[arg(long, global = true, value_name = "K", value_parser = clap::value_parser!(u32).range(1..))]
     cycles_per_stage: Option<u32>,
+    /// Accepted-step budget of each simulation (scene: solver.max_steps).
+    #[arg(long, global = true, value_name = "N")]
+    max_steps: Option<usize>,
+    /// Wall-time budget of each simulation, s (scene: solver.max_wall_time).
+    #[arg(
+        long,
+        global = true,
+        value_name = "SECONDS",
+        allow_negative_numbers = true
+    )]
+    max_wall_time: Option<f64>,
     /// `study`: scene runs at once (default: the machine's cores; results do not depend on it).
     #[arg(long, global = true, value_name = "N")]
     jobs: Option<std::num::NonZeroUsize>,
@@ -212,6 +223,12 @@ fn load(spec: &str, o: &Overrides) -> Result<Loaded, CliError> {
     if let Some(r) = o.rtol {
         scene.solver.rtol = r;
     }
+    if let Some(n) = o.max_steps {
+        scene.solver.max_steps = Some(n);
+    }
+    if let Some(t) = o.max_wall_time {
+        scene.solver.max_wall_time = Some(t);
+    }
     scene.validate(&format!("{spec} with command-line overrides"))?;
     Ok(Loaded { name, scene })
 }
@@ -307,12 +324,32 @@ fn run(spec: &str, o: &Overrides) -> Result<(), CliError> {
         cycles_per_stage: Some(o.cycles_per_stage.unwrap_or(QUICK_CYCLES_PER_STAGE)),
         ..RunOptions::default()
     };
+    // Lock the folder before simulating, so a second run is refused at once; files go to a
+    // staging folder that replaces `out` whole only when every file is written.
+    let staged = lgres::output::StagedDir::begin(&out)?;
     let mut bars = progress::Bars::new();
     let outcome = lgres::run::run_scene(&name, &scene, &options, &mut bars)?;
     drop(bars);
-    let files = lgres::artifacts::write_run(&outcome, &out)?;
+    let files = lgres::artifacts::write_run(&outcome, staged.path())?;
+    staged.commit()?;
     print_summary(&outcome, &out, files.len());
     Ok(())
+}
+
+/// Peak statistics after the start-up window, or "n/a" when the window covers the run (no
+/// cycle has a sample after it, so there is no peak to report).
+fn peak_after(b: &lgres::run::PeakStats, window: f64) -> String {
+    if b.cycles == 0 {
+        return format!("n/a after {window} s (the start-up window covers the whole run)");
+    }
+    format!(
+        "{:.2} kN after {window} s (median of {} cycle peaks {:.2} kN, range {:.2}–{:.2} kN)",
+        b.max * 1e-3,
+        b.cycles,
+        b.cycle_median * 1e-3,
+        b.cycle_min * 1e-3,
+        b.cycle_max * 1e-3
+    )
 }
 
 /// The one-screen summary at the end of a run.
@@ -326,18 +363,12 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
     );
     for j in &r.joints {
         let (a, b) = (&j.normal_force_all, &j.normal_force_after_transient);
+        let after = peak_after(b, s.transient_window_s);
         println!(
-            "  joint {}: peak F_n {:.2} kN (all), {:.2} kN after {} s (median of {} cycle peaks \
-             {:.2} kN, range {:.2}–{:.2} kN); max penetration {:.2} µm; dissipation/cycle: \
-             friction {:.3} J, all {:.3} J",
+            "  joint {}: peak F_n {:.2} kN (all), {after}; max penetration {:.2} µm; \
+             dissipation/cycle: friction {:.3} J, all {:.3} J",
             j.name,
             a.max * 1e-3,
-            b.max * 1e-3,
-            s.transient_window_s,
-            b.cycles,
-            b.cycle_median * 1e-3,
-            b.cycle_min * 1e-3,
-            b.cycle_max * 1e-3,
             j.max_penetration_m * 1e6,
             j.friction_dissipation_per_cycle_j,
             j.contact_dissipation_per_cycle_j
@@ -399,11 +430,9 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
     if let Some(r) = &s.worn_response {
         for j in &r.joints {
             println!(
-                "worn response, joint {}: peak F_n after {} s {:.2} kN (median {:.2} kN)",
+                "worn response, joint {}: peak F_n {}",
                 j.name,
-                s.transient_window_s,
-                j.normal_force_after_transient.max * 1e-3,
-                j.normal_force_after_transient.cycle_median * 1e-3
+                peak_after(&j.normal_force_after_transient, s.transient_window_s)
             );
         }
     }
@@ -530,8 +559,20 @@ fn list_scenes() {
     }
 }
 
+/// Exit code after SIGINT/SIGTERM (128 + SIGINT, as shells report an interrupt).
+const EXIT_INTERRUPTED: i32 = 130;
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // On SIGINT/SIGTERM remove the staging folder and lock of a run in progress: its target
+    // folder stays as it was.
+    if let Err(e) = ctrlc::set_handler(|| {
+        lgres::output::abandon_staged();
+        eprintln!("wearsim: interrupted; the output folder is left as it was");
+        std::process::exit(EXIT_INTERRUPTED);
+    }) {
+        eprintln!("wearsim: warning: cannot install the signal handler: {e}");
+    }
     let o = &cli.overrides;
     let result = match &cli.command {
         Command::Run { scene } => run(scene.as_deref().unwrap_or(scenes::DEFAULT), o),

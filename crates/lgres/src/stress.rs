@@ -535,6 +535,9 @@ fn run_case_inner(case: &StressCase) -> CaseResult {
                 multibody::SimulationError::Evaluation { .. } => "SimulationError::Evaluation",
                 multibody::SimulationError::Integrator { .. } => "SimulationError::Integrator",
                 multibody::SimulationError::StepLimit { .. } => "SimulationError::StepLimit",
+                multibody::SimulationError::WallTimeLimit { .. } => {
+                    "SimulationError::WallTimeLimit"
+                }
             };
             r.outcome = failed(name, e);
             return r;
