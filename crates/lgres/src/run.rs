@@ -92,6 +92,25 @@ pub enum RunError {
     /// The scene (with the run's overrides applied) is not valid.
     #[error(transparent)]
     Scene(#[from] scene::SceneError),
+    /// A pin starts outside its bearing after assembly at t = 0.
+    #[error(
+        "{what}: clearance_joints[{index}] ({joint}): after assembly at t = 0 the pin centre is \
+         {eccentricity:.6e} m from the bearing centre, beyond the clearance ({clearance:e} m): \
+         the pin starts outside its bearing (check the bodies' initial poses and the joint's \
+         pin_point, bearing_point)"
+    )]
+    PinOutsideBearing {
+        /// Which system.
+        what: String,
+        /// Index into `clearance_joints`.
+        index: usize,
+        /// Joint name.
+        joint: String,
+        /// Initial eccentricity, m.
+        eccentricity: f64,
+        /// Nominal clearance, m.
+        clearance: f64,
+    },
     /// A contact penetrated beyond [`crate::limits::MAX_PENETRATION_FRACTION`] of its
     /// clearance (or pin radius): the contact law is outside its validity.
     #[error(
@@ -128,6 +147,7 @@ impl RunError {
                 | RunError::Scene(_)
                 | RunError::Kinematics(_)
                 | RunError::Assembly { .. }
+                | RunError::PinOutsideBearing { .. }
                 | RunError::NoPeriod
                 | RunError::NoResponseBody
         )
@@ -663,13 +683,15 @@ impl Observer for Recorder<'_> {
 /// Assemble `built` from the scene's initial poses at t = 0.
 fn assemble(built: &Built, what: &str) -> Result<multibody::State, RunError> {
     let (q0, qd0) = built.system.initial_guess();
-    built
+    let state = built
         .system
         .assemble(0.0, &q0, &qd0)
         .map_err(|source| RunError::Assembly {
             what: what.to_string(),
             source,
-        })
+        })?;
+    crate::limits::check_initial_penetration(built, &state, what)?;
+    Ok(state)
 }
 
 /// The response run on `worn` surfaces (empty: round) with its summary.

@@ -106,11 +106,19 @@ fn coulomb_friction_is_rejected_suggesting_ambrosio() {
 
 #[test]
 fn pin_outside_its_bearing_is_rejected_naming_the_field() {
-    let e = rejected(
-        "[[clearance_joints]]\nname = \"A\"\npin_point = [0.57, 0.0]",
-        "clearance_joints[0].pin_point",
+    let scene = patched("[[clearance_joints]]\nname = \"A\"\npin_point = [0.57, 0.0]").unwrap();
+    let e = check_assembly(&scene).unwrap_err();
+    assert!(e.is_bad_input(), "{e}");
+    let text = e.to_string();
+    assert!(
+        text.contains("clearance_joints[0] (A)") && text.contains("outside its bearing"),
+        "{text}"
     );
-    assert!(e.contains("outside its bearing"), "{e}");
+    let e = lgres::run::run_scene("outside", &scene, &Default::default(), &mut ()).unwrap_err();
+    assert!(
+        matches!(e, RunError::PinOutsideBearing { index: 0, .. }),
+        "{e}"
+    );
 }
 
 #[test]
