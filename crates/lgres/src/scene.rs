@@ -13,7 +13,9 @@
 //! A scene file may start with `extends = "<name>"` (a built-in scene, or a file path relative
 //! to the extending file) and give only what changes. The patch is merged into the base: tables
 //! merge key by key, and arrays of tables (`bodies`, `revolute_joints`, …) merge element by
-//! element matched on `name`, an unmatched name being appended. Other values replace. This keeps
+//! element matched on `name`, an unmatched name being appended (a name given twice in one patch
+//! is an error). Other values replace, and so do an empty array (`drivers = []` removes the
+//! base's) and a table whose `law` or `kind` differs from the base's. This keeps
 //! the study variants a few lines each and the reconstructed geometry in one file.
 
 use std::collections::{HashMap, HashSet};
@@ -416,7 +418,8 @@ pub enum FrictionLaw {
         /// Sliding speed above which friction is fully developed, m/s.
         v1: f64,
     },
-    /// Coulomb friction `c_f F_n sgn(v_t)`.
+    /// Coulomb friction `c_f F_n sgn(v_t)`: parsed, but validation rejects it (the integrator
+    /// cannot step over its jump at `v_t = 0`; runs hung) and suggests `ambrosio`.
     Coulomb {
         /// Friction coefficient `c_f`, dimensionless.
         coefficient: f64,
