@@ -114,6 +114,11 @@ fn listing(dir: &std::path::Path) -> Vec<String> {
     v
 }
 
+/// `wearsim run SCENE --out OUT`.
+fn run_into(scene: &str, out: &std::path::Path) -> Output {
+    wearsim(&["run", scene, "--out", out.to_str().unwrap()])
+}
+
 fn write_scene(dir: &std::path::Path, text: &str) -> PathBuf {
     let path = dir.join("scene.toml");
     std::fs::write(&path, text).unwrap();
@@ -142,12 +147,7 @@ fn transient_window_longer_than_the_run_prints_n_a() {
         "extends = \"slider-crank\"\n[run]\ntransient_window = 0.05\n",
     );
     let out = dir.join("out");
-    let o = wearsim(&[
-        "run",
-        scene.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_into(scene.to_str().unwrap(), &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("n/a after 0.05 s"), "{text}");
@@ -165,12 +165,7 @@ fn joint_name_escaping_out_is_rejected_before_any_file_is_written() {
             &text.replace("name = \"rod-slider\"", &format!("name = \"{name}\"")),
         );
         let out = dir.join("out");
-        let o = wearsim(&[
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let o = run_into(scene.to_str().unwrap(), &out);
         assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
         assert!(
             stderr(&o).contains("clearance_joints[0].name"),
@@ -189,7 +184,7 @@ fn run_replaces_the_output_folder_whole() {
     std::fs::create_dir_all(&out).unwrap();
     std::fs::write(out.join("summary.json"), "{\"old\": true}").unwrap();
     std::fs::write(out.join("wear_Z_stage1.csv"), "old").unwrap();
-    let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
+    let o = run_into("lgres-ideal", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
     assert!(!summary.contains("\"old\""), "{summary}");
@@ -205,7 +200,7 @@ fn folder_with_foreign_files_is_refused_and_kept() {
     let out = dir.join("out");
     std::fs::create_dir_all(out.join("sub")).unwrap();
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
-    let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
+    let o = run_into("lgres-ideal", &out);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("does not write"), "{}", stderr(&o));
     assert_eq!(listing(&out), ["notes.txt", "sub"]);
@@ -219,13 +214,13 @@ fn second_run_into_a_locked_folder_is_refused() {
     let out = dir.join("out");
     // A live process (this test) holds the lock: refused at once, nothing written.
     std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
-    let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
+    let o = run_into("lgres-ideal", &out);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
     assert!(!out.exists());
     // A lock whose process is gone (killed run) is taken over.
     std::fs::write(dir.join(".out.lock"), "999999999").unwrap();
-    let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
+    let o = run_into("lgres-ideal", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(listing(&dir), ["out"]);
     std::fs::remove_dir_all(&dir).unwrap();
@@ -235,7 +230,7 @@ fn second_run_into_a_locked_folder_is_refused() {
 fn signals_leave_the_previous_folder_and_no_temporary_files() {
     let dir = scratch("signal");
     let out = dir.join("out");
-    let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
+    let o = run_into("lgres-ideal", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let before = listing(&out);
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
@@ -294,12 +289,7 @@ fn budgets_and_penetration_end_runs_with_exit_1_naming_the_cause() {
          pin_material = { youngs_modulus = 1e6, poisson_ratio = 0.3 }\n\
          [run]\ncycles = 1\nperiod = 0.2\nwear_stages = 0\n",
     );
-    let o = wearsim(&[
-        "run",
-        scene.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_into(scene.to_str().unwrap(), &out);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("peak penetration"), "{}", stderr(&o));
     assert_eq!(listing(&dir), ["scene.toml"], "nothing written on failure");

@@ -2,17 +2,15 @@
 //! tolerances that still resolve a penetration, names that are safe in file names, and the
 //! penetration beyond which a contact result is not trusted.
 //!
-//! [`crate::scene::Scene::validate`] calls [`issues`], so `check` and `run` reject the same
+//! [`crate::scene::Scene::validate`] runs these checks, so `check` and `run` reject the same
 //! scenes, each problem naming its field. Every bound is far outside the shipped scenes (a
 //! landing gear at 60 rpm, a slider-crank at 5000 rpm) and far inside what makes a run hang,
 //! panic or exhaust memory.
 
-use std::fmt;
-
 use crate::build::Built;
 use crate::run::{ContactSeries, RunError};
 use crate::scene::{
-    BodyRef, ClearanceJoint, FrictionLaw, Issue, NormalLaw, Scene, TimeLaw, WearSpec,
+    BodyRef, ClearanceJoint, FrictionLaw, NormalLaw, Scene, TimeLaw, Validator, WearSpec,
 };
 
 /// Most bodies in a scene: the dense `3n × 3n` matrices of 1000 bodies already take ~70 MB.
@@ -67,37 +65,27 @@ pub const MAX_NAME_CHARS: usize = 64;
 /// validity and the forces it reports are not physical.
 pub const MAX_PENETRATION_FRACTION: f64 = 0.5;
 
-/// Problems with `scene` against the limits above, in file order.
-pub fn issues(s: &Scene) -> Vec<Issue> {
-    let mut v = Limits::default();
-    v.scene(s);
-    v.issues
+/// Adds the problems of `scene` against the limits above to `v`.
+pub(crate) fn check(v: &mut Validator, s: &Scene) {
+    Limits(v).scene(s);
 }
 
-#[derive(Default)]
-struct Limits {
-    issues: Vec<Issue>,
-}
+/// The limit checks, reporting through the scene validator.
+struct Limits<'a>(&'a mut Validator);
 
-impl Limits {
-    fn push(&mut self, path: impl Into<String>, value: impl fmt::Debug, reason: impl Into<String>) {
-        self.issues.push(Issue {
-            path: path.into(),
-            value: format!("{value:?}"),
-            reason: reason.into(),
-        });
-    }
-
+impl Limits<'_> {
     /// `|x| ≤ max`; non-finite values are the validator's to report.
     fn at_most(&mut self, path: &str, x: f64, max: f64, unit: &str) {
         if x.is_finite() && x.abs() > max {
-            self.push(path, x, format!("magnitude must not exceed {max:e} {unit}"));
+            self.0
+                .push(path, x, format!("magnitude must not exceed {max:e} {unit}"));
         }
     }
 
     fn within(&mut self, path: &str, x: f64, (lo, hi): (f64, f64), unit: &str) {
         if x.is_finite() && x > 0.0 && !(lo..=hi).contains(&x) {
-            self.push(path, x, format!("must lie in [{lo:e}, {hi:e}] {unit}"));
+            self.0
+                .push(path, x, format!("must lie in [{lo:e}, {hi:e}] {unit}"));
         }
     }
 
@@ -109,18 +97,20 @@ impl Limits {
 
     fn count(&mut self, path: &str, n: usize, max: usize) {
         if n > max {
-            self.push(path, n, format!("at most {max} entries"));
+            self.0.push(path, n, format!("at most {max} entries"));
         }
     }
 
     /// Names appear in messages and, for clearance joints, in file names.
     fn name(&mut self, path: &str, name: &str, in_file_names: bool) {
         if name.chars().count() > MAX_NAME_CHARS {
-            self.push(path, name, format!("at most {MAX_NAME_CHARS} characters"));
+            self.0
+                .push(path, name, format!("at most {MAX_NAME_CHARS} characters"));
         } else if name.chars().any(char::is_control) {
-            self.push(path, name, "must not contain control characters");
+            self.0
+                .push(path, name, "must not contain control characters");
         } else if in_file_names && !is_file_name_safe(name) {
-            self.push(
+            self.0.push(
                 path,
                 name,
                 "used in output file names: only letters, digits, `-`, `_` and `.`, not \
@@ -179,30 +169,17 @@ impl Limits {
         self.run(s);
     }
 
+    /// A drive's frequency (harmonic ω, ramp rate) and value at t = 0 must be of a mechanism.
     fn law(&mut self, p: &str, law: &TimeLaw) {
-        match law {
-            TimeLaw::Constant { value } => self.at_most(&format!("{p}.value"), *value, 1e6, ""),
-            TimeLaw::Ramp { value, rate } => {
-                self.at_most(&format!("{p}.value"), *value, 1e6, "");
-                self.at_most(&format!("{p}.rate"), *rate, MAX_ANGULAR_SPEED, "(m|rad)/s");
-            }
-            TimeLaw::Harmonic {
-                offset,
-                amplitude,
-                rpm,
-                omega,
-            } => {
-                self.at_most(&format!("{p}.offset"), *offset, 1e6, "");
-                self.at_most(&format!("{p}.amplitude"), *amplitude, 1e6, "");
-                let max_rpm = MAX_ANGULAR_SPEED * 60.0 / std::f64::consts::TAU;
-                if let Some(r) = rpm {
-                    self.at_most(&format!("{p}.rpm"), *r, max_rpm.round(), "rpm");
-                }
-                if let Some(w) = omega {
-                    self.at_most(&format!("{p}.omega"), *w, MAX_ANGULAR_SPEED, "rad/s");
-                }
-            }
+        if let Some(speed) = law.period().map(|t| std::f64::consts::TAU / t) {
+            self.at_most(
+                &format!("{p} (angular frequency or rate)"),
+                speed,
+                MAX_ANGULAR_SPEED,
+                "(rad or m)/s",
+            );
         }
+        self.at_most(&format!("{p} (value at t = 0)"), law.eval(0.0)[0], 1e6, "");
     }
 
     fn clearance_joint(&mut self, p: &str, c: &ClearanceJoint) {
@@ -216,7 +193,7 @@ impl Limits {
             "m",
         );
         if let FrictionLaw::Coulomb { .. } = c.friction {
-            self.push(
+            self.0.push(
                 format!("{p}.friction.law"),
                 "coulomb",
                 "plain Coulomb friction is not supported: its jump at zero sliding speed cannot \
@@ -248,7 +225,7 @@ impl Limits {
                 ("solver.atol_angle", s.solver.atol_angle),
             ] {
                 if let Some(a) = value.filter(|a| a.is_finite() && *a > max) {
-                    self.push(
+                    self.0.push(
                         path,
                         a,
                         format!(
@@ -271,7 +248,7 @@ impl Limits {
             );
         let a = s.solver.atol_velocity;
         if a.is_finite() && a > limit {
-            self.push(
+            self.0.push(
                 "solver.atol_velocity",
                 a,
                 format!(
@@ -286,7 +263,7 @@ impl Limits {
             ("solver.baumgarte_beta", b.baumgarte_beta),
         ] {
             if gain.is_finite() && !(0.0..=MAX_BAUMGARTE).contains(&gain) {
-                self.push(
+                self.0.push(
                     path,
                     gain,
                     format!(
@@ -301,30 +278,32 @@ impl Limits {
     fn run(&mut self, s: &Scene) {
         let r = &s.run;
         if r.cycles == 0 {
-            self.push("run.cycles", 0, "must be at least 1");
+            self.0.push("run.cycles", 0, "must be at least 1");
         } else if r.cycles > MAX_CYCLES {
-            self.push("run.cycles", r.cycles, format!("at most {MAX_CYCLES}"));
+            self.0
+                .push("run.cycles", r.cycles, format!("at most {MAX_CYCLES}"));
         }
         if r.cycles_per_stage > MAX_STAGE_CYCLES {
-            self.push(
+            self.0.push(
                 "run.cycles_per_stage",
                 r.cycles_per_stage,
                 format!("at most {MAX_STAGE_CYCLES}"),
             );
         }
         if r.wear_stages > MAX_WEAR_STAGES {
-            self.push(
+            self.0.push(
                 "run.wear_stages",
                 r.wear_stages,
                 format!("at most {MAX_WEAR_STAGES}"),
             );
         }
         if let Some(t) = r.period.filter(|t| t.is_finite() && *t > MAX_PERIOD) {
-            self.push("run.period", t, format!("at most {MAX_PERIOD} s"));
+            self.0
+                .push("run.period", t, format!("at most {MAX_PERIOD} s"));
         }
         let interval = s.solver.output_interval;
         if interval.is_finite() && interval > 0.0 && interval < MIN_OUTPUT_INTERVAL {
-            self.push(
+            self.0.push(
                 "solver.output_interval",
                 interval,
                 format!("at least {MIN_OUTPUT_INTERVAL:e} s"),
@@ -334,7 +313,7 @@ impl Limits {
             return;
         };
         if r.period.is_none() && period > MAX_PERIOD {
-            self.push(
+            self.0.push(
                 "run.period",
                 "none",
                 format!("the drive law's period is {period:e} s, more than {MAX_PERIOD} s"),
@@ -350,7 +329,7 @@ impl Limits {
             && interval.is_finite();
         if factors_ok {
             if samples > MAX_OUTPUT_SAMPLES {
-                self.push(
+                self.0.push(
                     "solver.output_interval",
                     interval,
                     format!(
@@ -360,7 +339,7 @@ impl Limits {
                     ),
                 );
             } else if samples * per_sample > MAX_RECORDED_VALUES {
-                self.push(
+                self.0.push(
                     "solver.output_interval",
                     interval,
                     format!(
@@ -372,7 +351,7 @@ impl Limits {
         }
         let window = r.transient_window;
         if window.is_finite() && window > MAX_TRANSIENT_PERIODS * period {
-            self.push(
+            self.0.push(
                 "run.transient_window",
                 window,
                 format!(
@@ -388,7 +367,7 @@ impl Limits {
             .map(|w| 2.0 * w.cells as f64)
             .sum();
         if cells * f64::from(r.wear_stages) > MAX_WEAR_VALUES {
-            self.push(
+            self.0.push(
                 "run.wear_stages",
                 r.wear_stages,
                 format!(
@@ -401,7 +380,8 @@ impl Limits {
         if let Some(name) = &r.response_body
             && matches!(s.resolve(name), Some(BodyRef::Ground))
         {
-            self.push("run.response_body", name, "must be a body, not ground");
+            self.0
+                .push("run.response_body", name, "must be a body, not ground");
         }
     }
 }

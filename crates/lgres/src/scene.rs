@@ -837,7 +837,7 @@ impl Scene {
     pub fn validate(&self, origin: &str) -> Result<(), SceneError> {
         let mut v = Validator::default();
         v.scene(self);
-        v.issues.extend(crate::limits::issues(self));
+        crate::limits::check(&mut v, self);
         if v.issues.is_empty() {
             Ok(())
         } else {
@@ -849,14 +849,19 @@ impl Scene {
     }
 }
 
-/// Collects [`Issue`]s while walking a scene.
+/// Collects [`Issue`]s while walking a scene (here and in [`crate::limits`]).
 #[derive(Default)]
-struct Validator {
+pub(crate) struct Validator {
     issues: Vec<Issue>,
 }
 
 impl Validator {
-    fn push(&mut self, path: impl Into<String>, value: impl fmt::Debug, reason: impl Into<String>) {
+    pub(crate) fn push(
+        &mut self,
+        path: impl Into<String>,
+        value: impl fmt::Debug,
+        reason: impl Into<String>,
+    ) {
         self.issues.push(Issue {
             path: path.into(),
             value: format!("{value:?}"),
