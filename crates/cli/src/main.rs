@@ -239,6 +239,8 @@ fn out_dir(o: &Overrides, name: &str) -> PathBuf {
 
 fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
     let Loaded { name, scene: s } = load(spec, o)?;
+    // Every check `run` makes before simulating, before anything is called valid.
+    let check = lgres::run::check_assembly(&s)?;
     println!("scene {name}: valid");
     println!("  {}", s.description);
     println!("  inertia: {}", s.inertia_convention);
@@ -307,7 +309,6 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
         t.velocity,
         s.cycle_period().map_or("-".into(), |p| format!("{p:.6}"))
     );
-    let check = lgres::run::check_assembly(&s)?;
     println!(
         "  assembly at t = 0: ok, {} coordinates, {} constraint equations, {} degrees of freedom \
          (clearance joints as force elements); largest joint-centre move from the file's poses \
