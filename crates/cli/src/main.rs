@@ -36,7 +36,7 @@ struct Overrides {
     /// Output folder (default: out/<scene>).
     #[arg(long, global = true, value_name = "DIR")]
     out: Option<PathBuf>,
-    /// Drive cycles of the response run (scene: run.cycles).
+    /// Drive cycles of the response run (scene: run.cycles, at least 1).
     #[arg(long, global = true)]
     cycles: Option<u32>,
     /// Wear stages (scene: run.wear_stages).
@@ -48,8 +48,19 @@ struct Overrides {
     /// Simulated cycles per wear stage K (scene: run.cycles_per_stage, the paper's 100). The
     /// amplification is rescaled so a stage still stands for the scene's K × amplification
     /// cycles. `run` defaults to 1 so it finishes in seconds; give 100 for the paper's staging.
-    #[arg(long, global = true, value_name = "K")]
+    #[arg(long, global = true, value_name = "K", value_parser = clap::value_parser!(u32).range(1..))]
     cycles_per_stage: Option<u32>,
+    /// Accepted-step budget of each simulation (scene: solver.max_steps).
+    #[arg(long, global = true, value_name = "N")]
+    max_steps: Option<usize>,
+    /// Wall-time budget of each simulation, s (scene: solver.max_wall_time).
+    #[arg(
+        long,
+        global = true,
+        value_name = "SECONDS",
+        allow_negative_numbers = true
+    )]
+    max_wall_time: Option<f64>,
     /// `study`: scene runs at once (default: the machine's cores; results do not depend on it).
     #[arg(long, global = true, value_name = "N")]
     jobs: Option<std::num::NonZeroUsize>,
@@ -216,6 +227,12 @@ fn load(spec: &str, o: &Overrides) -> Result<Loaded, CliError> {
     if let Some(r) = o.rtol {
         scene.solver.rtol = r;
     }
+    if let Some(n) = o.max_steps {
+        scene.solver.max_steps = Some(n);
+    }
+    if let Some(t) = o.max_wall_time {
+        scene.solver.max_wall_time = Some(t);
+    }
     scene.validate(&format!("{spec} with command-line overrides"))?;
     Ok(Loaded { name, scene })
 }
@@ -226,6 +243,8 @@ fn out_dir(o: &Overrides, name: &str) -> PathBuf {
 
 fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
     let Loaded { name, scene: s } = load(spec, o)?;
+    // Every check `run` makes before simulating, before anything is called valid.
+    let check = lgres::run::check_assembly(&s)?;
     println!("scene {name}: valid");
     println!("  {}", s.description);
     println!("  inertia: {}", s.inertia_convention);
@@ -294,7 +313,6 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
         t.velocity,
         s.cycle_period().map_or("-".into(), |p| format!("{p:.6}"))
     );
-    let check = lgres::run::check_assembly(&s)?;
     println!(
         "  assembly at t = 0: ok, {} coordinates, {} constraint equations, {} degrees of freedom \
          (clearance joints as force elements); largest joint-centre move from the file's poses \
@@ -312,12 +330,32 @@ fn run(spec: &str, o: &Overrides) -> Result<(), CliError> {
         surfaces: o.surfaces.clone(),
         ..RunOptions::default()
     };
+    // Lock the folder before simulating, so a second run is refused at once; files go to a
+    // staging folder that replaces `out` whole only when every file is written.
+    let staged = lgres::output::StagedDir::begin(&out)?;
     let mut bars = progress::Bars::new();
     let outcome = lgres::run::run_scene(&name, &scene, &options, &mut bars)?;
     drop(bars);
-    let files = lgres::artifacts::write_run(&outcome, &out)?;
+    let files = lgres::artifacts::write_run(&outcome, staged.path())?;
+    staged.commit()?;
     print_summary(&outcome, &out, files.len());
     Ok(())
+}
+
+/// Peak statistics after the start-up window, or "n/a" when the window covers the run (no
+/// cycle has a sample after it, so there is no peak to report).
+fn peak_after(b: &lgres::run::PeakStats, window: f64) -> String {
+    if b.cycles == 0 {
+        return format!("n/a after {window} s (the start-up window covers the whole run)");
+    }
+    format!(
+        "{:.2} kN after {window} s (median of {} cycle peaks {:.2} kN, range {:.2}–{:.2} kN)",
+        b.max * 1e-3,
+        b.cycles,
+        b.cycle_median * 1e-3,
+        b.cycle_min * 1e-3,
+        b.cycle_max * 1e-3
+    )
 }
 
 /// The one-screen summary at the end of a run.
@@ -408,16 +446,10 @@ fn print_joints(r: &lgres::run::ResponseSummary, window: f64) {
             continue;
         }
         println!(
-            "  joint {}: peak F_n {:.2} kN (all), {:.2} kN after {} s (median of {} cycle peaks \
-             {:.2} kN, range {:.2}–{:.2} kN); max penetration {:.2} µm",
+            "  joint {}: peak F_n {:.2} kN (all), {}; max penetration {:.2} µm",
             j.name,
             a.max * 1e-3,
-            b.max * 1e-3,
-            window,
-            b.cycles,
-            b.cycle_median * 1e-3,
-            b.cycle_min * 1e-3,
-            b.cycle_max * 1e-3,
+            peak_after(b, window),
             j.max_penetration_m * 1e6,
         );
         println!(
@@ -550,8 +582,20 @@ fn list_scenes() {
     }
 }
 
+/// Exit code after SIGINT/SIGTERM (128 + SIGINT, as shells report an interrupt).
+const EXIT_INTERRUPTED: i32 = 130;
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // On SIGINT/SIGTERM remove the staging folder and lock of a run in progress: its target
+    // folder stays as it was.
+    if let Err(e) = ctrlc::set_handler(|| {
+        lgres::output::abandon_staged();
+        eprintln!("wearsim: interrupted; the output folder is left as it was");
+        std::process::exit(EXIT_INTERRUPTED);
+    }) {
+        eprintln!("wearsim: warning: cannot install the signal handler: {e}");
+    }
     let o = &cli.overrides;
     let result = match &cli.command {
         Command::Run { scene } => run(scene.as_deref().unwrap_or(scenes::DEFAULT), o),

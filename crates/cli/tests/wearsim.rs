@@ -95,3 +95,227 @@ fn scenes_lists_every_builtin() {
         assert!(out.contains(b.name), "{}", b.name);
     }
 }
+
+/// A fresh, empty temporary folder for one test.
+fn scratch(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("wearsim-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Names in `dir` (hidden ones included), sorted.
+fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// `wearsim run SCENE --out OUT`.
+fn run_into(scene: &str, out: &std::path::Path) -> Output {
+    wearsim(&["run", scene, "--out", out.to_str().unwrap()])
+}
+
+fn write_scene(dir: &std::path::Path, text: &str) -> PathBuf {
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn cycles_per_stage_zero_is_rejected_naming_the_flag() {
+    let o = wearsim(&["run", "lgres", "--cycles-per-stage", "0"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--cycles-per-stage"), "{}", stderr(&o));
+}
+
+#[test]
+fn cycles_zero_is_rejected_naming_the_field() {
+    let o = wearsim(&["check", "lgres", "--cycles", "0"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("run.cycles = 0"), "{}", stderr(&o));
+}
+
+#[test]
+fn transient_window_longer_than_the_run_prints_n_a() {
+    let dir = scratch("window");
+    let scene = write_scene(
+        &dir,
+        "extends = \"slider-crank\"\n[run]\ntransient_window = 0.05\n",
+    );
+    let out = dir.join("out");
+    let o = run_into(scene.to_str().unwrap(), &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("n/a after 0.05 s"), "{text}");
+    assert!(!text.contains("from 0 cycle"), "{text}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn joint_name_escaping_out_is_rejected_before_any_file_is_written() {
+    let dir = scratch("escape");
+    let text = lgres::scenes::source("slider-crank").unwrap();
+    for name in ["x/../../../E", "a/b", "bad\\u0000name", &"n".repeat(300)] {
+        let scene = write_scene(
+            &dir,
+            &text.replace("name = \"rod-slider\"", &format!("name = \"{name}\"")),
+        );
+        let out = dir.join("out");
+        let o = run_into(scene.to_str().unwrap(), &out);
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("clearance_joints[0].name"),
+            "{}",
+            stderr(&o)
+        );
+        assert_eq!(listing(&dir), ["scene.toml"], "{name}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn run_replaces_the_output_folder_whole() {
+    let dir = scratch("replace");
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("summary.json"), "{\"old\": true}").unwrap();
+    std::fs::write(out.join("wear_Z_stage1.csv"), "old").unwrap();
+    let o = run_into("lgres-ideal", &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(!summary.contains("\"old\""), "{summary}");
+    assert!(!out.join("wear_Z_stage1.csv").exists());
+    assert!(listing(&out).iter().all(|n| !n.starts_with('.')));
+    assert_eq!(listing(&dir), ["out"], "staging folder or lock left behind");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn folder_with_foreign_files_is_refused_and_kept() {
+    let dir = scratch("foreign");
+    let out = dir.join("out");
+    std::fs::create_dir_all(out.join("sub")).unwrap();
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let o = run_into("lgres-ideal", &out);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("does not write"), "{}", stderr(&o));
+    assert_eq!(listing(&out), ["notes.txt", "sub"]);
+    assert_eq!(listing(&dir), ["out"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn second_run_into_a_locked_folder_is_refused() {
+    let dir = scratch("lock");
+    let out = dir.join("out");
+    // A live process (this test) holds the lock: refused at once, nothing written.
+    std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
+    let o = run_into("lgres-ideal", &out);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
+    assert!(!out.exists());
+    // A lock whose process is gone (killed run) is taken over.
+    std::fs::write(dir.join(".out.lock"), "999999999").unwrap();
+    let o = run_into("lgres-ideal", &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(listing(&dir), ["out"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn signals_leave_the_previous_folder_and_no_temporary_files() {
+    let dir = scratch("signal");
+    let out = dir.join("out");
+    let o = run_into("lgres-ideal", &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let before = listing(&out);
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    for signal in ["-TERM", "-INT"] {
+        // The default scene runs for many seconds; interrupt it while it simulates.
+        let child = Command::new(env!("CARGO_BIN_EXE_wearsim"))
+            .args(["run", "lgres", "--out", out.to_str().unwrap()])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(1500));
+        let kill = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(kill.success());
+        let o = child.wait_with_output().unwrap();
+        assert_eq!(o.status.code(), Some(130), "{signal}: {}", stderr(&o));
+        assert_eq!(listing(&out), before, "{signal}");
+        assert_eq!(
+            std::fs::read_to_string(out.join("summary.json")).unwrap(),
+            summary
+        );
+        assert_eq!(listing(&dir), ["out"], "{signal}: staging or lock left");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn budgets_and_penetration_end_runs_with_exit_1_naming_the_cause() {
+    let dir = scratch("budget");
+    let out = dir.join("out");
+    let o = wearsim(&[
+        "run",
+        "slider-crank",
+        "--max-steps",
+        "10",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("solver.max_steps"), "{}", stderr(&o));
+    let o = wearsim(&["check", "slider-crank", "--max-wall-time", "-1"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("solver.max_wall_time"),
+        "{}",
+        stderr(&o)
+    );
+
+    let scene = write_scene(
+        &dir,
+        "extends = \"lgres\"\n[[clearance_joints]]\nname = \"A\"\n\
+         bearing_material = { youngs_modulus = 1e6, poisson_ratio = 0.3 }\n\
+         pin_material = { youngs_modulus = 1e6, poisson_ratio = 0.3 }\n\
+         [run]\ncycles = 1\nperiod = 0.2\nwear_stages = 0\n",
+    );
+    let o = run_into(scene.to_str().unwrap(), &out);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("peak penetration"), "{}", stderr(&o));
+    assert_eq!(listing(&dir), ["scene.toml"], "nothing written on failure");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn check_fails_like_run_on_a_mechanism_missing_a_clearance_joint() {
+    let dir = scratch("missing");
+    let text = lgres::scenes::source("lgres").unwrap();
+    let cut = text.find("# Joint B").unwrap();
+    let end = text[cut..].find("[solver]").unwrap() + cut;
+    let scene = write_scene(&dir, &format!("{}{}", &text[..cut], &text[end..]));
+    let out = dir.join("out");
+    for args in [
+        vec!["check", scene.to_str().unwrap()],
+        vec![
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    ] {
+        let o = wearsim(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains("kinematic analysis"), "{}", stderr(&o));
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

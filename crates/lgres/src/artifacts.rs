@@ -19,6 +19,14 @@ const QUANTITIES: [(&str, &str, &str); 6] = [
 
 /// Writes every output of `outcome` into `dir`; returns the files written, in order.
 pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    // Names become file names: refuse before writing anything (validation rejects them first).
+    let names = outcome.response.contact.iter().map(|c| &c.name);
+    if let Some(name) = names
+        .chain(outcome.wear.iter().map(|w| &w.name))
+        .find(|n| !crate::limits::is_file_name_safe(n))
+    {
+        return Err(OutputError::UnsafeName { name: name.clone() });
+    }
     let mut files = Vec::new();
     let body = &outcome.summary.response_body;
     files.extend(response_files(&outcome.response, body, dir, "")?);

@@ -5,9 +5,10 @@
 //! Ctrl-C never leaves a half-written CSV, JSON or PNG where a reader expects a finished one (at
 //! worst a stray `.name.tmp-<pid>` file).
 
-use std::fs::{self, File};
+use std::fs::{self, File, OpenOptions};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
 use serde::Serialize;
 
@@ -59,6 +60,34 @@ pub enum OutputError {
         expected: usize,
         /// Length of this one.
         got: usize,
+    },
+    /// The output folder cannot be used (not a folder, foreign files, no name).
+    #[error("output folder {path}: {reason}")]
+    Folder {
+        /// The folder.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
+    /// Another run is writing the same output folder.
+    #[error(
+        "output folder {path}: another wearsim run (process {pid}) is writing it (lock file \
+         {lock}); wait for it or choose another --out"
+    )]
+    Locked {
+        /// The folder.
+        path: PathBuf,
+        /// The lock file.
+        lock: PathBuf,
+        /// Process holding the lock.
+        pid: u32,
+    },
+    /// A name would not be a plain file name (it could create folders or escape the output
+    /// folder); validation normally rejects it first.
+    #[error("output file name part {name:?} is not a plain file name")]
+    UnsafeName {
+        /// The name.
+        name: String,
     },
     /// Rendering a figure failed.
     #[error("drawing {path}: {reason}")]
@@ -276,4 +305,221 @@ pub fn write_csv(
         w.row(&row)?;
     }
     w.finish()
+}
+
+/// Staging folders and lock files of runs in progress, for [`abandon_staged`].
+static ACTIVE: Mutex<Vec<(PathBuf, PathBuf)>> = Mutex::new(Vec::new());
+
+fn active() -> std::sync::MutexGuard<'static, Vec<(PathBuf, PathBuf)>> {
+    ACTIVE
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Extensions of the files a run writes; a folder holding anything else is not replaced.
+const RUN_FILE_EXTENSIONS: [&str; 4] = ["csv", "png", "json", "toml"];
+
+/// A run's output folder being written. Files go into a hidden staging folder next to the
+/// target, which replaces the target whole on [`StagedDir::commit`], so a reader never sees
+/// the new run's CSVs next to the previous run's `summary.json`. A lock file next to the
+/// target refuses a second run into the same folder meanwhile. Dropped without a commit (the
+/// run failed) or abandoned on a signal ([`abandon_staged`]), it leaves the target as it was.
+pub struct StagedDir {
+    target: PathBuf,
+    staging: PathBuf,
+    lock: PathBuf,
+    done: bool,
+}
+
+impl StagedDir {
+    /// Lock `target` and create its empty staging folder. Fails if `target` is not a folder,
+    /// holds files a run does not write (it would be replaced), or another live run holds it.
+    pub fn begin(target: &Path) -> Result<Self, OutputError> {
+        let target = std::path::absolute(target).map_err(io_err(target))?;
+        let folder_err = |reason: &str| OutputError::Folder {
+            path: target.clone(),
+            reason: reason.to_string(),
+        };
+        let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
+            return Err(folder_err("needs a folder name (not `/`, `.` or `..`)"));
+        };
+        let name = name.to_string_lossy().into_owned();
+        if target
+            .components()
+            .any(|c| c == std::path::Component::ParentDir)
+        {
+            return Err(folder_err("must not contain `..`"));
+        }
+        fs::create_dir_all(parent).map_err(io_err(parent))?;
+        if target.exists() {
+            if !target.is_dir() {
+                return Err(folder_err("exists and is not a folder"));
+            }
+            if let Some(foreign) = foreign_entry(&target)? {
+                return Err(folder_err(&format!(
+                    "holds {foreign:?}, which a run does not write; a run replaces the whole \
+                     folder, so choose a new or empty folder"
+                )));
+            }
+        }
+        let lock = parent.join(format!(".{name}.lock"));
+        take_lock(&target, &lock)?;
+        remove_dead_staging(parent, &name);
+        let staging = parent.join(format!(".{name}.staging-{}", std::process::id()));
+        let created = fs::remove_dir_all(&staging)
+            .or_else(|e| match e.kind() {
+                io::ErrorKind::NotFound => Ok(()),
+                _ => Err(e),
+            })
+            .and_then(|()| fs::create_dir(&staging));
+        if let Err(e) = created {
+            let _ = fs::remove_file(&lock);
+            return Err(io_err(&staging)(e));
+        }
+        active().push((staging.clone(), lock.clone()));
+        Ok(Self {
+            target,
+            staging,
+            lock,
+            done: false,
+        })
+    }
+
+    /// The staging folder to write the run's files into.
+    pub fn path(&self) -> &Path {
+        &self.staging
+    }
+
+    /// The folder the run ends up in.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Move the staging folder into place (the previous folder is removed) and unlock.
+    pub fn commit(mut self) -> Result<PathBuf, OutputError> {
+        // Hold the registry so a signal arriving now waits until the folder is whole.
+        let mut registry = active();
+        let previous = self.staging.with_file_name(format!(
+            ".{}.previous-{}",
+            self.target
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            std::process::id()
+        ));
+        let had_previous = self.target.exists();
+        if had_previous {
+            fs::rename(&self.target, &previous).map_err(io_err(&self.target))?;
+        }
+        if let Err(e) = fs::rename(&self.staging, &self.target) {
+            if had_previous {
+                let _ = fs::rename(&previous, &self.target);
+            }
+            return Err(io_err(&self.target)(e));
+        }
+        if had_previous {
+            // Best effort: the new run is in place; an old copy left hidden is harmless.
+            let _ = fs::remove_dir_all(&previous);
+        }
+        let _ = fs::remove_file(&self.lock);
+        registry.retain(|(s, _)| s != &self.staging);
+        self.done = true;
+        Ok(self.target.clone())
+    }
+}
+
+impl Drop for StagedDir {
+    fn drop(&mut self) {
+        if !self.done {
+            let mut registry = active();
+            let _ = fs::remove_dir_all(&self.staging);
+            let _ = fs::remove_file(&self.lock);
+            registry.retain(|(s, _)| s != &self.staging);
+        }
+    }
+}
+
+/// Remove every staging folder and lock of this process (for a SIGINT/SIGTERM handler, which
+/// then exits): the targets stay as they were before the interrupted runs.
+pub fn abandon_staged() {
+    let mut registry = active();
+    for (staging, lock) in registry.drain(..) {
+        let _ = fs::remove_dir_all(&staging);
+        let _ = fs::remove_file(&lock);
+    }
+}
+
+/// The first entry of `dir` that a run does not write (a sub-folder or another extension).
+fn foreign_entry(dir: &Path) -> Result<Option<String>, OutputError> {
+    for entry in fs::read_dir(dir).map_err(io_err(dir))? {
+        let entry = entry.map_err(io_err(dir))?;
+        let path = entry.path();
+        let ours = entry.file_type().is_ok_and(|t| t.is_file())
+            && path
+                .extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| RUN_FILE_EXTENSIONS.contains(&e));
+        if !ours {
+            return Ok(Some(entry.file_name().to_string_lossy().into_owned()));
+        }
+    }
+    Ok(None)
+}
+
+/// Create `lock` holding our process id; a lock of a process that no longer runs is taken over.
+fn take_lock(target: &Path, lock: &Path) -> Result<(), OutputError> {
+    for _ in 0..2 {
+        match OpenOptions::new().write(true).create_new(true).open(lock) {
+            Ok(mut f) => {
+                return write!(f, "{}", std::process::id()).map_err(io_err(lock));
+            }
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
+                let holder = fs::read_to_string(lock)
+                    .ok()
+                    .and_then(|s| s.trim().parse::<u32>().ok());
+                match holder {
+                    Some(pid) if process_alive(pid) => {
+                        return Err(OutputError::Locked {
+                            path: target.to_path_buf(),
+                            lock: lock.to_path_buf(),
+                            pid,
+                        });
+                    }
+                    // Stale (its run was killed) or half-written: take it over.
+                    _ => {
+                        let _ = fs::remove_file(lock);
+                    }
+                }
+            }
+            Err(e) => return Err(io_err(lock)(e)),
+        }
+    }
+    Err(OutputError::Folder {
+        path: target.to_path_buf(),
+        reason: format!("cannot take the lock file {}", lock.display()),
+    })
+}
+
+/// Staging folders `.<name>.staging-<pid>` of runs that were killed without cleaning up.
+fn remove_dead_staging(parent: &Path, name: &str) {
+    let prefix = format!(".{name}.staging-");
+    let Ok(entries) = fs::read_dir(parent) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name().to_string_lossy().into_owned();
+        if let Some(pid) = file
+            .strip_prefix(&prefix)
+            .and_then(|p| p.parse::<u32>().ok())
+            && !process_alive(pid)
+        {
+            let _ = fs::remove_dir_all(entry.path());
+        }
+    }
+}
+
+/// Whether process `pid` runs (Linux: `/proc/<pid>`; elsewhere assumed, to be safe).
+fn process_alive(pid: u32) -> bool {
+    let proc = Path::new("/proc");
+    !proc.is_dir() || proc.join(pid.to_string()).exists()
 }

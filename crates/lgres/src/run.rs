@@ -77,8 +77,8 @@ pub enum RunError {
     /// The ideal mechanism's kinematic analysis failed.
     #[error("kinematic analysis of the ideal mechanism: {0}")]
     Kinematics(#[from] KinematicsError),
-    /// The integrator failed.
-    #[error("{what}: {source}")]
+    /// The integrator failed or ran out of its budget (the hint names the scene field).
+    #[error("{what}: {source}{}", crate::limits::budget_hint(source))]
     Simulation {
         /// Which run.
         what: String,
@@ -97,6 +97,45 @@ pub enum RunError {
     /// The scene has no body to record.
     #[error("run.response_body: no body to record")]
     NoResponseBody,
+    /// The scene (with the run's overrides applied) is not valid.
+    #[error(transparent)]
+    Scene(#[from] scene::SceneError),
+    /// A pin starts outside its bearing after assembly at t = 0.
+    #[error(
+        "{what}: clearance_joints[{index}] ({joint}): after assembly at t = 0 the pin centre is \
+         {eccentricity:.6e} m from the bearing centre, beyond the clearance ({clearance:e} m): \
+         the pin starts outside its bearing (check the bodies' initial poses and the joint's \
+         pin_point, bearing_point)"
+    )]
+    PinOutsideBearing {
+        /// Which system.
+        what: String,
+        /// Index into `clearance_joints`.
+        index: usize,
+        /// Joint name.
+        joint: String,
+        /// Initial eccentricity, m.
+        eccentricity: f64,
+        /// Nominal clearance, m.
+        clearance: f64,
+    },
+    /// A contact penetrated beyond [`crate::limits::MAX_PENETRATION_FRACTION`] of its
+    /// clearance (or pin radius): the contact law is outside its validity.
+    #[error(
+        "{what}: clearance joint {joint}: peak penetration {penetration:.3e} m exceeds {limit:.3e} m \
+         (half the smaller of clearance and pin radius): the contact law is outside its validity \
+         (material too soft, load too high or tolerances too loose); forces are not trusted"
+    )]
+    PenetrationBeyondLimit {
+        /// Which run.
+        what: String,
+        /// Clearance joint name.
+        joint: String,
+        /// Peak penetration, m.
+        penetration: f64,
+        /// The limit, m.
+        limit: f64,
+    },
     /// A run produced a non-finite value.
     #[error("{what}: the solution became non-finite (NaN or infinite) at t = {t}")]
     NonFinite {
@@ -114,7 +153,10 @@ impl RunError {
             self,
             RunError::Build(_)
                 | RunError::Surfaces(_)
+                | RunError::Scene(_)
+                | RunError::Kinematics(_)
                 | RunError::Assembly { .. }
+                | RunError::PinOutsideBearing { .. }
                 | RunError::NoPeriod
                 | RunError::NoResponseBody
         )
@@ -466,8 +508,13 @@ pub struct AssemblyCheck {
     pub largest_move: f64,
 }
 
-/// Builds the scene's system and assembles it at t = 0 from the file's initial poses.
+/// Everything `run` checks before it simulates: validation, the drive period, the recorded
+/// body, the ideal mechanism's kinematic analysis at the output times, and the scene's system
+/// assembled at t = 0 from the file's initial poses. So `check` rejects what `run` would.
 pub fn check_assembly(scene: &Scene) -> Result<AssemblyCheck, RunError> {
+    let (times, body) = run_plan(scene)?;
+    ideal_motion(scene, &times, body)?;
+    unworn_joints(scene)?;
     let built = build(scene, Surfaces::default())?;
     let state = assemble(&built, "assembly check")?;
     let (q0, _) = built.system.initial_guess();
@@ -497,21 +544,12 @@ pub fn run_scene(
         scene.run.amplification *= f64::from(scene_k) / f64::from(k);
         scene.run.cycles_per_stage = k;
     }
+    let (times, body) = run_plan(&scene)?;
     let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
-    let body = scene.response_body().ok_or(RunError::NoResponseBody)?;
     let cycles = scene.run.cycles.max(1);
     let t_end = period * f64::from(cycles);
-    let times = output_times(t_end, scene.solver.output_interval);
-
     progress.phase("ideal mechanism", f64::from(cycles));
-    let ideal_scene = scene.idealized();
-    let ideal_built = build(&ideal_scene, Surfaces::default())?;
-    let (q0, _) = ideal_built.system.initial_guess();
-    let kin = ideal_built.system.kinematics(&times, &q0)?;
-    let mut ideal = Motion::default();
-    for f in 0..kin.times.len() {
-        ideal.push(body, kin.q(f), kin.qd(f), kin.qdd(f));
-    }
+    let ideal = ideal_motion(&scene, &times, body)?;
     progress.finish();
 
     let active = scene.active_clearance_joints().count() > 0;
@@ -540,6 +578,11 @@ pub fn run_scene(
         };
         let (response, summary) =
             respond(&scene, start, &times, &ideal, body, progress, "response")?;
+        // Worn surfaces may legitimately open the clearance past the limit: warn only there.
+        match crate::limits::check_penetration(&scene, "response", &response.contact) {
+            Err(e) if options.surfaces.is_some() => progress.note(&format!("warning: {e}")),
+            checked => checked?,
+        }
         let mut wear_summary = None;
         let mut worn = None;
         if scene.run.wear_stages > 0 && initial.iter().any(Option::is_some) {
@@ -548,7 +591,7 @@ pub fn run_scene(
             wear_history = history;
             wear_summary = Some(ws);
             if !options.skip_worn_response {
-                worn = Some(respond(
+                let run = respond(
                     &scene,
                     &surfaces,
                     &times,
@@ -556,7 +599,14 @@ pub fn run_scene(
                     body,
                     progress,
                     "worn response",
-                )?);
+                )?;
+                // Worn surfaces may legitimately open the clearance past the limit: warn only.
+                if let Err(e) =
+                    crate::limits::check_penetration(&scene, "worn response", &run.0.contact)
+                {
+                    progress.note(&format!("warning: {e}"));
+                }
+                worn = Some(run);
             }
         }
         (response, summary, wear_summary, worn)
@@ -582,6 +632,27 @@ pub fn run_scene(
         worn_response: worn.map(|(r, _)| r),
         wear: wear_history,
     })
+}
+
+/// Validates `scene` and returns the response run's output times and recorded body.
+fn run_plan(scene: &Scene) -> Result<(Vec<f64>, usize), RunError> {
+    scene.validate("the scene as run")?;
+    let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
+    let body = scene.response_body().ok_or(RunError::NoResponseBody)?;
+    let t_end = period * f64::from(scene.run.cycles.max(1));
+    Ok((output_times(t_end, scene.solver.output_interval), body))
+}
+
+/// The all-ideal mechanism's motion of `body` at `times` (kinematic analysis).
+fn ideal_motion(scene: &Scene, times: &[f64], body: usize) -> Result<Motion, RunError> {
+    let ideal_built = build(&scene.idealized(), Surfaces::default())?;
+    let (q0, _) = ideal_built.system.initial_guess();
+    let kin = ideal_built.system.kinematics(times, &q0)?;
+    let mut ideal = Motion::default();
+    for f in 0..kin.times.len() {
+        ideal.push(body, kin.q(f), kin.qd(f), kin.qdd(f));
+    }
+    Ok(ideal)
 }
 
 fn output_times(t_end: f64, dt: f64) -> Vec<f64> {
@@ -618,6 +689,12 @@ pub fn simulation_options(
     };
     o.output = output;
     o.record_trajectory = record;
+    o.max_steps = Some(scene.solver.max_steps.unwrap_or(scene::DEFAULT_MAX_STEPS));
+    let wall = scene
+        .solver
+        .max_wall_time
+        .unwrap_or(scene::DEFAULT_MAX_WALL_TIME);
+    o.max_wall_time = std::time::Duration::try_from_secs_f64(wall).ok();
     o
 }
 
@@ -688,13 +765,15 @@ impl Observer for Recorder<'_> {
 /// Assemble `built` from the scene's initial poses at t = 0.
 fn assemble(built: &Built, what: &str) -> Result<multibody::State, RunError> {
     let (q0, qd0) = built.system.initial_guess();
-    built
+    let state = built
         .system
         .assemble(0.0, &q0, &qd0)
         .map_err(|source| RunError::Assembly {
             what: what.to_string(),
             source,
-        })
+        })?;
+    crate::limits::check_initial_penetration(built, &state, what)?;
+    Ok(state)
 }
 
 /// The response run on `worn` surfaces (empty: round) with its summary.

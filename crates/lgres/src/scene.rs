@@ -13,10 +13,12 @@
 //! A scene file may start with `extends = "<name>"` (a built-in scene, or a file path relative
 //! to the extending file) and give only what changes. The patch is merged into the base: tables
 //! merge key by key, and arrays of tables (`bodies`, `revolute_joints`, …) merge element by
-//! element matched on `name`, an unmatched name being appended. Other values replace. This keeps
+//! element matched on `name`, an unmatched name being appended (a name given twice in one patch
+//! is an error). Other values replace, and so do an empty array (`drivers = []` removes the
+//! base's) and a table whose `law` or `kind` differs from the base's. This keeps
 //! the study variants a few lines each and the reconstructed geometry in one file.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::f64::consts::TAU;
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -75,6 +77,7 @@ pub struct Scene {
     /// every scene says it).
     pub inertia_convention: String,
     /// Gravitational acceleration `[gx, gy]`, m/s².
+    #[serde(deserialize_with = "exactly_two")]
     pub gravity: [f64; 2],
     /// Rigid bodies; names must be unique and not `ground`.
     pub bodies: Vec<Body>,
@@ -116,11 +119,27 @@ pub struct Body {
     #[serde(rename = "theta_deg")]
     pub theta: Angle,
     /// Initial centroid velocity `[vx, vy]`, m/s (an estimate; the solver makes it consistent).
-    #[serde(default, skip_serializing_if = "is_zero2")]
+    #[serde(
+        default,
+        skip_serializing_if = "is_zero2",
+        deserialize_with = "exactly_two"
+    )]
     pub velocity: [f64; 2],
     /// Initial angular velocity, rad/s.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub omega: f64,
+}
+
+/// A 2-vector `[x, y]`: exactly two numbers. (The TOML deserializer would otherwise drop extra
+/// elements of a fixed-size array read from text, but reject them from a merged `extends`.)
+fn exactly_two<'de, D: serde::Deserializer<'de>>(d: D) -> Result<[f64; 2], D::Error> {
+    let v = Vec::<f64>::deserialize(d)?;
+    <[f64; 2]>::try_from(v.as_slice()).map_err(|_| {
+        serde::de::Error::custom(format!(
+            "expected exactly two numbers [x, y], got {} ({v:?})",
+            v.len()
+        ))
+    })
 }
 
 fn is_zero(v: &f64) -> bool {
@@ -139,10 +158,12 @@ pub struct RevoluteJoint {
     /// First body.
     pub body: String,
     /// Joint point in `body`'s frame, m.
+    #[serde(deserialize_with = "exactly_two")]
     pub point: [f64; 2],
     /// Second body, or `ground`.
     pub other: String,
     /// Joint point in `other`'s frame (global coordinates when `other` is ground), m.
+    #[serde(deserialize_with = "exactly_two")]
     pub other_point: [f64; 2],
 }
 
@@ -155,12 +176,15 @@ pub struct PrismaticJoint {
     /// Sliding body.
     pub body: String,
     /// Point of `body` that stays on the line, in `body`'s frame, m.
+    #[serde(deserialize_with = "exactly_two")]
     pub point: [f64; 2],
     /// Body carrying the guide line, or `ground`.
     pub other: String,
     /// A point of the line in `other`'s frame (global when ground), m.
+    #[serde(deserialize_with = "exactly_two")]
     pub other_point: [f64; 2],
     /// Direction of the line in `other`'s frame (any non-zero length), dimensionless.
+    #[serde(deserialize_with = "exactly_two")]
     pub direction: [f64; 2],
     /// Keep the angle between `body` and `other` at its initial value (adds one equation).
     #[serde(default = "yes")]
@@ -291,12 +315,14 @@ pub struct ClearanceJoint {
     /// Body with the hole, or `ground`.
     pub bearing_body: String,
     /// Bearing centre in `bearing_body`'s frame, m.
+    #[serde(deserialize_with = "exactly_two")]
     pub bearing_point: [f64; 2],
     /// Bearing (hole) radius `R_i`, m.
     pub bearing_radius: f64,
     /// Body with the journal, or `ground`.
     pub pin_body: String,
     /// Pin centre in `pin_body`'s frame, m.
+    #[serde(deserialize_with = "exactly_two")]
     pub pin_point: [f64; 2],
     /// Radial clearance `c = R_i − R_j`, m; the pin radius is `bearing_radius − clearance`.
     pub clearance: f64,
@@ -415,7 +441,8 @@ pub enum FrictionLaw {
         /// Sliding speed above which friction is fully developed, m/s.
         v1: f64,
     },
-    /// Coulomb friction `c_f F_n sgn(v_t)`.
+    /// Coulomb friction `c_f F_n sgn(v_t)`: parsed, but validation rejects it (the integrator
+    /// cannot step over its jump at `v_t = 0`; runs hung) and suggests `ambrosio`.
     Coulomb {
         /// Friction coefficient `c_f`, dimensionless.
         coefficient: f64,
@@ -501,7 +528,21 @@ pub struct Solver {
     /// Baumgarte position gain `β`, 1/s.
     #[serde(default = "baumgarte")]
     pub baumgarte_beta: f64,
+    /// Accepted-step budget of each simulation of a run; past it the run fails naming this
+    /// field instead of running on. Default [`DEFAULT_MAX_STEPS`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_steps: Option<usize>,
+    /// Wall-time budget of each simulation of a run, s; past it the run fails naming this
+    /// field. Default [`DEFAULT_MAX_WALL_TIME`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_wall_time: Option<f64>,
 }
+
+/// Default accepted-step budget per simulation: ~20 min of the default scene, 8 000 of its
+/// drive cycles (a cycle takes ~12 000 steps).
+pub const DEFAULT_MAX_STEPS: usize = 100_000_000;
+/// Default wall-time budget per simulation, s.
+pub const DEFAULT_MAX_WALL_TIME: f64 = 3600.0;
 
 /// Default position tolerance per metre of clearance (so 1e-7 m at 0.5 mm).
 pub const DEFAULT_ATOL_POSITION_PER_CLEARANCE: f64 = 2e-4;
@@ -530,6 +571,8 @@ impl Default for Solver {
             output_interval: output_interval(),
             baumgarte_alpha: baumgarte(),
             baumgarte_beta: baumgarte(),
+            max_steps: None,
+            max_wall_time: None,
         }
     }
 }
@@ -683,6 +726,19 @@ pub enum SceneError {
         /// Cause.
         source: toml::de::Error,
     },
+    /// The scene merged with its `extends` base has a value of the wrong type or a missing or
+    /// unknown key; `path` is the field (in the merged scene).
+    #[error("in scene {origin} (merged with its `extends` base): {path}{}: {source}", line.map_or(String::new(), |l| format!(" (line {l})")))]
+    Merged {
+        /// File path or scene name.
+        origin: String,
+        /// Field path, e.g. `bodies[2].mass`.
+        path: String,
+        /// Line in the extending file, when the field is given there.
+        line: Option<usize>,
+        /// Cause (boxed: keeps the error type small).
+        source: Box<toml::de::Error>,
+    },
     /// `extends` names no built-in scene and no file, or nests too deep.
     #[error("in scene {origin}: extends = {target:?}: {reason}")]
     Extends {
@@ -827,6 +883,7 @@ impl Scene {
     pub fn validate(&self, origin: &str) -> Result<(), SceneError> {
         let mut v = Validator::default();
         v.scene(self);
+        crate::limits::check(&mut v, self);
         if v.issues.is_empty() {
             Ok(())
         } else {
@@ -838,14 +895,19 @@ impl Scene {
     }
 }
 
-/// Collects [`Issue`]s while walking a scene.
+/// Collects [`Issue`]s while walking a scene (here and in [`crate::limits`]).
 #[derive(Default)]
-struct Validator {
+pub(crate) struct Validator {
     issues: Vec<Issue>,
 }
 
 impl Validator {
-    fn push(&mut self, path: impl Into<String>, value: impl fmt::Debug, reason: impl Into<String>) {
+    pub(crate) fn push(
+        &mut self,
+        path: impl Into<String>,
+        value: impl fmt::Debug,
+        reason: impl Into<String>,
+    ) {
         self.issues.push(Issue {
             path: path.into(),
             value: format!("{value:?}"),
@@ -1124,6 +1186,12 @@ impl Validator {
         self.number("solver.output_interval", s.output_interval, true);
         self.number("solver.baumgarte_alpha", s.baumgarte_alpha, false);
         self.number("solver.baumgarte_beta", s.baumgarte_beta, false);
+        if s.max_steps == Some(0) {
+            self.push("solver.max_steps", 0, "must be at least 1");
+        }
+        if let Some(t) = s.max_wall_time {
+            self.number("solver.max_wall_time", t, true);
+        }
     }
 
     fn run(&mut self, s: &Scene) {
@@ -1210,9 +1278,70 @@ fn parse(text: &str, origin: &str, dir: Option<&Path>) -> Result<Scene, SceneErr
         return toml::from_str(text).map_err(toml_err(origin));
     }
     let merged = resolve_extends(table, origin, dir, 0)?;
-    toml::Value::Table(merged)
-        .try_into()
-        .map_err(toml_err(origin))
+    // The merged table has no line numbers: keep the field path of a type error, and find
+    // its line in the extending file when the field is written there.
+    serde_path_to_error::deserialize(toml::Value::Table(merged.clone())).map_err(|e| {
+        let path = e.path().to_string();
+        SceneError::Merged {
+            origin: origin.to_string(),
+            line: line_of(text, &merged, &path),
+            path,
+            source: Box::new(e.into_inner()),
+        }
+    })
+}
+
+/// 1-based line of `path`'s last key in `text`, searched after the `name = "…"` line of the
+/// innermost named array element on the path (the merged index differs from the file's).
+fn line_of(text: &str, merged: &toml::Table, path: &str) -> Option<usize> {
+    let mut table = Some(merged);
+    let mut name = None;
+    let mut key = "";
+    for segment in path.split('.') {
+        let (k, index) = match segment.split_once('[') {
+            Some((k, rest)) => (k, rest.trim_end_matches(']').parse::<usize>().ok()),
+            None => (segment, None),
+        };
+        key = k;
+        let value = table.and_then(|t| t.get(k));
+        let value = match (value, index) {
+            (Some(toml::Value::Array(a)), Some(i)) => a.get(i),
+            (v, _) => v,
+        };
+        if let Some(n) = value
+            .and_then(|v| v.get("name"))
+            .and_then(toml::Value::as_str)
+        {
+            name = Some(n);
+        }
+        table = value.and_then(toml::Value::as_table);
+    }
+    let lines: Vec<&str> = text.lines().collect();
+    let header = |l: &str| l.trim_start().starts_with('[');
+    // The section the key is written in: the named element's, a `[table]`'s, or the top.
+    let start = match (name, path.rsplit_once('.')) {
+        (Some(n), _) => lines
+            .iter()
+            .position(|l| l.trim_start().starts_with("name") && l.contains(&format!("\"{n}\"")))?,
+        (None, Some((section, _))) => {
+            lines
+                .iter()
+                .position(|l| l.trim() == format!("[{section}]"))?
+                + 1
+        }
+        (None, None) => 0,
+    };
+    let end = (start..lines.len())
+        .find(|&k| k > start && header(lines[k]))
+        .unwrap_or(lines.len());
+    let assigns = |l: &str| {
+        l.split(['{', ',']).any(|part| {
+            part.trim_start()
+                .strip_prefix(key)
+                .is_some_and(|rest| rest.trim_start().starts_with('='))
+        })
+    };
+    (start..end).find(|&k| assigns(lines[k])).map(|k| k + 1)
 }
 
 /// `table` with its `extends` chain merged in, as raw TOML (deserialized once, at the end).
@@ -1244,49 +1373,98 @@ fn resolve_extends(
     };
     let base: toml::Table = toml::from_str(&text).map_err(toml_err(&base_origin))?;
     let mut base = resolve_extends(base, &base_origin, base_dir.as_deref(), depth + 1)?;
-    merge(&mut base, table);
+    merge(&mut base, table, "", origin)?;
     Ok(base)
 }
 
-/// Merge `patch` into `base`: tables key by key, arrays of named tables by `name`.
-fn merge(base: &mut toml::Table, patch: toml::Table) {
+/// Merge `patch` into `base`: tables key by key, arrays of named tables by `name`. An empty
+/// array replaces (so `drivers = []` removes the base's), and so does a table whose `law` or
+/// `kind` tag differs from the base's (a different law has different keys). `path` is the
+/// field path of `base`, for errors.
+fn merge(
+    base: &mut toml::Table,
+    patch: toml::Table,
+    path: &str,
+    origin: &str,
+) -> Result<(), SceneError> {
     for (key, value) in patch {
+        let here = if path.is_empty() {
+            key.clone()
+        } else {
+            format!("{path}.{key}")
+        };
         match (base.get_mut(&key), value) {
-            // A tagged table whose tag changes (e.g. `friction = { law = "none" }` over an
-            // Ambrósio law) is replaced: the old law's parameters do not belong to the new one.
-            (Some(toml::Value::Table(b)), toml::Value::Table(p)) if !same_tag(b, &p) => {
-                *b = p;
+            (Some(toml::Value::Table(b)), toml::Value::Table(p)) if same_tag(b, &p) => {
+                merge(b, p, &here, origin)?;
             }
-            (Some(toml::Value::Table(b)), toml::Value::Table(p)) => merge(b, p),
             (Some(toml::Value::Array(b)), toml::Value::Array(p))
-                if all_named(b) && all_named(&p) =>
+                if !p.is_empty() && all_named(b) && all_named(&p) =>
             {
-                for item in p {
-                    let toml::Value::Table(item) = item else {
-                        continue;
-                    };
-                    let name = item.get("name").cloned();
-                    match b.iter_mut().find(|e| e.get("name") == name.as_ref()) {
-                        Some(toml::Value::Table(e)) => merge(e, item),
-                        _ => b.push(toml::Value::Table(item)),
-                    }
-                }
+                merge_named(b, p, &here, origin)?;
             }
             (_, value) => {
                 base.insert(key, value);
             }
         }
     }
+    Ok(())
 }
 
-/// Whether two tables agree on their serde tag (`law` or `kind`), or do not both carry one.
+/// Whether `patch` keeps `base`'s `law`/`kind` tag (or gives none).
 fn same_tag(base: &toml::Table, patch: &toml::Table) -> bool {
     ["law", "kind"]
         .iter()
-        .all(|tag| match (base.get(*tag), patch.get(*tag)) {
-            (Some(a), Some(b)) => a == b,
-            _ => true,
-        })
+        .all(|tag| patch.get(*tag).is_none_or(|t| base.get(*tag) == Some(t)))
+}
+
+/// Merge a patch array of named tables into `base` by name (linear: names are indexed); a
+/// name given twice in the patch is an error, not a silent double merge.
+fn merge_named(
+    base: &mut Vec<toml::Value>,
+    patch: Vec<toml::Value>,
+    path: &str,
+    origin: &str,
+) -> Result<(), SceneError> {
+    let mut index: HashMap<String, usize> = HashMap::with_capacity(base.len());
+    for (k, v) in base.iter().enumerate() {
+        if let Some(name) = v.get("name").and_then(toml::Value::as_str) {
+            index.entry(name.to_string()).or_insert(k);
+        }
+    }
+    let mut seen = HashSet::with_capacity(patch.len());
+    for (k, item) in patch.into_iter().enumerate() {
+        let toml::Value::Table(item) = item else {
+            continue;
+        };
+        let name = item
+            .get("name")
+            .and_then(toml::Value::as_str)
+            .unwrap_or_default()
+            .to_string();
+        if !seen.insert(name.clone()) {
+            return Err(SceneError::Invalid {
+                origin: origin.to_string(),
+                issues: vec![Issue {
+                    path: format!("{path}[{k}].name"),
+                    value: format!("{name:?}"),
+                    reason: "duplicate name in this patch (each element may be patched once)"
+                        .into(),
+                }],
+            });
+        }
+        match index.get(&name).copied() {
+            Some(i) => {
+                if let Some(toml::Value::Table(e)) = base.get_mut(i) {
+                    merge(e, item, &format!("{path}[{i}]"), origin)?;
+                }
+            }
+            None => {
+                index.insert(name, base.len());
+                base.push(toml::Value::Table(item));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn all_named(items: &[toml::Value]) -> bool {

@@ -13,7 +13,8 @@
 //!   positive`), not treated as an ideal joint: an ideal joint is asked for explicitly with
 //!   `ideal = true`. The case expects that named error.
 //! - **`v0 = v1`** in Ambrósio friction is rejected by validation (`v1: must exceed v0`), not
-//!   turned into plain Coulomb friction (ask for `law = "coulomb"`). The case expects that error.
+//!   turned into plain Coulomb friction (which the scene format rejects: the integrator cannot
+//!   step over its jump). The case expects that error.
 //! - **Long run** (1000 cycles) is skipped with `--quick`; when run, it samples once per cycle
 //!   and turns the energy audit off (its quadrature costs about a third of a run), so it reports
 //!   no energy residual.
@@ -536,6 +537,9 @@ fn run_case_inner(case: &StressCase) -> CaseResult {
                 multibody::SimulationError::Evaluation { .. } => "SimulationError::Evaluation",
                 multibody::SimulationError::Integrator { .. } => "SimulationError::Integrator",
                 multibody::SimulationError::StepLimit { .. } => "SimulationError::StepLimit",
+                multibody::SimulationError::WallTimeLimit { .. } => {
+                    "SimulationError::WallTimeLimit"
+                }
             };
             r.outcome = failed(name, e);
             return r;

@@ -131,6 +131,10 @@ pub struct SimulationOptions {
     /// [`SimulationError::StepLimit`], default none. A deterministic budget for sweeps that
     /// may meet an integrator unsuited to the problem (an explicit method on stiff contact).
     pub max_steps: Option<usize>,
+    /// Wall-time budget: the run stops with [`SimulationError::WallTimeLimit`] before the first
+    /// step that would start past it, default none. Where it stops depends on the machine, so
+    /// it guards against runs that cannot finish; `max_steps` is the deterministic budget.
+    pub max_wall_time: Option<Duration>,
 }
 
 impl SimulationOptions {
@@ -151,6 +155,7 @@ impl SimulationOptions {
             min_step: 1e-14,
             max_step: None,
             max_steps: None,
+            max_wall_time: None,
         }
     }
 
@@ -629,6 +634,7 @@ impl Run<'_, '_> {
         let mut t_previous = solver.state().t;
         let mut interpolated = solver.state().y.clone();
         let mut accepted = 0_usize;
+        let started = Instant::now();
         let outcome = loop {
             if let Some(limit) = self.options.max_steps
                 && accepted >= limit
@@ -636,6 +642,15 @@ impl Run<'_, '_> {
                 break Err(SimulationError::StepLimit {
                     t: t_previous,
                     steps: accepted,
+                });
+            }
+            if let Some(limit) = self.options.max_wall_time
+                && started.elapsed() >= limit
+            {
+                break Err(SimulationError::WallTimeLimit {
+                    t: t_previous,
+                    steps: accepted,
+                    seconds: limit.as_secs_f64(),
                 });
             }
             if let Err(e) = solver.set_stop_time(self.next_stop(t_previous)) {

@@ -124,4 +124,9 @@ pub enum SimulationError {
     Integrator { t: f64, message: String },
     #[error("stopped at t = {t} after {steps} accepted steps (the max_steps budget)")]
     StepLimit { t: f64, steps: usize },
+    #[error(
+        "stopped at t = {t} after {steps} accepted steps: the wall-time budget of {seconds} s \
+         (max_wall_time) ran out"
+    )]
+    WallTimeLimit { t: f64, steps: usize, seconds: f64 },
 }

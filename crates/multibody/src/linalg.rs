@@ -212,11 +212,31 @@ impl DenseCholesky {
 /// Gaussian elimination with column pivoting over the rows in order. Used to name the constraints
 /// that make a constraint Jacobian rank deficient.
 pub(crate) fn dependent_rows(matrix: &DMatrix<f64>, relative_tolerance: f64) -> Vec<usize> {
+    row_pivots(matrix, relative_tolerance)
+        .iter()
+        .enumerate()
+        .filter_map(|(r, p)| p.is_none().then_some(r))
+        .collect()
+}
+
+/// The row with the smallest elimination pivot relative to the matrix: the most nearly
+/// dependent one, to name when a factorization fails but no row is dependent within tolerance.
+pub(crate) fn weakest_row(matrix: &DMatrix<f64>) -> Option<usize> {
+    row_pivots(matrix, 0.0)
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.unwrap_or(0.0).total_cmp(&b.1.unwrap_or(0.0)))
+        .map(|(r, _)| r)
+}
+
+/// Per row, the pivot magnitude Gaussian elimination with column pivoting over the rows in
+/// order finds for it, or `None` if none exceeds `relative_tolerance` × the largest entry.
+fn row_pivots(matrix: &DMatrix<f64>, relative_tolerance: f64) -> Vec<Option<f64>> {
     let mut work = matrix.clone();
     let (rows, cols) = work.shape();
     let scale = matrix.amax().max(f64::MIN_POSITIVE);
     let mut used_columns = vec![false; cols];
-    let mut dependent = Vec::new();
+    let mut pivots = Vec::with_capacity(rows);
     for r in 0..rows {
         let mut best = None;
         let mut best_abs = relative_tolerance * scale;
@@ -227,9 +247,10 @@ pub(crate) fn dependent_rows(matrix: &DMatrix<f64>, relative_tolerance: f64) -> 
             }
         }
         let Some(c) = best else {
-            dependent.push(r);
+            pivots.push(None);
             continue;
         };
+        pivots.push(Some(best_abs / scale));
         used_columns[c] = true;
         let pivot = work[(r, c)];
         for below in (r + 1)..rows {
@@ -242,7 +263,7 @@ pub(crate) fn dependent_rows(matrix: &DMatrix<f64>, relative_tolerance: f64) -> 
             }
         }
     }
-    dependent
+    pivots
 }
 
 #[cfg(test)]
@@ -270,6 +291,7 @@ mod tests {
         let mut lu = DenseLu::new(3);
         assert!(lu.factor(&a, 1e-12).is_err());
         assert_eq!(dependent_rows(&a, 1e-12), vec![1]);
+        assert_eq!(weakest_row(&a), Some(1));
     }
 
     #[test]

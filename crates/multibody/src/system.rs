@@ -6,7 +6,7 @@ use nalgebra::DMatrix;
 use crate::constraints::{ConstraintOwner, Constraints, LocalDerivatives};
 use crate::error::{AssemblyError, EvaluationError, KinematicsError, ModelError};
 use crate::force::{ElementId, ForceElement, ForcePartials};
-use crate::linalg::{DenseCholesky, DenseLu, dependent_rows};
+use crate::linalg::{DenseCholesky, DenseLu, dependent_rows, weakest_row};
 use crate::model::{Body, BodyId, Joint, Model};
 use crate::trajectory::Trajectory;
 
@@ -338,10 +338,19 @@ impl System {
         }
     }
 
+    /// Labels of the dependent constraints; when none is dependent within tolerance (an
+    /// ill-conditioned rather than singular Jacobian), the most nearly dependent one.
     pub(crate) fn dependent_constraints(&self, phi_q: &DMatrix<f64>) -> String {
-        dependent_rows(phi_q, 1e-10)
-            .into_iter()
-            .map(|k| self.constraints.labels()[k].clone())
+        let labels = self.constraints.labels();
+        let rows = dependent_rows(phi_q, 1e-10);
+        if rows.is_empty() {
+            return weakest_row(phi_q).map_or_else(
+                || "none found".to_string(),
+                |k| format!("{} (nearly; ill-conditioned)", labels[k]),
+            );
+        }
+        rows.into_iter()
+            .map(|k| labels[k].clone())
             .collect::<Vec<_>>()
             .join(", ")
     }

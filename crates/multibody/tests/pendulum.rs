@@ -248,3 +248,21 @@ fn max_steps_stops_the_run_with_a_named_error_at_the_budget() {
         .expect("integrates");
     assert_eq!(within.final_state.q, full.final_state.q);
 }
+
+#[test]
+fn max_wall_time_stops_the_run_with_a_named_error() {
+    let mut system = with_gravity(pendulum(1.0, 1.0, -PI / 2.0 + 1.0));
+    let (q, qd) = system.initial_guess();
+    let start = system.assemble(0.0, &q, &qd).expect("assembles");
+    let mut options = tight(2.0);
+    // A spent budget stops the run before its first step (deterministic, no timing).
+    options.max_wall_time = Some(std::time::Duration::ZERO);
+    match system.simulate(&start, &options, &mut ()) {
+        Err(e @ multibody::SimulationError::WallTimeLimit { steps: 0, .. }) => {
+            assert!(e.to_string().contains("max_wall_time"), "{e}");
+        }
+        other => panic!("expected the wall-time budget to stop the run, got {other:?}"),
+    }
+    options.max_wall_time = Some(std::time::Duration::from_secs(3600));
+    assert!(system.simulate(&start, &options, &mut ()).is_ok());
+}
