@@ -297,9 +297,10 @@ pub struct JointSummary {
     /// Elastic energy stored in the contact at the end of the run, J.
     pub elastic_energy_end_j: f64,
     /// Energy the whole contact force takes out of the mechanism per cycle, from the energy
-    /// audit's work `W` (Gauss quadrature on the integrator's interpolant) net of the stored
-    /// energy: `(−W − (V_end − V_start)) / cycles`, J. Equals damping + friction up to
-    /// quadrature error; an elastic, frictionless contact gives zero.
+    /// audit's work `W = ∫ Q·q̇ dt` (Gauss quadrature on the integrator's interpolant) net of
+    /// the stored energy: `(−W − (V_end − V_start)) / cycles`, J. Equals damping + friction up
+    /// to integration error; an elastic, frictionless contact whose force derives from a
+    /// potential gives zero.
     pub contact_dissipation_per_cycle_j: f64,
     /// `contact_dissipation − damping − friction` per cycle, J: how well the books close.
     pub energy_books_residual_per_cycle_j: f64,

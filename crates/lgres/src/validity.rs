@@ -30,7 +30,7 @@ pub struct Limits {
     pub conformity_ratio: f64,
     /// Largest fraction of penetrating frames (δ > 1 % of c) that carry no force.
     pub unloaded_fraction: f64,
-    /// Largest `|overlap − max(δ, 0)| / c` over the checked frames.
+    /// Largest `|max(overlap, 0) − max(δ, 0)| / c` over the checked frames.
     pub overlap_error: f64,
     /// Largest fraction of the checked frames where the outlines overlap but `δ < 0`.
     pub missed_contact_fraction: f64,
@@ -67,7 +67,7 @@ pub struct Validity {
     pub unloaded_penetrating_frames: usize,
     /// Frames where the outline overlap was measured.
     pub overlap_frames: usize,
-    /// Largest `|overlap − max(δ, 0)|` over those frames, m.
+    /// Largest `|max(overlap, 0) − max(δ, 0)|` over those frames, m.
     pub max_overlap_error_m: f64,
     /// Frames where the outlines overlap but `δ < 0`.
     pub missed_contact_frames: usize,
@@ -122,9 +122,10 @@ impl Tally {
         }
         if let Some(overlap) = overlap {
             v.overlap_frames += 1;
+            // Contact depths only: two negative gaps of different size are both "free".
             v.max_overlap_error_m = v
                 .max_overlap_error_m
-                .max((overlap - d.penetration.max(0.0)).abs());
+                .max((overlap.max(0.0) - d.penetration.max(0.0)).abs());
             if overlap > 0.0 && d.penetration < 0.0 {
                 v.missed_contact_frames += 1;
             }
@@ -191,5 +192,67 @@ impl Tally {
             .collect();
         v.inside = v.reasons.is_empty();
         self.validity
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn loaded(slope: f64, curvature: f64) -> ContactDiagnostics {
+        ContactDiagnostics {
+            in_contact: true,
+            penetration: 2e-5,
+            eccentricity: 5.2e-4,
+            bearing_radius: 0.05,
+            pin_radius: 0.0495,
+            normal_force: 1e4,
+            bearing_slope: slope,
+            pin_curvature: curvature,
+            ..ContactDiagnostics::default()
+        }
+    }
+
+    #[test]
+    fn round_contacts_are_inside_and_each_measure_can_fail() {
+        let clearance = 5e-4;
+        let mut round = Tally::new(clearance, Limits::default());
+        for _ in 0..100 {
+            round.frame(&loaded(0.0, 0.0), Some(2e-5));
+        }
+        let v = round.finish();
+        assert!(v.inside, "{v:?}");
+        assert_eq!((v.loaded_frames, v.penetrating_frames), (100, 100));
+
+        // Slope 0.4 × |e| and conformity 1.2: both beyond their limits.
+        let mut steep = Tally::new(clearance, Limits::default());
+        steep.frame(&loaded(0.4 * 5.2e-4, 1.2 * 5e-4), None);
+        let v = steep.finish();
+        assert!(!v.inside);
+        assert_eq!(v.reasons.len(), 2, "{:?}", v.reasons);
+        assert!((v.max_slope_ratio - 0.4).abs() < 1e-12);
+        assert!((v.max_conformity_ratio - 1.2).abs() < 1e-12);
+
+        // A contact the line of centres misses, and a penetrating frame without force.
+        let mut missed = Tally::new(clearance, Limits::default());
+        let free = ContactDiagnostics {
+            penetration: -1e-5,
+            ..ContactDiagnostics::default()
+        };
+        missed.frame(&free, Some(8e-5));
+        let unloaded = ContactDiagnostics {
+            normal_force: 0.0,
+            ..loaded(0.0, 0.0)
+        };
+        missed.frame(&unloaded, None);
+        let v = missed.finish();
+        assert_eq!(v.missed_contact_frames, 1);
+        assert_eq!(v.unloaded_penetrating_frames, 1);
+        assert!((v.max_overlap_error_m - 8e-5).abs() < 1e-18);
+        assert_eq!(v.reasons.len(), 3, "{:?}", v.reasons);
+        // Two gaps of different size are no error.
+        let mut apart = Tally::new(clearance, Limits::default());
+        apart.frame(&free, Some(-2e-4));
+        assert!(apart.finish().inside);
     }
 }
