@@ -14,12 +14,9 @@ mod common;
 
 use common::{
     BEARING_RADIUS, CLEARANCE, WavyProfile, generalized_forces, random_state, state_vector,
-    states_from, steel, worn_joint,
+    states_from, worn_joint,
 };
-use contact::{
-    CircularProfile, ClearanceJoint, Frictionless, Hertz, JointSurface, RadiusSample,
-    SurfaceProfile,
-};
+use contact::{CircularProfile, ClearanceJoint, Frictionless, Hertz, RadiusSample, SurfaceProfile};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -39,21 +36,7 @@ fn steep_profiles() -> (WavyProfile, WavyProfile) {
 
 fn elastic_joint() -> ClearanceJoint<WavyProfile, WavyProfile, Hertz, Frictionless> {
     let (bearing, pin) = steep_profiles();
-    ClearanceJoint::new(
-        JointSurface {
-            centre: [0.04, -0.02],
-            profile: bearing,
-            material: steel(),
-        },
-        JointSurface {
-            centre: [-0.03, 0.025],
-            profile: pin,
-            material: steel(),
-        },
-        Hertz::default(),
-        Frictionless,
-    )
-    .expect("valid joint")
+    common::off_centre_joint(bearing, pin, Hertz::default(), Frictionless)
 }
 
 fn stored_energy<

@@ -12,12 +12,12 @@
 mod common;
 
 use common::{
-    BEARING_RADIUS, CLEARANCE, WavyProfile, generalized_forces, random_state, state_vector, steel,
+    BEARING_RADIUS, CLEARANCE, WavyProfile, generalized_forces, random_state, state_vector,
     worn_joint,
 };
 use contact::{
-    BodyState, ClearanceJoint, ContactJacobian, FrictionLaw, FrictionLawKind, JointSurface,
-    NormalLaw, NormalLawKind, SlidingVelocity, SurfaceProfile,
+    BodyState, ClearanceJoint, ContactJacobian, FrictionLaw, FrictionLawKind, NormalLaw,
+    NormalLawKind, SlidingVelocity, SurfaceProfile,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -229,21 +229,12 @@ fn jacobian_matches_for_every_runtime_law() {
     let base = worn_joint();
     for (k, normal) in normals.iter().enumerate() {
         for (m, friction) in frictions.iter().enumerate() {
-            let joint = ClearanceJoint::new(
-                JointSurface {
-                    centre: [0.04, -0.02],
-                    profile: *base.bearing_profile(),
-                    material: steel(),
-                },
-                JointSurface {
-                    centre: [-0.03, 0.025],
-                    profile: *base.pin_profile(),
-                    material: steel(),
-                },
+            let joint = common::off_centre_joint(
+                *base.bearing_profile(),
+                *base.pin_profile(),
                 *normal,
                 *friction,
-            )
-            .expect("valid joint");
+            );
             // χ ≤ 1.6 (Flores at c_e = 0.5): 1 + χ v_n/δ̇⁻ ≥ 0.2.
             check_regime(
                 &joint,

@@ -623,9 +623,18 @@ fn scene_links(md: &mut String, out: &Path, run: &SceneRun) {
     let _ = writeln!(md, "- `{}`: {}", run.key, links.join(", "));
 }
 
-fn paper_section(md: &mut String, study: &str, results: &StudyResults) {
-    let Some((_, section, values)) = PAPER.iter().find(|(s, _, _)| *s == study) else {
+fn paper_section(md: &mut String, study: &str, scenes: &[&str], results: &StudyResults) {
+    let base = crate::scenes::physical_counterpart(study);
+    let Some((_, section, values)) = PAPER.iter().find(|(s, _, _)| *s == base) else {
         return;
+    };
+    // Our scene standing for a paper value's scene in this study's formulation.
+    let ours_for = |paper_scene: &'static str| -> &str {
+        scenes
+            .iter()
+            .find(|s| crate::scenes::physical_counterpart(s) == paper_scene)
+            .copied()
+            .unwrap_or(paper_scene)
     };
     let _ = writeln!(
         md,
@@ -643,7 +652,8 @@ fn paper_section(md: &mut String, study: &str, results: &StudyResults) {
         "| scene | quantity | paper | ours, unworn response | ours, after wear |\n|---|---|---|---|---|"
     );
     for v in values.iter() {
-        let Some(run) = results.run(v.scene) else {
+        let scene = ours_for(v.scene);
+        let Some(run) = results.run(scene) else {
             continue;
         };
         let names: Vec<String> = run
@@ -657,12 +667,49 @@ fn paper_section(md: &mut String, study: &str, results: &StudyResults) {
         let _ = writeln!(
             md,
             "| {} | {} | {} | {unworn} | {worn} |",
-            v.scene,
+            scene,
             quantity_label(v.quantity, &names),
             v.text
         );
     }
     md.push('\n');
+}
+
+/// Marks every worn response whose geometry left the contact model's validity: its force
+/// peaks and deviations are shown in the tables above but are not results.
+fn validity_lines(md: &mut String, scenes: &[&str], results: &StudyResults) {
+    let mut lines = Vec::new();
+    for scene in scenes {
+        let Some(run) = results.run(scene) else {
+            continue;
+        };
+        let Some(worn) = &run.outcome.summary.worn_response else {
+            continue;
+        };
+        for j in &worn.joints {
+            let Some(v) = &j.validity else { continue };
+            let verdict = if v.inside {
+                "inside".to_string()
+            } else {
+                format!("**OUTSIDE** ({})", v.reasons.join("; "))
+            };
+            lines.push(format!(
+                "- `{scene}` worn response, joint {}: {verdict}; slope |c'|/|e| ≤ {:.2}, \
+                 conformity ≤ {:.2}",
+                j.name, v.max_slope_ratio, v.max_conformity_ratio
+            ));
+        }
+    }
+    if !lines.is_empty() {
+        md.push_str(
+            "Validity of the worn geometry (docs/model.md §9; a worn response outside it is not a \
+             result: its forces and deviations above only show what the model does there):\n\n",
+        );
+        for line in lines {
+            let _ = writeln!(md, "{line}");
+        }
+        md.push('\n');
+    }
 }
 
 /// A trend verdict for the summary.
@@ -697,9 +744,9 @@ pub fn trends(results: &StudyResults) -> Vec<(TrendVerdict, Vec<Comparison>, [St
         let StudyKind::Paper(study) = kind else {
             continue;
         };
-        let (claim, comparisons, labels) = match study.name {
+        let (claim, comparisons, labels) = match crate::scenes::physical_counterpart(study.name) {
             "wear-stages" => {
-                let Some(run) = results.run("lgres-2stages") else {
+                let Some(run) = study.scenes.get(1).and_then(|s| results.run(s)) else {
                     continue;
                 };
                 (
@@ -715,7 +762,7 @@ pub fn trends(results: &StudyResults) -> Vec<(TrendVerdict, Vec<Comparison>, [St
                 ) else {
                     continue;
                 };
-                let claim = if study.name == "clearance" {
+                let claim = if crate::scenes::physical_counterpart(study.name) == "clearance" {
                     "larger clearance → larger forces, deviations, dissipation and wear over a wider arc"
                 } else {
                     "faster drive → larger forces, deviations, dissipation and wear over a wider arc"
@@ -880,7 +927,8 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
             study.summary,
             study.scenes.join(", ")
         );
-        paper_section(&mut md, study.name, results);
+        paper_section(&mut md, study.name, study.scenes, results);
+        validity_lines(&mut md, study.scenes, results);
         if let Some((t, comparisons, [low, high])) =
             trend_list.iter().find(|(t, _, _)| t.study == study.name)
         {
@@ -888,9 +936,12 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
             comparison_table(&mut md, low, high, comparisons);
             md.push('\n');
         }
-        let cases: Vec<(String, Vec<JointMetricsSource<'_>>)> = if study.name == "wear-stages" {
-            results
-                .run("lgres-2stages")
+        let stages_study = crate::scenes::physical_counterpart(study.name) == "wear-stages";
+        let cases: Vec<(String, Vec<JointMetricsSource<'_>>)> = if stages_study {
+            study
+                .scenes
+                .get(1)
+                .and_then(|s| results.run(s))
                 .map(|r| {
                     vec![
                         ("stage 1".to_string(), stage_surfaces(&r.outcome, Some(0))),

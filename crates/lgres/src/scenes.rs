@@ -45,6 +45,22 @@ pub const BUILTINS: &[Builtin] = &[
         "LGRES with the paper's wear formulation (delta*phi_dot sliding, K = 100, one jump)"
     ),
     builtin!(
+        "lgres-paper-2stages",
+        "LGRES, paper's wear formulation, two wear stages"
+    ),
+    builtin!(
+        "lgres-paper-c02",
+        "LGRES, paper's wear formulation, 0.2 mm initial clearance"
+    ),
+    builtin!(
+        "lgres-paper-45rpm",
+        "LGRES, paper's wear formulation, 45 rpm"
+    ),
+    builtin!(
+        "lgres-paper-105rpm",
+        "LGRES, paper's wear formulation, 105 rpm"
+    ),
+    builtin!(
         "lgres-elastic",
         "LGRES with elastic, frictionless contact (energy check on worn surfaces)"
     ),
@@ -108,7 +124,40 @@ pub const STUDIES: &[Study] = &[
         summary: "45 and 105 rpm, 0.5 mm, one stage (Sec. 4.2.3)",
         scenes: &["lgres-45rpm", "lgres-105rpm"],
     },
+    Study {
+        name: "wear-stages-paper",
+        summary: "the paper's wear formulation (wear on δφ̇, K = 100, one jump ×20 000): one \
+                  and two wear stages",
+        scenes: &["lgres-paper", "lgres-paper-2stages"],
+    },
+    Study {
+        name: "clearance-paper",
+        summary: "the paper's wear formulation: 0.2 and 0.5 mm initial clearance",
+        scenes: &["lgres-paper-c02", "lgres-paper"],
+    },
+    Study {
+        name: "speed-paper",
+        summary: "the paper's wear formulation: 45 and 105 rpm",
+        scenes: &["lgres-paper-45rpm", "lgres-paper-105rpm"],
+    },
 ];
+
+/// The physical-formulation study a paper-formulation study mirrors (`clearance-paper` →
+/// `clearance`), and the scene of that study a paper-formulation scene mirrors
+/// (`lgres-paper-c02` → `lgres-c02`): the paper's numbers are filed under those.
+pub fn physical_counterpart(name: &str) -> &str {
+    if let Some(study) = name.strip_suffix("-paper") {
+        return study;
+    }
+    match name {
+        "lgres-paper" => "lgres",
+        "lgres-paper-2stages" => "lgres-2stages",
+        "lgres-paper-c02" => "lgres-c02",
+        "lgres-paper-45rpm" => "lgres-45rpm",
+        "lgres-paper-105rpm" => "lgres-105rpm",
+        other => other,
+    }
+}
 
 /// A study by name.
 pub fn study(name: &str) -> Option<&'static Study> {

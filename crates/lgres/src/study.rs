@@ -26,7 +26,7 @@ use crate::scene::{Scene, SceneError};
 use crate::scenes::{self, STUDIES, Study};
 
 /// Default simulated cycles per wear stage in a study (the paper's K is 100).
-pub const DEFAULT_CYCLES_PER_STAGE: u32 = 3;
+pub const DEFAULT_CYCLES_PER_STAGE: u32 = 2;
 /// Default response cycles per scene in a study.
 pub const DEFAULT_RESPONSE_CYCLES: u32 = 10;
 /// Name of the study comparing the paper's single wear jump with adaptive sub-steps.
@@ -364,8 +364,14 @@ fn run_one(
     options: &StudyOptions,
     progress: Box<dyn Progress + Send + '_>,
 ) -> Result<SceneRun, StudyError> {
+    // A scene in the paper's wear formulation keeps its own staging (K = 100, one jump): the
+    // study's K is for the physical formulation's adaptive sub-steps.
+    let papers_staging = scene
+        .clearance_joints
+        .iter()
+        .any(|c| c.sliding.wear == contact::SlidingVelocity::Paper);
     let run_options = RunOptions {
-        cycles_per_stage: Some(options.cycles_per_stage),
+        cycles_per_stage: (!papers_staging).then_some(options.cycles_per_stage),
         // The single jump is compared on its worn profile only.
         skip_worn_response: key == SINGLE_JUMP_RUN,
         ..RunOptions::default()

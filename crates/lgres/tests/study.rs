@@ -48,7 +48,8 @@ fn bad_names_and_options_are_bad_input() {
     let e = study::resolve("nope").unwrap_err();
     assert!(e.is_bad_input());
     assert!(e.to_string().contains("extrapolation"));
-    assert_eq!(study::resolve("all").map(|s| s.len()).ok(), Some(4));
+    // Three paper studies in each of the two wear formulations, and the extrapolation study.
+    assert_eq!(study::resolve("all").map(|s| s.len()).ok(), Some(7));
 
     let dir = std::env::temp_dir().join(format!("lgres-study-bad-{}", std::process::id()));
     let mut o = StudyOptions::new(&dir);

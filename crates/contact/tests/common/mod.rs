@@ -319,6 +319,21 @@ pub fn worn_joint() -> ClearanceJoint<WavyProfile, WavyProfile, LankaraniNikrave
         base: BEARING_RADIUS - CLEARANCE,
         modes: [(1.0, -1e-5, 2e-5), (4.0, 5e-6, 0.0)],
     };
+    off_centre_joint(
+        bearing,
+        pin,
+        LankaraniNikravesh::new(0.9).expect("valid"),
+        Ambrosio::new(0.15, 1e-4, 1e-3).expect("valid"),
+    )
+}
+
+/// A joint of steel surfaces `bearing` and `pin` whose centres sit off the bodies' centroids.
+pub fn off_centre_joint<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
+    bearing: B,
+    pin: P,
+    normal: N,
+    friction: F,
+) -> ClearanceJoint<B, P, N, F> {
     ClearanceJoint::new(
         JointSurface {
             centre: [0.04, -0.02],
@@ -330,8 +345,8 @@ pub fn worn_joint() -> ClearanceJoint<WavyProfile, WavyProfile, LankaraniNikrave
             profile: pin,
             material: steel(),
         },
-        LankaraniNikravesh::new(0.9).expect("valid"),
-        Ambrosio::new(0.15, 1e-4, 1e-3).expect("valid"),
+        normal,
+        friction,
     )
     .expect("valid joint")
 }
