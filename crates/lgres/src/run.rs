@@ -23,7 +23,7 @@ use multibody::{
     OutputTimes, SimulationError, SimulationOptions, SimulationResult,
 };
 use serde::Serialize;
-use wear::{Extrapolation, StagePlan, StageWear, StagingError, WornJoint};
+use wear::{Extrapolation, GeometryLimits, StagePlan, StageWear, StagingError, WornJoint};
 
 use crate::build::{BuildError, Built, JointHandle, Surfaces, build, unworn_joints};
 use crate::clearance::WornClearanceForce;
@@ -428,7 +428,11 @@ pub struct WearSummary {
     /// Whether every sub-step's two halves agree within [`HALVES_TOLERANCE`] (false for odd K:
     /// not checked).
     pub converged: bool,
-    /// Single-jump warnings, and the convergence check's verdict when it fails.
+    /// Per stage: the drive cycles it applied when it ended early at the contact model's
+    /// validity limits (`run.stop_at_validity_limits`), else `None` (all of them).
+    pub cycles_applied_at_limits: Vec<Option<f64>>,
+    /// Single-jump warnings, the convergence check's verdict when it fails, and stages that
+    /// ended at the validity limits.
     pub warnings: Vec<String>,
     /// Per wearing joint, after the last stage.
     pub joints: Vec<JointWearSummary>,
@@ -1124,6 +1128,8 @@ fn stages(
     let plan = StagePlan {
         stages: r.wear_stages as usize,
         amplification: r.amplification,
+        geometry_limits: (r.adaptive_extrapolation && r.stop_at_validity_limits)
+            .then_some(GeometryLimits::CONTACT_MODEL),
         extrapolation: if r.adaptive_extrapolation {
             Extrapolation::Adaptive {
                 max_fraction: r.max_clearance_change,
@@ -1172,6 +1178,7 @@ fn stages(
     let mut substeps = Vec::new();
     let mut details = Vec::new();
     let mut warnings = Vec::new();
+    let mut ended_at_limits = Vec::new();
     // Per sub-step: how far the two halves of its K cycles disagree (even K only).
     let halves: std::cell::RefCell<Vec<Option<f64>>> = std::cell::RefCell::default();
     let mut runner = |ctx: wear::RunContext, current: &[WornJoint]| {
@@ -1265,6 +1272,20 @@ fn stages(
             let text = format!("warning: {w}");
             warnings.push(text);
         }
+        ended_at_limits.push(report.ended_at_limits.map(|applied| {
+            let cycles = applied * f64::from(k);
+            warnings.push(format!(
+                "note: stage {} ended after {cycles:.3e} of its {:.3e} cycles ({:.2} %): the worn \
+                 geometry reached the contact model's validity limits (slope {}, conformity {}; \
+                 run.stop_at_validity_limits)",
+                stage + 1,
+                plan.amplification * f64::from(k),
+                100.0 * applied / plan.amplification,
+                GeometryLimits::CONTACT_MODEL.slope,
+                GeometryLimits::CONTACT_MODEL.curvature
+            ));
+            cycles
+        }));
         for (h, j) in history.iter_mut().zip(&joints) {
             h.stages.push(j.clone());
         }
@@ -1342,6 +1363,7 @@ fn stages(
         substeps: details,
         max_halves_difference,
         converged,
+        cycles_applied_at_limits: ended_at_limits,
         warnings,
         joints: joints_summary,
         wall_time_s: started.elapsed().as_secs_f64(),

@@ -628,6 +628,12 @@ pub struct RunSettings {
     /// Most extrapolation sub-steps per stage; a stage that needs more fails, naming this.
     #[serde(default = "max_substeps")]
     pub max_substeps: u32,
+    /// With adaptive extrapolation, end a stage early where the worn geometry would leave the
+    /// contact model's validity (slope 0.3, conformity 1; docs/model.md §9): beyond it the
+    /// line-of-centres contact, and so the wear it drives, is not credible. The summary says how
+    /// many of the stage's cycles were applied.
+    #[serde(default = "yes")]
+    pub stop_at_validity_limits: bool,
     /// Start-up window excluded from peak statistics, s.
     #[serde(default = "transient_window")]
     pub transient_window: f64,
@@ -675,6 +681,7 @@ impl Default for RunSettings {
             max_slope_change: max_slope_change(),
             max_curvature_change: max_curvature_change(),
             max_substeps: max_substeps(),
+            stop_at_validity_limits: true,
             transient_window: transient_window(),
             response_body: None,
         }

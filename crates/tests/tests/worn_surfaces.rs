@@ -132,3 +132,45 @@ fn missing_or_mismatched_wear_files_are_named_errors() {
     assert!(e.to_string().contains("line 2"), "{e}");
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// The default run's stage ends where its worn geometry reaches the contact model's slope
+/// limit, and on the surfaces it writes an elastic, frictionless contact conserves energy (the
+/// check of `wearsim run lgres-elastic --surfaces out/lgres`, over one cycle here).
+#[test]
+fn default_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_energy() {
+    let dir = std::env::temp_dir().join(format!("wornjoint-default-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut scene = lgres::scenes::builtin("lgres").expect("built-in");
+    scene.run.cycles = 1;
+    let options = RunOptions {
+        cycles_per_stage: Some(1),
+        ..RunOptions::default()
+    };
+    let outcome = run_scene("lgres", &scene, &options, &mut ()).expect("runs");
+    let wear = outcome.summary.wear.as_ref().expect("a stage ran");
+    let applied = wear.cycles_applied_at_limits[0].expect("ended at the validity limit");
+    assert!(applied > 1e3 && applied < 2e6, "{applied} cycles");
+    let worn = outcome
+        .summary
+        .worn_response
+        .as_ref()
+        .expect("worn response");
+    for j in &worn.joints {
+        let v = j.validity.as_ref().expect("validity measured");
+        // Stopped at the slope limit 0.3 (a bound on the profile; measured at the contacts).
+        assert!(v.max_slope_ratio <= 0.3, "joint {}: {v:?}", j.name);
+    }
+    lgres::artifacts::write_run(&outcome, &dir).expect("writes");
+
+    let mut elastic = lgres::scenes::builtin("lgres-elastic").expect("built-in");
+    elastic.run.cycles = 1;
+    let options = RunOptions {
+        surfaces: Some(dir.clone()),
+        ..RunOptions::default()
+    };
+    let outcome = run_scene("lgres-elastic", &elastic, &options, &mut ()).expect("runs");
+    let dissipated = outcome.summary.response.dissipated_per_cycle_j;
+    eprintln!("elastic LGRES on the default run's surfaces: {dissipated:.4} J per cycle");
+    assert!(dissipated.abs() < 0.05, "{dissipated} J per cycle");
+    std::fs::remove_dir_all(dir).ok();
+}

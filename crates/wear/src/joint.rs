@@ -272,6 +272,23 @@ impl WornJoint {
         Ok(((bs + ps) / (c0 + cbs + cps), (bc + pc) / (c0 + cbc + cpc)))
     }
 
+    /// The worn clearance's shape now and its growth per unit amplification of `wear`, as
+    /// bounds relative to the nominal clearance: `((max|R_i'| + max|R_j'|)/c0,
+    /// (max|R_i''| + max|R_j''|)/c0)` and the same for the increment (see
+    /// [`crate::GeometryLimits`]).
+    pub fn shape_bounds(&self, wear: &StageWear) -> Result<((f64, f64), (f64, f64)), WearError> {
+        self.check(wear)?;
+        let c0 = self.nominal_clearance();
+        let (bs, bc) = self.bearing.shape();
+        let (ps, pc) = self.pin.shape();
+        let (dbs, dbc) = self.bearing.shape_change(wear.bearing());
+        let (dps, dpc) = self.pin.shape_change(wear.pin());
+        Ok((
+            ((bs + ps) / c0, (bc + pc) / c0),
+            ((dbs + dps) / c0, (dbc + dpc) / c0),
+        ))
+    }
+
     /// Ends a stage: adds `amplification ×` the stage's depths to the surfaces and returns
     /// the clearance-change bound of this update (see
     /// [`clearance_change_per_amplification`](Self::clearance_change_per_amplification)).

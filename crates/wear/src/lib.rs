@@ -66,6 +66,6 @@ pub use error::WearError;
 pub use joint::{ContactArc, DEFAULT_CELLS, WearParams, WornJoint};
 pub use profile::{AngularRange, Side, WornProfile};
 pub use staging::{
-    Extrapolation, ExtrapolationWarning, JointSubstep, RunContext, StagePlan, StageReport,
-    StagingError, SubstepReport, run_stage, run_stages,
+    Extrapolation, ExtrapolationWarning, GeometryLimits, JointSubstep, RunContext, StagePlan,
+    StageReport, StagingError, SubstepReport, run_stage, run_stages,
 };

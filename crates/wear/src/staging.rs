@@ -122,6 +122,48 @@ pub struct StagePlan {
     pub amplification: f64,
     /// How the factor is applied.
     pub extrapolation: Extrapolation,
+    /// With adaptive extrapolation: end a stage early, before the worn geometry leaves these
+    /// limits (`None`: no limit). The rest of the stage's amplification is not applied and the
+    /// report says how much was.
+    #[serde(default)]
+    pub geometry_limits: Option<GeometryLimits>,
+}
+
+/// Limits on the shape of the worn clearance `c = R_i − R_j` beyond which a line-of-centres
+/// contact model no longer describes the joint. They bound, from the surfaces alone, the
+/// measures a run checks at its contacts: the slope `|c'|/|e| ≤ (max|R_i'| + max|R_j'|)/c0`
+/// and the conformity `(R_j'' − R_i'')/c ≤ (max|R_i''| + max|R_j''|)/c0`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GeometryLimits {
+    /// Largest `(max|R_i'| + max|R_j'|)/c0` (1/rad).
+    pub slope: f64,
+    /// Largest `(max|R_i''| + max|R_j''|)/c0` (1/rad²).
+    pub curvature: f64,
+}
+
+impl GeometryLimits {
+    /// The slope limit of the clearance joint's validity checks, 0.3. The curvature is not
+    /// limited here: the wear of one or a few chaotic cycles carries cell-scale curvature that
+    /// passes the conformity limit at sub-micrometre depths, long before a pin whose contact
+    /// spans tens of cells could feel it; conformity is measured at the contacts instead.
+    pub const CONTACT_MODEL: Self = Self {
+        slope: 0.3,
+        curvature: f64::INFINITY,
+    };
+
+    /// The largest amplification of `wear` that keeps `joint` within the limits (0 when it is
+    /// already at them; infinite when the wear does not change the shape).
+    fn allowed(&self, joint: &WornJoint, wear: &StageWear) -> Result<f64, WearError> {
+        let ((slope, curvature), (d_slope, d_curvature)) = joint.shape_bounds(wear)?;
+        let room = |limit: f64, now: f64, rate: f64| {
+            if rate > 0.0 {
+                ((limit - now) / rate).max(0.0)
+            } else {
+                f64::INFINITY
+            }
+        };
+        Ok(room(self.slope, slope, d_slope).min(room(self.curvature, curvature, d_curvature)))
+    }
 }
 
 impl StagePlan {
@@ -134,6 +176,7 @@ impl StagePlan {
             stages,
             amplification: Self::PAPER_AMPLIFICATION,
             extrapolation: Extrapolation::adaptive(),
+            geometry_limits: None,
         }
     }
 
@@ -221,6 +264,9 @@ pub struct StageReport {
     pub substeps: Vec<SubstepReport>,
     /// Set when a single jump exceeded its `warn_fraction`.
     pub warning: Option<ExtrapolationWarning>,
+    /// Set when the stage ended early at the plan's geometry limits: the amplification that
+    /// was applied (less than the plan's).
+    pub ended_at_limits: Option<f64>,
 }
 
 /// A staging failure: invalid plan or wear data, or the caller's runner failed.
@@ -269,6 +315,7 @@ where
         stage,
         substeps: Vec::new(),
         warning: None,
+        ended_at_limits: None,
     };
     let mut used = 0.0;
     loop {
@@ -293,6 +340,7 @@ where
             curvature_per_unit = curvature_per_unit.max(curvature);
         }
         let remaining = plan.amplification - used;
+        let mut at_limits = false;
         let amplification = match plan.extrapolation {
             Extrapolation::Adaptive {
                 max_fraction,
@@ -311,7 +359,16 @@ where
                 .filter(|(rate, _)| *rate > 0.0)
                 .map(|(rate, bound)| bound / rate)
                 .fold(f64::INFINITY, f64::min);
-                if allowed * (1.0 + 1e-9) < remaining {
+                let mut limited = f64::INFINITY;
+                if let Some(limits) = plan.geometry_limits {
+                    for (joint, w) in joints.iter().zip(&wear) {
+                        limited = limited.min(limits.allowed(joint, w)?);
+                    }
+                }
+                if limited < allowed.min(remaining) {
+                    at_limits = true;
+                    limited
+                } else if allowed * (1.0 + 1e-9) < remaining {
                     allowed
                 } else {
                     remaining
@@ -319,6 +376,10 @@ where
             }
             Extrapolation::SingleJump { .. } => remaining,
         };
+        if at_limits && amplification <= 0.0 {
+            report.ended_at_limits = Some(used);
+            return Ok(report);
+        }
         let substep = apply_all(joints, &wear, amplification, context)?;
         used += amplification;
         if let Extrapolation::SingleJump { warn_fraction } = plan.extrapolation
@@ -332,6 +393,10 @@ where
             });
         }
         report.substeps.push(substep);
+        if at_limits {
+            report.ended_at_limits = Some(used);
+            return Ok(report);
+        }
         if amplification == remaining {
             return Ok(report);
         }

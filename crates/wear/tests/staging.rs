@@ -7,7 +7,8 @@ use common::*;
 use contact::SurfaceProfile;
 use std::convert::Infallible;
 use wear::{
-    Extrapolation, RunContext, StagePlan, StageWear, StagingError, WearError, WornJoint, run_stages,
+    Extrapolation, GeometryLimits, RunContext, StagePlan, StageWear, StagingError, WearError,
+    WornJoint, run_stages,
 };
 
 /// Wear localized around cell 250 (bearing) and 260 (pin), proportional to the current local
@@ -291,4 +292,40 @@ fn shape_bounds_limit_slope_and_curvature_of_each_substep() {
             s.joints[0].curvature_change
         );
     }
+}
+
+#[test]
+fn geometry_limits_end_a_stage_at_the_limit() {
+    // The bump of `clearance_proportional` grows the slope bound by about 1.6e-4 c0/rad per
+    // unit amplification: the slope limit 0.3 is reached long before the stage's 20 000.
+    let plan = StagePlan {
+        geometry_limits: Some(GeometryLimits {
+            slope: 0.3,
+            curvature: f64::INFINITY,
+        }),
+        ..fraction_only(1)
+    };
+    let mut js = vec![joint(1000)];
+    let reports = run_stages(&mut js, &plan, |_, current: &[WornJoint]| {
+        Ok::<_, Infallible>(vec![clearance_proportional(&current[0], 1e-6)])
+    })
+    .unwrap();
+    let report = &reports[0];
+    let applied = report.ended_at_limits.expect("ended at the limits");
+    let sum: f64 = report.substeps.iter().map(|s| s.amplification).sum();
+    assert_relative_eq!(applied, sum, max_relative = 1e-12);
+    assert!(applied < 20_000.0, "{applied}");
+    // The surfaces end at the slope limit, measured independently on the splines: the sum of
+    // the two surfaces' largest slopes over c0 (cell centres; the maximum between them is
+    // within a fraction of a percent for this smooth bump).
+    let j = &js[0];
+    let c0 = j.nominal_clearance();
+    let largest = |slope: &dyn Fn(f64) -> f64| {
+        (0..1000)
+            .map(|k| slope((k as f64 + 0.5) * std::f64::consts::TAU / 1000.0).abs())
+            .fold(0.0, f64::max)
+    };
+    let bound =
+        (largest(&|a| j.bearing().sample(a).slope) + largest(&|a| j.pin().sample(a).slope)) / c0;
+    assert!((bound - 0.3).abs() < 0.3 * 2e-3, "slope bound {bound}");
 }
