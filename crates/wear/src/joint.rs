@@ -96,6 +96,16 @@ impl ContactArc {
     }
 }
 
+/// Bounds on the shape of a worn clearance relative to the nominal clearance `c0` (see
+/// [`WornJoint::shape_bounds`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeBound {
+    /// `(max|R_i'| + max|R_j'|)/c0`, 1/rad.
+    pub slope: f64,
+    /// `(max|R_i''| + max|R_j''|)/c0`, 1/rad².
+    pub curvature: f64,
+}
+
 /// A clearance joint with worn surfaces: the bearing (hole, on one body) and the pin
 /// (journal, on the other), each a body-fixed [`WornProfile`], plus the wear parameters.
 ///
@@ -272,21 +282,25 @@ impl WornJoint {
         Ok(((bs + ps) / (c0 + cbs + cps), (bc + pc) / (c0 + cbc + cpc)))
     }
 
-    /// The worn clearance's shape now and its growth per unit amplification of `wear`, as
+    /// The worn clearance's shape now and its growth per unit amplification of `wear` (in that
+    /// order), as
     /// bounds relative to the nominal clearance: `((max|R_i'| + max|R_j'|)/c0,
     /// (max|R_i''| + max|R_j''|)/c0)` and the same for the increment (see
     /// [`crate::GeometryLimits`]).
-    pub fn shape_bounds(&self, wear: &StageWear) -> Result<((f64, f64), (f64, f64)), WearError> {
+    pub fn shape_bounds(&self, wear: &StageWear) -> Result<[ShapeBound; 2], WearError> {
         self.check(wear)?;
         let c0 = self.nominal_clearance();
-        let (bs, bc) = self.bearing.shape();
-        let (ps, pc) = self.pin.shape();
-        let (dbs, dbc) = self.bearing.shape_change(wear.bearing());
-        let (dps, dpc) = self.pin.shape_change(wear.pin());
-        Ok((
-            ((bs + ps) / c0, (bc + pc) / c0),
-            ((dbs + dps) / c0, (dbc + dpc) / c0),
-        ))
+        let bound = |(bs, bc): (f64, f64), (ps, pc): (f64, f64)| ShapeBound {
+            slope: (bs + ps) / c0,
+            curvature: (bc + pc) / c0,
+        };
+        Ok([
+            bound(self.bearing.shape(), self.pin.shape()),
+            bound(
+                self.bearing.shape_change(wear.bearing()),
+                self.pin.shape_change(wear.pin()),
+            ),
+        ])
     }
 
     /// Ends a stage: adds `amplification ×` the stage's depths to the surfaces and returns

@@ -63,7 +63,7 @@ mod staging;
 
 pub use accumulate::StageWear;
 pub use error::WearError;
-pub use joint::{ContactArc, DEFAULT_CELLS, WearParams, WornJoint};
+pub use joint::{ContactArc, DEFAULT_CELLS, ShapeBound, WearParams, WornJoint};
 pub use profile::{AngularRange, Side, WornProfile};
 pub use staging::{
     Extrapolation, ExtrapolationWarning, GeometryLimits, JointSubstep, RunContext, StagePlan,

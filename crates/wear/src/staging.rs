@@ -154,7 +154,9 @@ impl GeometryLimits {
     /// The largest amplification of `wear` that keeps `joint` within the limits (0 when it is
     /// already at them; infinite when the wear does not change the shape).
     fn allowed(&self, joint: &WornJoint, wear: &StageWear) -> Result<f64, WearError> {
-        let ((slope, curvature), (d_slope, d_curvature)) = joint.shape_bounds(wear)?;
+        let [now, rate] = joint.shape_bounds(wear)?;
+        let (slope, curvature, d_slope, d_curvature) =
+            (now.slope, now.curvature, rate.slope, rate.curvature);
         let room = |limit: f64, now: f64, rate: f64| {
             if rate > 0.0 {
                 ((limit - now) / rate).max(0.0)
