@@ -5,8 +5,23 @@ use std::time::Instant;
 
 use contact::{
     Ambrosio, BodyState, CircularProfile, ClearanceJoint, FrictionLawKind, JointSurface,
-    LankaraniNikravesh, Material, NormalLawKind,
+    LankaraniNikravesh, Material, NormalLawKind, RadiusSample, SurfaceProfile,
 };
+
+/// A worn-looking (non-round) surface: a 10 µm dent, so the general kernel runs.
+#[derive(Clone, Copy)]
+struct Dented(f64);
+
+impl SurfaceProfile for Dented {
+    fn sample(&self, angle: f64) -> RadiusSample {
+        let (s, c) = (2.0 * angle).sin_cos();
+        RadiusSample {
+            radius: self.0 + 5e-6 * (1.0 + c),
+            slope: -1e-5 * s,
+            curvature: -2e-5 * c,
+        }
+    }
+}
 use criterion::{Criterion, criterion_group, criterion_main};
 
 fn joint_a<N, F>(normal: N, friction: F) -> ClearanceJoint<CircularProfile, CircularProfile, N, F>
@@ -95,6 +110,18 @@ fn bench(c: &mut Criterion) {
             )
         })
     });
+    // The same contact on worn (non-round) surfaces: the energy-consistent general kernel.
+    let worn = static_joint
+        .with_profiles(Dented(0.05), Dented(0.0495 - 1e-5))
+        .expect("valid profiles");
+    c.bench_function("force (worn surfaces)", |b| {
+        b.iter(|| worn.forces(black_box(&bearing), black_box(&pin), black_box(Some(0.1))))
+    });
+    c.bench_function("force + jacobian (worn surfaces)", |b| {
+        b.iter(|| {
+            worn.forces_and_jacobian(black_box(&bearing), black_box(&pin), black_box(Some(0.1)))
+        })
+    });
     c.bench_function("penetration", |b| {
         b.iter(|| static_joint.penetration(black_box(&bearing), black_box(&pin)))
     });
@@ -111,8 +138,18 @@ fn bench(c: &mut Criterion) {
             Some(0.1),
         ));
     });
+    let worn_force = median_ns_per_call(|| {
+        black_box(worn.forces(black_box(&bearing), black_box(&pin), Some(0.1)));
+    });
+    let worn_jacobian = median_ns_per_call(|| {
+        black_box(worn.forces_and_jacobian(black_box(&bearing), black_box(&pin), Some(0.1)));
+    });
     println!(
         "median force: {force:.1} ns/eval; median force + jacobian: {with_jacobian:.1} ns/eval"
+    );
+    println!(
+        "worn surfaces: median force {worn_force:.1} ns/eval; force + jacobian \
+         {worn_jacobian:.1} ns/eval"
     );
 }
 

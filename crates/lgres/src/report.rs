@@ -683,6 +683,18 @@ fn validity_lines(md: &mut String, scenes: &[&str], results: &StudyResults) {
         let Some(run) = results.run(scene) else {
             continue;
         };
+        if let Some(w) = &run.outcome.summary.wear {
+            for (k, applied) in w.cycles_applied_at_limits.iter().enumerate() {
+                if let Some(cycles) = applied {
+                    lines.push(format!(
+                        "- `{scene}` stage {}: ended at the slope limit after {cycles:.3e} of \
+                         its {:.3e} cycles",
+                        k + 1,
+                        w.cycles_represented_per_stage
+                    ));
+                }
+            }
+        }
         let Some(worn) = &run.outcome.summary.worn_response else {
             continue;
         };
@@ -885,9 +897,12 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
          add a few seconds).\n\
          - Response: {} drive cycles per scene, on unworn surfaces (pins concentric at t = 0) and \
          again on the worn surfaces after the stages.\n\
-         - Wear: **K = {} simulated cycles per stage** (the paper's K = 100 is too slow today); \
-         the amplification is rescaled so a stage still stands for {:.3e} cycles. Wear is \
-         gathered after the start-up window.\n\
+         - Wear, physical formulation (material sliding): **K = {} simulated cycles per \
+         stage**, the amplification rescaled so a stage stands for {:.3e} cycles, applied in \
+         adaptive sub-steps; a stage ends early where the worn geometry reaches the contact \
+         model's slope limit (docs/model.md §9.3; the cycles it applied are listed with the \
+         validity). Paper's formulation (`*-paper` studies, wear on δφ̇): the paper's own \
+         staging, K = 100 and one jump ×20 000. Wear is gathered after the start-up window.\n\
          - Judging (MODEL §8, the dynamics are chaotic): per-cycle medians of peak force after \
          the start-up window (noise: mean IQR), rod-3 maximum deviation after the window, \
          energy dissipated per cycle, worn volume and worn arc (depth ≥ {ARC_FRACTION}·peak). A \
