@@ -249,7 +249,8 @@ impl fmt::Display for ExtrapolationWarning {
             f,
             "stage {}: single wear jump ×{} changed a local clearance by up to {:.1} % \
              (limit {:.1} %); the linear extrapolation is not credible, use adaptive sub-steps",
-            self.stage,
+            // Counted from 1 for people, like the stage numbers of the outputs.
+            self.stage + 1,
             self.amplification,
             100.0 * self.change_fraction,
             100.0 * self.limit
