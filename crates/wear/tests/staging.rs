@@ -173,7 +173,8 @@ fn single_jump_warns_only_when_too_large() {
     let warning = r[0].warning.expect("a ×20,000 jump of 2 c0 must warn");
     assert!(warning.change_fraction > 1.0);
     assert_eq!(warning.limit, 0.1);
-    assert!(warning.to_string().contains("stage 0"));
+    // Stages count from 1 in the text, as in the outputs.
+    assert!(warning.to_string().contains("stage 1:"), "{warning}");
     let mut small = vec![joint(1000)];
     let r = run_stages(&mut small, &plan, |_, js: &[WornJoint]| {
         Ok::<_, Infallible>(vec![clearance_proportional(&js[0], 1e-7)])
