@@ -88,6 +88,15 @@ pub enum RunError {
     /// Wear staging failed (e.g. a pin worn through, too many sub-steps).
     #[error("wear staging: {0}")]
     Wear(#[from] wear::WearError),
+    /// A wear stage's run ended without the wear record of a worn joint (an internal error:
+    /// the element was built without one, or it was taken twice).
+    #[error("{what}: clearance joint {joint} has no wear record after its run (internal error)")]
+    LostWearBuffer {
+        /// Which run.
+        what: String,
+        /// The joint.
+        joint: String,
+    },
     /// The worn surfaces to start from could not be loaded (file and joint named).
     #[error(transparent)]
     Surfaces(#[from] crate::surfaces::SurfacesError),
@@ -1226,12 +1235,9 @@ fn stages(
         let mut difference: Option<f64> = None;
         for h in built.joints.iter().filter(|h| h.worn) {
             let element = built.system.element_mut::<WornClearanceForce>(h.element);
-            let lost = || RunError::Simulation {
+            let lost = || RunError::LostWearBuffer {
                 what: what.clone(),
-                source: SimulationError::InvalidOptions(format!(
-                    "joint {} lost its wear buffer",
-                    h.name
-                )),
+                joint: h.name.clone(),
             };
             let element = element.ok_or_else(lost)?;
             let first = element.take_first_half();

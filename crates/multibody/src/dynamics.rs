@@ -4,8 +4,9 @@
 //! Jacobian strategy: diffsol's closure interface asks for Jacobian–vector products and
 //! assembles the dense Jacobian from `2n` of them at one `(t, y)`. The jac-vec closure
 //! therefore keeps the dense exact Jacobian of the last `(t, y)` it saw (interior mutability)
-//! and answers each product from it: one LU of `[M Φ_qᵀ; Φ_q 0]` and `2n` triangular solves per
-//! Jacobian instead of `2n` right-hand sides, each with its own LU. Figures in the crate docs.
+//! and answers each product from it: one Cholesky factorization of the Schur complement
+//! `Φ_q M⁻¹ Φ_qᵀ` and `2n` triangular solves per Jacobian instead of `2n` right-hand sides, each
+//! with its own factorization. Figures in docs/performance.md.
 
 use std::cell::RefCell;
 use std::time::{Duration, Instant};
