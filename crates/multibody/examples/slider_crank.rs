@@ -26,6 +26,7 @@ impl ForceElement for Motor {
     fn add_forces(&self, _t: f64, _q: &[f64], _qd: &[f64], forces: &mut [f64]) {
         forces[3 * self.body.0 + 2] += self.torque;
     }
+    fn add_partials(&self, _t: f64, _q: &[f64], _qd: &[f64], _partials: &mut ForcePartials<'_>) {}
 }
 
 /// A viscous load `F_x = −c ẋ` on the slider: ∂F/∂ẋ = −c.

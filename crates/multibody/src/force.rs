@@ -26,10 +26,11 @@ pub trait ForceElement: Any {
     /// M)` with the moment about the centroid).
     fn add_forces(&self, t: f64, q: &[f64], qd: &[f64], forces: &mut [f64]);
 
-    /// Adds `∂G_e/∂q` and `∂G_e/∂q̇`. The default adds nothing, which is exact only for forces
-    /// that depend on time alone (like gravity); anything else must implement it, or the
-    /// implicit integrators lose their Newton convergence.
-    fn add_partials(&self, _t: f64, _q: &[f64], _qd: &[f64], _partials: &mut ForcePartials<'_>) {}
+    /// Adds `∂G_e/∂q` and `∂G_e/∂q̇`. Required, so that an element cannot forget it and
+    /// silently make the "exact" Jacobian wrong: an element whose forces depend on time alone
+    /// (like gravity) implements it as an empty body and says so. [`crate::System::check_partials`]
+    /// compares it with finite differences of [`ForceElement::add_forces`].
+    fn add_partials(&self, t: f64, q: &[f64], qd: &[f64], partials: &mut ForcePartials<'_>);
 
     /// Potential energy, for conservative elements. When `Some`, the energy audit books this
     /// element's work as `−ΔV` (exact); otherwise it integrates the power `G_e·q̇` over each
@@ -143,6 +144,9 @@ impl ForceElement for Gravity {
             body[1] += mass * self.acceleration[1];
         }
     }
+
+    /// Constant forces: no partials.
+    fn add_partials(&self, _t: f64, _q: &[f64], _qd: &[f64], _partials: &mut ForcePartials<'_>) {}
 
     fn potential_energy(&self, _t: f64, q: &[f64]) -> Option<f64> {
         Some(

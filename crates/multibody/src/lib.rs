@@ -154,5 +154,5 @@ pub use model::{
     Anchor, Body, BodyId, Coordinate, DriveTarget, Driver, DriverId, Joint, JointId, Model,
     RotationLock,
 };
-pub use system::{Baumgarte, Evaluator, State, System};
+pub use system::{Baumgarte, Evaluator, PartialEntry, PartialsCheck, State, System};
 pub use trajectory::Trajectory;

@@ -122,3 +122,55 @@ fn exact_jacobian_matches_with_a_moving_driver_and_prismatic_joint() {
     let error = (&exact - &reference).amax() / exact.amax();
     assert!(error < 1e-5, "relative error {error:e}");
 }
+
+/// A spring-damper that forgets its partials: the kind of element `check_partials` exists for.
+struct ForgetfulSpring(SpringDamper);
+
+impl multibody::ForceElement for ForgetfulSpring {
+    fn name(&self) -> &str {
+        "forgetful spring"
+    }
+    fn add_forces(&self, t: f64, q: &[f64], qd: &[f64], forces: &mut [f64]) {
+        self.0.add_forces(t, q, qd, forces);
+    }
+    fn add_partials(
+        &self,
+        _t: f64,
+        _q: &[f64],
+        _qd: &[f64],
+        _partials: &mut multibody::ForcePartials<'_>,
+    ) {
+    }
+}
+
+#[test]
+fn check_partials_passes_exact_elements_and_catches_a_forgotten_one() {
+    let (model, _) = FourBar::STANDARD.model(0.7);
+    let spring = || SpringDamper {
+        body: BodyId(1),
+        point: [0.1, 0.05],
+        anchor: [0.3, 0.6],
+        stiffness: 150.0,
+        damping: 7.0,
+    };
+    let mut system = with_gravity(model);
+    system.add_element(Box::new(spring()));
+    system.add_element(Box::new(ForgetfulSpring(spring())));
+    let (q, mut qd) = system.initial_guess();
+    for (i, v) in qd.iter_mut().enumerate() {
+        *v += 0.5 * (i as f64).cos();
+    }
+    let report = system
+        .check_partials(0.0, &q, &qd, 1e-6, 1e-6)
+        .expect("checks");
+    let names: Vec<&str> = report.iter().map(|c| c.element.as_str()).collect();
+    assert_eq!(names, ["gravity", "spring-damper", "forgetful spring"]);
+    // Gravity: constant, so exactly zero both ways. The spring: truncation and round-off of
+    // central differences at 1e-6 steps, ~1e-8 of its stiffness.
+    assert_eq!(report[0].max_relative_error, 0.0);
+    assert!(report[1].max_relative_error < 1e-6, "{:?}", report[1]);
+    // The forgetful one is off by its whole stiffness (relative error ~ 1 against a scale of 1).
+    let worst = report[2].worst.expect("a disagreement");
+    assert!(report[2].max_relative_error > 100.0, "{:?}", report[2]);
+    assert_eq!(worst.exact, 0.0);
+}

@@ -146,6 +146,14 @@ impl ForceElement for BottomPassage {
         "bottom passage"
     }
     fn add_forces(&self, _t: f64, _q: &[f64], _qd: &[f64], _forces: &mut [f64]) {}
+    fn add_partials(
+        &self,
+        _t: f64,
+        _q: &[f64],
+        _qd: &[f64],
+        _partials: &mut multibody::ForcePartials<'_>,
+    ) {
+    }
     fn on_accepted_step(&mut self, _t0: f64, _t: f64, _q: &[f64], _qd: &[f64]) {
         self.steps += 1;
     }

@@ -174,3 +174,73 @@ fn default_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_energy() 
     assert!(dissipated.abs() < 0.05, "{dissipated} J per cycle");
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// The exact Jacobian of the worn clearance joints, inside the whole LGRES: at a state where a
+/// joint is loaded and sliding (away from the friction ramp's corners), `System::check_partials`
+/// finds its partials equal to central differences of its forces.
+#[test]
+fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
+    use lgres::build::{Surfaces, build, unworn_joints};
+    use multibody::OutputTimes;
+    let dir = worn_folder("partials");
+    let scene = lgres::scenes::builtin("lgres").expect("built-in");
+    let unworn = unworn_joints(&scene).expect("joints");
+    let worn = lgres::surfaces::load_last_stage(&dir, &scene, &unworn).expect("loads");
+    let mut built = build(
+        &scene,
+        Surfaces {
+            worn: &worn,
+            ..Surfaces::default()
+        },
+    )
+    .expect("builds");
+    let (q0, qd0) = built.system.initial_guess();
+    let start = built.system.assemble(0.0, &q0, &qd0).expect("assembles");
+    let options = lgres::run::simulation_options(&scene, 0.4, OutputTimes::Every(1e-3), true);
+    let result = built
+        .system
+        .simulate(&start, &options, &mut ())
+        .expect("runs");
+    let trajectory = &result.trajectory;
+    for handle in &built.joints {
+        let loaded = (0..trajectory.len()).find(|&f| {
+            handle.probe(built.system.elements()).is_some_and(|p| {
+                let d = p.contact(trajectory.q(f), trajectory.qd(f)).diagnostics;
+                d.normal_force > 1e3 && d.tangential_velocity.abs() > 2e-3
+            })
+        });
+        let f = loaded.expect("a frame with the joint loaded and sliding");
+        // Simulate again up to that frame, so the element's impact memory (the onset velocity
+        // of the current contact, a constant of the force law) belongs to that state.
+        let mut fresh = build(
+            &scene,
+            Surfaces {
+                worn: &worn,
+                ..Surfaces::default()
+            },
+        )
+        .expect("builds");
+        let t = trajectory.times[f];
+        let options = lgres::run::simulation_options(&scene, t, OutputTimes::At(vec![t]), true);
+        let run = fresh
+            .system
+            .simulate(&start, &options, &mut ())
+            .expect("runs");
+        let last = run.trajectory.len() - 1;
+        let (q, qd) = (run.trajectory.q(last), run.trajectory.qd(last));
+        let report = fresh
+            .system
+            .check_partials(t, q, qd, 1e-9, 1e-7)
+            .expect("checks");
+        let check = report
+            .iter()
+            .find(|c| c.element == handle.name)
+            .expect("the joint's element");
+        eprintln!(
+            "joint {} at t = {}: {:.2e} {:?}",
+            handle.name, trajectory.times[f], check.max_relative_error, check.worst
+        );
+        assert!(check.max_relative_error < 1e-4, "{check:?}");
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
