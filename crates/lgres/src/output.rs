@@ -523,3 +523,12 @@ fn process_alive(pid: u32) -> bool {
     let proc = Path::new("/proc");
     !proc.is_dir() || proc.join(pid.to_string()).exists()
 }
+
+/// `x` in scientific notation with `digits` decimals, or `-` when it is not finite (tables).
+pub(crate) fn sci(x: f64, digits: usize) -> String {
+    if x.is_finite() {
+        format!("{x:.digits$e}")
+    } else {
+        "-".into()
+    }
+}

@@ -39,7 +39,7 @@ use serde::Serialize;
 
 use crate::build::{Built, Surfaces, build, unworn_joints};
 use crate::clearance::WornClearanceForce;
-use crate::output::{OutputError, write_atomic};
+use crate::output::{OutputError, sci, write_atomic};
 use crate::plot::{self, Panel, Series};
 use crate::run::simulation_options;
 use crate::scene::{Integrator, Scene, SceneError};
@@ -868,14 +868,6 @@ fn log_log_slope(points: &[(f64, f64)]) -> Option<f64> {
     let sxx: f64 = logs.iter().map(|p| (p.0 - mean_x).powi(2)).sum();
     let sxy: f64 = logs.iter().map(|p| (p.0 - mean_x) * (p.1 - mean_y)).sum();
     (sxx > 0.0).then(|| sxy / sxx)
-}
-
-fn sci(x: f64, digits: usize) -> String {
-    if x.is_finite() {
-        format!("{x:.digits$e}")
-    } else {
-        "-".into()
-    }
 }
 
 impl PrecisionReport {

@@ -32,7 +32,7 @@ use serde::Serialize;
 use wear::{Side, WornJoint, WornProfile};
 
 use crate::build::{Surfaces, build, unworn_joints};
-use crate::output::{OutputError, write_atomic};
+use crate::output::{OutputError, sci, write_atomic};
 use crate::run::simulation_options;
 use crate::scene::{FrictionLaw, NormalLaw, Scene, TimeLaw};
 use crate::scenes;
@@ -644,14 +644,6 @@ pub fn run_cases(
         .collect()
 }
 
-fn num(x: f64, precision: usize) -> String {
-    if x.is_finite() {
-        format!("{x:.precision$e}")
-    } else {
-        "-".into()
-    }
-}
-
 fn peaks(r: &CaseResult, sep: &str) -> String {
     if r.peak_normal_force_n.is_empty() {
         return "-".into();
@@ -739,10 +731,10 @@ pub fn markdown(results: &[CaseResult]) -> String {
             r.duration_s,
             count(r.steps),
             count(r.rejected_steps),
-            num(r.smallest_step_s, 1),
-            num(r.drift_position, 1),
-            num(r.energy_residual_j, 2),
-            num(r.energy_relative_residual, 1),
+            sci(r.smallest_step_s, 1),
+            sci(r.drift_position, 1),
+            sci(r.energy_residual_j, 2),
+            sci(r.energy_relative_residual, 1),
             peaks(r, ", "),
             r.wall_time_s
         );
