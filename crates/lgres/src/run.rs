@@ -654,7 +654,10 @@ fn run_plan(scene: &Scene) -> Result<(Vec<f64>, usize), RunError> {
     let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
     let body = scene.response_body().ok_or(RunError::NoResponseBody)?;
     let t_end = period * f64::from(scene.run.cycles.max(1));
-    Ok((output_times(t_end, scene.solver.output_interval), body))
+    Ok((
+        OutputTimes::uniform(0.0, t_end, scene.solver.output_interval),
+        body,
+    ))
 }
 
 /// The all-ideal mechanism's motion of `body` at `times` (kinematic analysis).
@@ -667,11 +670,6 @@ fn ideal_motion(scene: &Scene, times: &[f64], body: usize) -> Result<Motion, Run
         ideal.push(body, kin.q(f), kin.qd(f), kin.qdd(f));
     }
     Ok(ideal)
-}
-
-fn output_times(t_end: f64, dt: f64) -> Vec<f64> {
-    let count = (t_end / dt * (1.0 + 1e-12)).floor() as usize;
-    (0..=count).map(|i| (i as f64 * dt).min(t_end)).collect()
 }
 
 /// Simulation options from the scene's solver settings (integrator, rtol, the clearance-scaled

@@ -96,6 +96,17 @@ pub enum OutputTimes {
     At(Vec<f64>),
 }
 
+impl OutputTimes {
+    /// The times of [`OutputTimes::Every`]: `t0, t0 + dt, …` up to `t_end` (included when it
+    /// falls on the grid up to round-off). Callers check `dt > 0` and the span first.
+    pub fn uniform(t0: f64, t_end: f64, dt: f64) -> Vec<f64> {
+        let count = ((t_end - t0) / dt * (1.0 + 1e-12)).floor() as usize;
+        (0..=count)
+            .map(|i| (t0 + i as f64 * dt).min(t_end))
+            .collect()
+    }
+}
+
 /// Options of a dynamic simulation.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimulationOptions {
@@ -185,10 +196,7 @@ impl SimulationOptions {
                 if !(dt.is_finite() && *dt > 0.0) {
                     return invalid(format!("output interval must be positive, got {dt}"));
                 }
-                let count = ((self.t_end - t0) / dt * (1.0 + 1e-12)).floor() as usize;
-                Ok((0..=count)
-                    .map(|i| (t0 + i as f64 * dt).min(self.t_end))
-                    .collect())
+                Ok(OutputTimes::uniform(t0, self.t_end, *dt))
             }
             OutputTimes::At(times) => {
                 let sorted = times.windows(2).all(|w| w[0] <= w[1]);
