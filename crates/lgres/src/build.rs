@@ -16,7 +16,7 @@ use multibody::{
 };
 use wear::{WearError, WearParams, WornJoint};
 
-use crate::clearance::{ClearanceForce, RoundClearanceForce, WornClearanceForce};
+use crate::clearance::{ClearanceForce, ClearanceProbe, RoundClearanceForce, WornClearanceForce};
 use crate::scene::{
     self, BodyRef, ClearanceJoint, Coordinate, DriverTarget, FrictionLaw, NormalLaw, Scene, TimeLaw,
 };
@@ -79,47 +79,6 @@ pub struct JointHandle {
     pub worn: bool,
     /// Nominal radial clearance `c0`, m.
     pub clearance: f64,
-}
-
-/// A read-only view of a clearance element, whatever its surfaces.
-pub trait ClearanceProbe {
-    /// Contact state at `(q, q̇)` (see [`ClearanceForce::evaluate`]).
-    fn contact(&self, q: &[f64], qd: &[f64]) -> contact::ContactForces;
-    /// Energy dissipated by friction over accepted steps, J.
-    fn friction_dissipation(&self) -> f64;
-    /// Energy dissipated by the normal force's damping over accepted steps, J.
-    fn damping_dissipation(&self) -> f64;
-    /// Largest normal force at an accepted step end, N.
-    fn peak_normal_force(&self) -> f64;
-    /// Contact state at the end of the last accepted step.
-    fn last_diagnostics(&self) -> Option<&contact::ContactDiagnostics>;
-    /// True overlap of the two outlines at `q` (see `contact::ClearanceJoint::outline_overlap`).
-    fn outline_overlap(&self, q: &[f64], samples: usize) -> contact::OutlineOverlap;
-}
-
-impl<B, P> ClearanceProbe for ClearanceForce<B, P>
-where
-    B: contact::SurfaceProfile,
-    P: contact::SurfaceProfile,
-{
-    fn contact(&self, q: &[f64], qd: &[f64]) -> contact::ContactForces {
-        self.evaluate(q, qd)
-    }
-    fn friction_dissipation(&self) -> f64 {
-        ClearanceForce::friction_dissipation(self)
-    }
-    fn damping_dissipation(&self) -> f64 {
-        ClearanceForce::damping_dissipation(self)
-    }
-    fn peak_normal_force(&self) -> f64 {
-        ClearanceForce::peak_normal_force(self)
-    }
-    fn last_diagnostics(&self) -> Option<&contact::ContactDiagnostics> {
-        ClearanceForce::last_diagnostics(self)
-    }
-    fn outline_overlap(&self, q: &[f64], samples: usize) -> contact::OutlineOverlap {
-        ClearanceForce::outline_overlap(self, q, samples)
-    }
 }
 
 impl JointHandle {
