@@ -25,8 +25,10 @@
 //!   they implement the traits by dispatch. Concrete law types give static dispatch.
 //!
 //! Worn surfaces: the local radii in the contact direction replace the nominal ones in the
-//! penetration and in the conformal Hertz stiffness, and their slopes enter the Jacobian through
-//! the contact direction; see [`joint`] for this treatment and its limits.
+//! penetration and in the conformal Hertz stiffness, and the force is the gradient of the stored
+//! energy `K(q) δ(q)ⁿ⁺¹/(n+1)`, so an elastic worn joint conserves energy; see [`joint`] for
+//! this treatment, its limits ([`ClearanceJoint::outline_overlap`]) and the choice of sliding
+//! velocity ([`SlidingVelocity`]).
 //!
 //! # Example
 //! ```

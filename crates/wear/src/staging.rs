@@ -5,8 +5,10 @@
 //! [`StageWear`]. The paper amplifies once per stage (K = 100, ×20,000). With the printed
 //! `K_d` that jump can grow a clearance several-fold (docs/model.md §8), so the default is
 //! [`Extrapolation::Adaptive`]: the amplification is spent in sub-steps that each change any
-//! local clearance by at most a set fraction, re-running the K cycles on the updated surfaces
-//! in between. Sub-step amplifications sum to the stage's factor.
+//! local clearance, and the clearance's slope and curvature, by at most a set fraction,
+//! re-running the K cycles on the updated surfaces in between. Sub-step amplifications sum to
+//! the stage's factor, unless the plan's [`GeometryLimits`] end the stage early where the worn
+//! shape would leave what a line-of-centres contact describes ([`StageReport::ended_at_limits`]).
 
 use std::fmt;
 
