@@ -32,6 +32,7 @@ pub struct ContactDiagnostics {
     pub tangential_velocity: f64,
     /// The paper's sliding velocity `δ φ̇` (m/s): the derivative of the geometric contact
     /// point, which leaves out the spin of the pin in the bearing (see [`crate::SlidingVelocity`]).
+    /// 0 when the joint is free (nothing slides).
     pub geometric_sliding_velocity: f64,
     /// Normal force magnitude `F_n ≥ 0` (N): the load between the surfaces.
     pub normal_force: f64,

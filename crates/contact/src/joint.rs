@@ -715,6 +715,7 @@ impl JointKinematics {
 struct Loads {
     normal_velocity: f64,
     tangential_velocity: f64,
+    geometric_sliding_velocity: f64,
     normal_force: f64,
     friction_force: f64,
     elastic_energy: f64,
@@ -740,7 +741,7 @@ fn diagnostics(
         pin_radius: kin.pin.radius,
         normal_velocity: loads.normal_velocity,
         tangential_velocity: loads.tangential_velocity,
-        geometric_sliding_velocity: kin.penetration * kin.contact_angle_rate(),
+        geometric_sliding_velocity: loads.geometric_sliding_velocity,
         normal_force: loads.normal_force,
         friction_force: loads.friction_force,
         contact_point: [kin.bearing_point.x, kin.bearing_point.y],
@@ -785,6 +786,7 @@ fn assemble(
     let loads = Loads {
         normal_velocity: kin.normal_velocity,
         tangential_velocity: kin.tangential_velocity,
+        geometric_sliding_velocity: kin.penetration * kin.contact_angle_rate(),
         normal_force: normal.force,
         friction_force,
         elastic_energy: normal.potential,

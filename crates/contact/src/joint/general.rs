@@ -134,6 +134,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let loads = Loads {
             normal_velocity: delta_rate,
             tangential_velocity: material_sliding,
+            geometric_sliding_velocity: kin.penetration * phi_rate,
             normal_force: load,
             friction_force: friction.force,
             elastic_energy: normal.potential,
