@@ -310,8 +310,6 @@ pub struct ClearanceJoint<B, P, N = NormalLawKind, F = FrictionLawKind> {
     friction_law: F,
     /// Which sliding velocity the friction law sees.
     friction_sliding: SlidingVelocity,
-    /// Both surfaces round and material sliding: the round-surface kernel applies.
-    round: bool,
 }
 
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
@@ -336,7 +334,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         }
         validate_profiles(&bearing.profile, &pin.profile)?;
         let compliance = bearing.material.compliance() + pin.material.compliance();
-        let round = bearing.profile.is_round() && pin.profile.is_round();
         Ok(Self {
             bearing_centre: Vector2::from(bearing.centre),
             pin_centre: Vector2::from(pin.centre),
@@ -348,22 +345,27 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             normal_law,
             friction_law,
             friction_sliding: SlidingVelocity::Material,
-            round,
         })
     }
 
     /// The same joint with friction driven by `sliding` (default [`SlidingVelocity::Material`]).
     pub fn with_friction_sliding(mut self, sliding: SlidingVelocity) -> Self {
         self.friction_sliding = sliding;
-        self.round = self.bearing_profile.is_round()
-            && self.pin_profile.is_round()
-            && sliding == SlidingVelocity::Material;
         self
     }
 
     /// Which sliding velocity the friction law sees.
     pub fn friction_sliding(&self) -> SlidingVelocity {
         self.friction_sliding
+    }
+
+    /// Both surfaces round and friction on the material sliding: the cheaper round-surface
+    /// kernel gives the same forces as the general one.
+    #[inline]
+    fn uses_round_kernel(&self) -> bool {
+        self.friction_sliding == SlidingVelocity::Material
+            && self.bearing_profile.is_round()
+            && self.pin_profile.is_round()
     }
 
     /// The same joint with new surface profiles (e.g. after a wear stage), validated again.
@@ -373,9 +375,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_profile: P2,
     ) -> Result<ClearanceJoint<B2, P2, N, F>, ContactError> {
         validate_profiles(&bearing_profile, &pin_profile)?;
-        let round = bearing_profile.is_round()
-            && pin_profile.is_round()
-            && self.friction_sliding == SlidingVelocity::Material;
         Ok(ClearanceJoint {
             bearing_centre: self.bearing_centre,
             pin_centre: self.pin_centre,
@@ -387,7 +386,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             normal_law: self.normal_law,
             friction_law: self.friction_law,
             friction_sliding: self.friction_sliding,
-            round,
         })
     }
 
@@ -450,7 +448,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         if kin.penetration < 0.0 {
             return free_forces(&kin, bearing_body, pin_body);
         }
-        if !self.round {
+        if !self.uses_round_kernel() {
             return self
                 .general_values(&geometry, &kin, bearing_body, pin_body, onset_velocity)
                 .forces;
@@ -486,7 +484,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 ContactJacobian::zeros(),
             );
         }
-        if !self.round {
+        if !self.uses_round_kernel() {
             return self.general_forces_and_jacobian(
                 &geometry,
                 &kin,

@@ -756,7 +756,9 @@ pub fn trends(results: &StudyResults) -> Vec<(TrendVerdict, Vec<Comparison>, [St
         let StudyKind::Paper(study) = kind else {
             continue;
         };
-        let (claim, comparisons, labels) = match crate::scenes::physical_counterpart(study.name) {
+        let (claim, comparisons, labels) = match crate::scenes::physical_counterpart(study.name)
+            .as_str()
+        {
             "wear-stages" => {
                 let Some(run) = study.scenes.get(1).and_then(|s| results.run(s)) else {
                     continue;

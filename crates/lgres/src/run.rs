@@ -1276,20 +1276,20 @@ fn stages(
             let text = format!("warning: {w}");
             warnings.push(text);
         }
-        ended_at_limits.push(report.ended_at_limits.map(|applied| {
-            let cycles = applied * f64::from(k);
+        let applied = report
+            .ended_at_limits
+            .map(|amplification| amplification * f64::from(k));
+        if let (Some(cycles), Some(limits)) = (applied, plan.geometry_limits) {
             warnings.push(format!(
                 "note: stage {} ended after {cycles:.3e} of its {:.3e} cycles ({:.2} %): the worn \
-                 geometry reached the contact model's validity limits (slope {}, conformity {}; \
-                 run.stop_at_validity_limits)",
+                 geometry reached the contact model's slope limit {} (run.stop_at_validity_limits)",
                 stage + 1,
                 plan.amplification * f64::from(k),
-                100.0 * applied / plan.amplification,
-                GeometryLimits::CONTACT_MODEL.slope,
-                GeometryLimits::CONTACT_MODEL.curvature
+                100.0 * cycles / (plan.amplification * f64::from(k)),
+                limits.slope
             ));
-            cycles
-        }));
+        }
+        ended_at_limits.push(applied);
         for (h, j) in history.iter_mut().zip(&joints) {
             h.stages.push(j.clone());
         }

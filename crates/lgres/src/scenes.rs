@@ -143,19 +143,15 @@ pub const STUDIES: &[Study] = &[
 ];
 
 /// The physical-formulation study a paper-formulation study mirrors (`clearance-paper` →
-/// `clearance`), and the scene of that study a paper-formulation scene mirrors
-/// (`lgres-paper-c02` → `lgres-c02`): the paper's numbers are filed under those.
-pub fn physical_counterpart(name: &str) -> &str {
+/// `clearance`), and the scene a paper-formulation scene mirrors (`lgres-paper-c02` →
+/// `lgres-c02`): the paper's numbers are filed under those. Other names map to themselves.
+pub fn physical_counterpart(name: &str) -> String {
     if let Some(study) = name.strip_suffix("-paper") {
-        return study;
+        return study.to_string();
     }
-    match name {
-        "lgres-paper" => "lgres",
-        "lgres-paper-2stages" => "lgres-2stages",
-        "lgres-paper-c02" => "lgres-c02",
-        "lgres-paper-45rpm" => "lgres-45rpm",
-        "lgres-paper-105rpm" => "lgres-105rpm",
-        other => other,
+    match name.strip_prefix("lgres-paper") {
+        Some(variant) => format!("lgres{variant}"),
+        None => name.to_string(),
     }
 }
 

@@ -186,14 +186,17 @@ fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
     let scene = lgres::scenes::builtin("lgres").expect("built-in");
     let unworn = unworn_joints(&scene).expect("joints");
     let worn = lgres::surfaces::load_last_stage(&dir, &scene, &unworn).expect("loads");
-    let mut built = build(
-        &scene,
-        Surfaces {
-            worn: &worn,
-            ..Surfaces::default()
-        },
-    )
-    .expect("builds");
+    let build_worn = || {
+        build(
+            &scene,
+            Surfaces {
+                worn: &worn,
+                ..Surfaces::default()
+            },
+        )
+        .expect("builds")
+    };
+    let mut built = build_worn();
     let (q0, qd0) = built.system.initial_guess();
     let start = built.system.assemble(0.0, &q0, &qd0).expect("assembles");
     let options = lgres::run::simulation_options(&scene, 0.4, OutputTimes::Every(1e-3), true);
@@ -212,14 +215,7 @@ fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
         let f = loaded.expect("a frame with the joint loaded and sliding");
         // Simulate again up to that frame, so the element's impact memory (the onset velocity
         // of the current contact, a constant of the force law) belongs to that state.
-        let mut fresh = build(
-            &scene,
-            Surfaces {
-                worn: &worn,
-                ..Surfaces::default()
-            },
-        )
-        .expect("builds");
+        let mut fresh = build_worn();
         let t = trajectory.times[f];
         let options = lgres::run::simulation_options(&scene, t, OutputTimes::At(vec![t]), true);
         let run = fresh

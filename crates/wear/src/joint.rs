@@ -273,13 +273,12 @@ impl WornJoint {
         &self,
         wear: &StageWear,
     ) -> Result<(f64, f64), WearError> {
-        self.check(wear)?;
-        let c0 = self.nominal_clearance();
-        let (bs, bc) = self.bearing.shape_change(wear.bearing());
-        let (ps, pc) = self.pin.shape_change(wear.pin());
-        let (cbs, cbc) = self.bearing.shape();
-        let (cps, cpc) = self.pin.shape();
-        Ok(((bs + ps) / (c0 + cbs + cps), (bc + pc) / (c0 + cbc + cpc)))
+        // With both bounds relative to c0: |Δc'|/(c0 + |c'|) = rate/(1 + now).
+        let [now, rate] = self.shape_bounds(wear)?;
+        Ok((
+            rate.slope / (1.0 + now.slope),
+            rate.curvature / (1.0 + now.curvature),
+        ))
     }
 
     /// The worn clearance's shape now and its growth per unit amplification of `wear` (in that
