@@ -223,3 +223,21 @@ impl<L: FrictionLaw + ?Sized> FrictionLaw for &L {
         (**self).evaluate(tangential_velocity, normal_force)
     }
 }
+
+impl From<Ambrosio> for FrictionLawKind {
+    fn from(law: Ambrosio) -> Self {
+        Self::Ambrosio(law)
+    }
+}
+
+impl From<Coulomb> for FrictionLawKind {
+    fn from(law: Coulomb) -> Self {
+        Self::Coulomb(law)
+    }
+}
+
+impl From<Frictionless> for FrictionLawKind {
+    fn from(_: Frictionless) -> Self {
+        Self::None
+    }
+}

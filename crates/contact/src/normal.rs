@@ -394,3 +394,16 @@ fn crossing_velocity(previous: &ContactDiagnostics, current: &ContactDiagnostics
     let fraction = (-previous.penetration / span).clamp(0.0, 1.0);
     previous.normal_velocity + fraction * (current.normal_velocity - previous.normal_velocity)
 }
+
+/// Each law converts into [`NormalLawKind`], so APIs that store the run-time choice accept
+/// `impl Into<NormalLawKind>`.
+macro_rules! into_normal_kind {
+    ($($law:ident),*) => {$(
+        impl From<$law> for NormalLawKind {
+            fn from(law: $law) -> Self {
+                Self::$law(law)
+            }
+        }
+    )*};
+}
+into_normal_kind!(LankaraniNikravesh, HuntCrossley, Flores, Hertz);

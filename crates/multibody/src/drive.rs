@@ -37,6 +37,13 @@ pub struct Ramp {
     pub rate: f64,
 }
 
+impl Ramp {
+    /// `f(t) = initial + rate·t`.
+    pub fn new(initial: f64, rate: f64) -> Self {
+        Self { initial, rate }
+    }
+}
+
 impl DriveFunction for Ramp {
     fn value(&self, t: f64) -> f64 {
         self.initial + self.rate * t

@@ -1,0 +1,132 @@
+//! The wear-stage driver against Archard's law in closed form: a shaft turned at constant
+//! speed hangs by its weight in a ground bearing, so after the start-up impacts every run
+//! wears `V = K_d m g ω R_pin T` (frictionless: the load stays vertical), and a stage of
+//! amplification `A` adds `A V`.
+
+use clearance::multibody::{
+    Body, BodyId, Coordinate, DriveTarget, Gravity, Model, OutputTimes, Ramp, SimulationOptions,
+    System,
+};
+use clearance::{
+    ClearanceJointBuilder, JointSide, LankaraniNikravesh, Material, StagePlan, StageSimulation,
+    WearParams, WearStagesError, run_wear_stages,
+};
+use wear::{Extrapolation, RunContext, WornJoint};
+
+const MASS: f64 = 10.0;
+const BEARING_RADIUS: f64 = 0.05;
+const PIN_RADIUS: f64 = 0.0495;
+/// Two turns a second.
+const SPEED: f64 = 4.0 * std::f64::consts::PI;
+/// Wear is gathered from here on (the impacts of the concentric start have died out)...
+const WEAR_FROM: f64 = 0.5;
+/// ... to here: two whole turns, one per half.
+const T_END: f64 = 1.5;
+
+fn shaft_joint() -> Result<ClearanceJointBuilder, Box<dyn std::error::Error>> {
+    let steel = Material::new(200e9, 0.3)?;
+    Ok(ClearanceJointBuilder::new(
+        "shaft",
+        JointSide::ground([0.0, 0.0], BEARING_RADIUS, steel),
+        JointSide::on(BodyId(0), [0.0, 0.0], PIN_RADIUS, steel),
+        LankaraniNikravesh::new(0.5)?,
+    ))
+}
+
+/// The hanging shaft on `surfaces`, wearing from [`WEAR_FROM`], halves split at 1 s.
+fn hanging_shaft(surfaces: &WornJoint) -> Result<StageSimulation, Box<dyn std::error::Error>> {
+    let mut model = Model::new();
+    let shaft = model.add_body(Body::new("shaft", MASS, 0.02, [0.0, 0.0, 0.0]))?;
+    let spin = DriveTarget::Coordinate(shaft, Coordinate::Theta);
+    model.add_driver("spin", spin, Box::new(Ramp::new(0.0, SPEED)))?;
+    let gravity = Gravity::new(&model, [0.0, -9.81]);
+    let mut system = System::new(model)?;
+    system.add_element(Box::new(gravity));
+    let element = shaft_joint()?
+        .on_surfaces(surfaces)?
+        .with_stage_wear(surfaces.start_stage(), WEAR_FROM)
+        .with_halves(surfaces.start_stage(), 0.5 * (WEAR_FROM + T_END));
+    let element = system.add_element(Box::new(element));
+    let (q, qd) = system.initial_guess();
+    let start = system.assemble(0.0, &q, &qd)?;
+    let mut options = SimulationOptions::until(T_END);
+    options.output = OutputTimes::At(vec![T_END]);
+    // Wear is deposited at each accepted step's two ends, and resting contact lets BDF take
+    // steps of a tenth of a second: bound them so the turning pin is worn at ≤ 1.5 cells a
+    // step, not at a few spots. (The step across WEAR_FROM wears nothing: ≤ 1e-3 of T.)
+    options.max_step = Some(1e-3);
+    Ok(StageSimulation {
+        system,
+        start,
+        options,
+        elements: vec![element],
+    })
+}
+
+#[test]
+fn each_stage_adds_the_archard_volume_of_a_dead_load_times_the_amplification()
+-> Result<(), Box<dyn std::error::Error>> {
+    let amplification = 10.0;
+    let params = WearParams::new(1e-13, 0.02, 720)?;
+    let mut joints = vec![shaft_joint()?.unworn_surfaces(&params)?];
+    let plan = StagePlan {
+        stages: 2,
+        amplification,
+        extrapolation: Extrapolation::SingleJump { warn_fraction: 0.1 },
+        geometry_limits: None,
+    };
+    let mut runs = |_: RunContext, surfaces: &[WornJoint]| hanging_shaft(&surfaces[0]);
+    let stages = run_wear_stages(&mut joints, &plan, &mut runs).map_err(|e| e.to_string())?;
+
+    let per_run = 1e-13 * MASS * 9.81 * SPEED * PIN_RADIUS * (T_END - WEAR_FROM);
+    assert_eq!(stages.reports.len(), 2);
+    assert_eq!(stages.surfaces.len(), 2);
+    for (stage, surfaces) in stages.surfaces.iter().enumerate() {
+        let expected = (stage + 1) as f64 * amplification * per_run;
+        let volume = surfaces[0].worn_volume();
+        eprintln!(
+            "stage {}: worn volume {volume:.5e} m³, Archard {expected:.5e} m³ ({:+.3} %)",
+            stage + 1,
+            100.0 * (volume / expected - 1.0)
+        );
+        // 2e-3: the step across WEAR_FROM is lost (≤ 1e-3 of the run) and the deposit
+        // spreads the pressure over the arc, not its chord (+θ²/6 ≈ 1e-4 for this load).
+        assert!((volume / expected - 1.0).abs() < 2e-3);
+    }
+    // The bearing wears where the load presses: at the bottom.
+    let bottom = stages.surfaces[1][0].bearing().peak();
+    assert!(
+        (bottom.2 - 1.5 * std::f64::consts::PI).abs() < 0.02,
+        "{bottom:?}"
+    );
+    // Two turns under the same load wear alike.
+    assert_eq!(stages.halves_differences.len(), 2);
+    for d in &stages.halves_differences {
+        let d = d.ok_or("halves were kept")?;
+        eprintln!("halves differ by {:.2} % of the mean", 100.0 * d);
+        assert!(d < 0.01, "halves differ by {d}");
+    }
+    Ok(())
+}
+
+#[test]
+fn an_element_without_a_stage_buffer_is_named() -> Result<(), Box<dyn std::error::Error>> {
+    let params = WearParams::new(1e-13, 0.02, 720)?;
+    let mut joints = vec![shaft_joint()?.unworn_surfaces(&params)?];
+    let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
+        let mut run = hanging_shaft(&surfaces[0])?;
+        // The gravity element (0) is no clearance joint.
+        run.elements = vec![clearance::multibody::ElementId(0)];
+        Ok::<_, Box<dyn std::error::Error>>(run)
+    };
+    match run_wear_stages(&mut joints, &StagePlan::paper(1), &mut runs) {
+        Err(WearStagesError::NotWearing {
+            element: 0,
+            context,
+        }) => {
+            assert_eq!((context.stage, context.substep), (0, 0));
+        }
+        other => panic!("expected NotWearing, got {other:?}"),
+    }
+    Ok(())
+}
