@@ -295,3 +295,15 @@ where
         ClearanceForce::outline_overlap(self, q, samples)
     }
 }
+
+/// `element` as a probe if it is a clearance joint on round or worn surfaces with the
+/// run-time laws ([`RoundClearanceForce`] or [`WornClearanceForce`]): how recorders read the
+/// joints of a system's elements, or of an observer frame's, without knowing which wear.
+pub fn as_probe(element: &dyn ForceElement) -> Option<&dyn ClearanceProbe> {
+    let any: &dyn std::any::Any = element;
+    if let Some(round) = any.downcast_ref::<RoundClearanceForce>() {
+        return Some(round);
+    }
+    any.downcast_ref::<WornClearanceForce>()
+        .map(|worn| worn as &dyn ClearanceProbe)
+}

@@ -16,7 +16,9 @@ mod force;
 mod stages;
 
 pub use builder::{ClearanceError, ClearanceJointBuilder, JointSide};
-pub use force::{ClearanceForce, ClearanceProbe, RoundClearanceForce, WornClearanceForce};
+pub use force::{
+    ClearanceForce, ClearanceProbe, RoundClearanceForce, WornClearanceForce, as_probe,
+};
 pub use stages::{
     StageRuns, StageSimulation, WearStages, WearStagesError, halves_difference, run_wear_stages,
 };
