@@ -55,7 +55,8 @@
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! // A 1 m rod pinned at one end, released horizontal.
 //! let mut model = Model::new();
-//! let rod = model.add_body(Body::new("rod", 2.0, 2.0 / 12.0, [0.5, 0.0, 0.0]))?;
+//! let rod = Body::named("rod").with_mass(2.0).with_inertia(2.0 / 12.0).with_pose([0.5, 0.0, 0.0]);
+//! let rod = model.add_body(rod)?;
 //! model.add_revolute("pin", Anchor::ground(0.0, 0.0), Anchor::on(rod, -0.5, 0.0))?;
 //! let gravity = Gravity::new(&model, [0.0, -9.81]);
 //! let mut system = System::new(model)?;
@@ -64,8 +65,7 @@
 //!
 //! let (q, qd) = system.initial_guess();
 //! let start = system.assemble(0.0, &q, &qd)?;
-//! let mut options = SimulationOptions::until(1.0);
-//! options.output = OutputTimes::Every(0.01);
+//! let options = SimulationOptions::until(1.0).with_output(OutputTimes::Every(0.01));
 //! let result = system.simulate(&start, &options, &mut ())?;
 //!
 //! assert_eq!(result.trajectory.len(), 101);

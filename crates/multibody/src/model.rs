@@ -53,7 +53,33 @@ pub struct Body {
 }
 
 impl Body {
-    /// A body at rest at `pose`.
+    /// A body named `name`, at rest at the origin, whose mass and inertia are still to be given
+    /// with [`Body::with_mass`] and [`Body::with_inertia`] ([`Model::add_body`] rejects a body
+    /// without them): `Body::named("rod").with_mass(2.0).with_inertia(0.17).with_pose([x, y, θ])`
+    /// reads without a reference to the argument order.
+    pub fn named(name: impl Into<String>) -> Self {
+        Self::new(name, f64::NAN, f64::NAN, [0.0; 3])
+    }
+
+    /// The same body with mass `mass` (kg).
+    pub fn with_mass(mut self, mass: f64) -> Self {
+        self.mass = mass;
+        self
+    }
+
+    /// The same body with centroidal moment of inertia `inertia` (kg m²).
+    pub fn with_inertia(mut self, inertia: f64) -> Self {
+        self.inertia = inertia;
+        self
+    }
+
+    /// The same body with initial pose guess `(x, y, θ)` (m, m, rad).
+    pub fn with_pose(mut self, pose: [f64; 3]) -> Self {
+        self.pose = pose;
+        self
+    }
+
+    /// A body at rest at `pose`, from its mass (kg) and centroidal inertia (kg m²).
     pub fn new(name: impl Into<String>, mass: f64, inertia: f64, pose: [f64; 3]) -> Self {
         Self {
             name: name.into(),
@@ -64,7 +90,7 @@ impl Body {
         }
     }
 
-    /// The same body with an initial velocity guess.
+    /// The same body with an initial velocity guess `(ẋ, ẏ, θ̇)` (m/s, m/s, rad/s).
     pub fn with_velocity(mut self, velocity: [f64; 3]) -> Self {
         self.velocity = velocity;
         self

@@ -55,6 +55,8 @@
 //! # Ok::<(), wear::WearError>(())
 //! ```
 
+#![warn(missing_docs)]
+
 mod accumulate;
 mod error;
 mod joint;
