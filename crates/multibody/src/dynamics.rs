@@ -159,7 +159,7 @@ pub struct SimulationOptions {
 }
 
 impl SimulationOptions {
-    /// Defaults (BDF, rtol 1e-6, output every 1e-4 s) for a run ending at `t_end`.
+    /// Defaults (BDF, rtol 1e-6, output every 1e-4 s) for a run ending at `t_end` (s).
     pub fn until(t_end: f64) -> Self {
         Self {
             t_end,
