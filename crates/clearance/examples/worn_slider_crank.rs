@@ -31,9 +31,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let steel = Material::new(207e9, 0.3)?;
     let bearing = JointSide::on(rod, [l / 2.0, 0.0], 0.010, steel);
     let pin = JointSide::on(slider, [0.0, 0.0], 0.0095, steel);
+    let wear = WearParams::archard(1.8e-13).with_hinge_width(0.02);
     let b = ClearanceJointBuilder::new("B", bearing, pin, LankaraniNikravesh::new(0.9)?)
         .friction(Ambrosio::new(0.1, 1e-4, 1e-3)?)
-        .wearing(&WearParams::new(1.8e-13, 0.02, 1000)?)?;
+        .wearing(&wear)?;
     let b = system.add_element(Box::new(b));
 
     let (q, qd) = system.initial_guess();

@@ -5,7 +5,7 @@ use contact::{
     NormalLawKind, SlidingVelocity,
 };
 use multibody::BodyId;
-use wear::{Side, WearError, WearParams, WornJoint, WornProfile};
+use wear::{WearError, WearParams, WornJoint};
 
 use crate::{RoundClearanceForce, WornClearanceForce};
 
@@ -177,17 +177,12 @@ impl ClearanceJointBuilder {
     /// The unworn [`WornJoint`] of this joint's radii, wearing by `params` with this builder's
     /// wear sliding velocity: the surfaces a wear-stage run starts from.
     pub fn unworn_surfaces(&self, params: &WearParams) -> Result<WornJoint, ClearanceError> {
-        let wear_error = |source| ClearanceError::Wear {
-            joint: self.name.clone(),
-            source,
-        };
-        params.validate().map_err(wear_error)?;
-        let profile = |side, radius| WornProfile::new(side, radius, params.cells);
-        let bearing = profile(Side::Bearing, self.bearing.radius).map_err(wear_error)?;
-        let pin = profile(Side::Pin, self.pin.radius).map_err(wear_error)?;
-        WornJoint::from_profiles(params.wear_coefficient, params.hinge_width, bearing, pin)
+        WornJoint::new(params, self.bearing.radius, self.pin.radius)
             .map(|joint| joint.with_sliding(self.wear_sliding))
-            .map_err(wear_error)
+            .map_err(|source| ClearanceError::Wear {
+                joint: self.name.clone(),
+                source,
+            })
     }
 
     fn contact_joint<B, P>(

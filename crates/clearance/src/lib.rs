@@ -11,6 +11,8 @@
 //! stage) and accumulates the stage's depth into a [`StageWear`] on **accepted** steps only, so
 //! rejected trial steps never wear the surfaces. No method allocates once the element is built.
 
+#![warn(missing_docs)]
+
 mod builder;
 mod force;
 mod stages;

@@ -69,12 +69,8 @@ fn each_stage_adds_the_archard_volume_of_a_dead_load_times_the_amplification()
     let amplification = 10.0;
     let params = WearParams::new(1e-13, 0.02, 720)?;
     let mut joints = vec![shaft_joint()?.unworn_surfaces(&params)?];
-    let plan = StagePlan {
-        stages: 2,
-        amplification,
-        extrapolation: Extrapolation::SingleJump { warn_fraction: 0.1 },
-        geometry_limits: None,
-    };
+    let jump = Extrapolation::SingleJump { warn_fraction: 0.1 };
+    let plan = StagePlan::new(2, amplification, jump);
     let mut runs = |_: RunContext, surfaces: &[WornJoint]| hanging_shaft(&surfaces[0]);
     let stages = run_wear_stages(&mut joints, &plan, &mut runs).map_err(|e| e.to_string())?;
 
@@ -96,7 +92,7 @@ fn each_stage_adds_the_archard_volume_of_a_dead_load_times_the_amplification()
     // The bearing wears where the load presses: at the bottom.
     let bottom = stages.surfaces[1][0].bearing().peak();
     assert!(
-        (bottom.2 - 1.5 * std::f64::consts::PI).abs() < 0.02,
+        (bottom.angle - 1.5 * std::f64::consts::PI).abs() < 0.02,
         "{bottom:?}"
     );
     // Two turns under the same load wear alike.

@@ -34,9 +34,10 @@ pub struct Ambrosio {
     params: AmbrosioParams,
 }
 
-/// Parameters of [`Ambrosio`], as written in scene files.
+/// Parameters of [`Ambrosio`], as written in scene files ([`AmbrosioParams::new`]).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
+#[non_exhaustive]
 pub struct AmbrosioParams {
     /// Friction coefficient `c_f ≥ 0`.
     pub coefficient: f64,
@@ -44,6 +45,17 @@ pub struct AmbrosioParams {
     pub stick_velocity: f64,
     /// Velocity `v_1 > v_0` above which full Coulomb friction acts (m/s).
     pub slip_velocity: f64,
+}
+
+impl AmbrosioParams {
+    /// Coefficient `c_f` and ramp `v_0 < v_1` (m/s), validated by [`Ambrosio::from_params`].
+    pub fn new(coefficient: f64, stick_velocity: f64, slip_velocity: f64) -> Self {
+        Self {
+            coefficient,
+            stick_velocity,
+            slip_velocity,
+        }
+    }
 }
 
 impl Ambrosio {
@@ -128,12 +140,20 @@ pub struct Coulomb {
     coefficient: f64,
 }
 
-/// Parameters of [`Coulomb`], as written in scene files.
+/// Parameters of [`Coulomb`], as written in scene files ([`CoulombParams::new`]).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
+#[non_exhaustive]
 pub struct CoulombParams {
     /// Friction coefficient `c_f ≥ 0`.
     pub coefficient: f64,
+}
+
+impl CoulombParams {
+    /// Coefficient `c_f` (≥ 0 when validated).
+    pub fn new(coefficient: f64) -> Self {
+        Self { coefficient }
+    }
 }
 
 impl Coulomb {

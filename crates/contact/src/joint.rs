@@ -153,14 +153,25 @@ pub struct Material {
     params: MaterialParams,
 }
 
-/// Parameters of a [`Material`], as written in scene files.
+/// Parameters of a [`Material`], as written in scene files ([`MaterialParams::new`]).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
+#[non_exhaustive]
 pub struct MaterialParams {
     /// Young's modulus `E > 0` (Pa).
     pub youngs_modulus: f64,
     /// Poisson's ratio `ν ∈ (−1, 0.5)`.
     pub poisson_ratio: f64,
+}
+
+impl MaterialParams {
+    /// Young's modulus `E` (Pa) and Poisson's ratio `ν`, validated by [`Material::try_from`].
+    pub fn new(youngs_modulus: f64, poisson_ratio: f64) -> Self {
+        Self {
+            youngs_modulus,
+            poisson_ratio,
+        }
+    }
 }
 
 impl Material {

@@ -64,9 +64,10 @@
 //! - Restitution of a head-on two-body impact through the L–N law (RK4, 5e-8 s, test
 //!   `tests/impact.rs`): c_e = 0.99 → 0.9901, 0.9 → 0.9132, 0.8 → 0.8471, 0.5 → 0.7252. L–N is
 //!   derived for c_e near 1; below ~0.8 prefer [`Flores`].
-//! - Kernel cost (`cargo bench -p contact --bench contact_kernel`, criterion medians, joint A in
-//!   contact and sliding, 2-core machine shared with other builds, so upper bounds):
-//!   force 123 ns, force via the serde enums 123 ns, force + Jacobian 361 ns, penetration 65 ns.
+//! - Kernel cost: `cargo bench -p contact --bench contact_kernel`; figures in
+//!   docs/performance.md.
+
+#![warn(missing_docs)]
 
 pub mod diagnostics;
 pub mod error;

@@ -109,9 +109,11 @@ fn validate_restitution(restitution: f64) -> Result<f64, ContactError> {
     )
 }
 
-/// Parameters of a damped Hertz law, as written in scene files.
+/// Parameters of a damped Hertz law, as written in scene files: [`DampedHertzParams::new`] and
+/// the `with_*` methods (new parameters can be added without breaking callers, so it is no literal outside this crate).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
+#[non_exhaustive]
 pub struct DampedHertzParams {
     /// Coefficient of restitution `c_e ∈ (0, 1]`.
     pub restitution: f64,
@@ -139,6 +141,18 @@ impl DampedHertzParams {
             exponent: DEFAULT_HERTZ_EXPONENT,
             onset_velocity_floor: DEFAULT_ONSET_VELOCITY_FLOOR,
         }
+    }
+
+    /// The same parameters with Hertz exponent `exponent` (≥ 1 when validated).
+    pub fn with_exponent(mut self, exponent: f64) -> Self {
+        self.exponent = exponent;
+        self
+    }
+
+    /// The same parameters with onset-velocity floor `floor` (m/s, > 0 when validated).
+    pub fn with_onset_velocity_floor(mut self, floor: f64) -> Self {
+        self.onset_velocity_floor = floor;
+        self
     }
 
     fn validated(self) -> Result<Self, ContactError> {
@@ -258,13 +272,21 @@ pub struct Hertz {
     exponent: f64,
 }
 
-/// Parameters of [`Hertz`], as written in scene files.
+/// Parameters of [`Hertz`], as written in scene files ([`HertzParams::new`]).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(deny_unknown_fields)]
+#[non_exhaustive]
 pub struct HertzParams {
     /// Hertz exponent `n ≥ 1` (default 1.5).
     #[serde(default = "default_exponent")]
     pub exponent: f64,
+}
+
+impl HertzParams {
+    /// Parameters with Hertz exponent `exponent` (≥ 1 when validated).
+    pub fn new(exponent: f64) -> Self {
+        Self { exponent }
+    }
 }
 
 impl Hertz {

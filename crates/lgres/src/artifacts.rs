@@ -73,7 +73,7 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
         )?;
         files.push(path);
         if let Some(last) = joint.stages.last() {
-            let peak = last.bearing().peak().0.max(last.pin().peak().0);
+            let peak = last.bearing().peak().depth.max(last.pin().peak().depth);
             let clearance = joint.bearing_radius - joint.pin_radius;
             // Draw the deepest wear at about the clearance's width, at least true to scale.
             let exaggeration = if peak > 0.0 {

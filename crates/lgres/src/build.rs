@@ -137,7 +137,8 @@ pub fn unworn_joints(scene: &Scene) -> Result<Vec<Option<WornJoint>>, BuildError
                 source,
             };
             let params = WearParams::new(w.k_d, w.width, w.cells).map_err(wrap)?;
-            let joint = WornJoint::new(&params, c.bearing_radius, c.pin_radius()).map_err(wrap)?;
+            let joint =
+                WornJoint::if_wearing(&params, c.bearing_radius, c.pin_radius()).map_err(wrap)?;
             Ok(joint.map(|j| j.with_sliding(c.sliding.wear)))
         })
         .collect()
@@ -331,10 +332,10 @@ fn round_joint(
     let material = |m: scene::Material, f: &str| {
         contact::Material::new(m.youngs_modulus, m.poisson_ratio).map_err(err(f))
     };
-    let damped = |d: scene::DissipativeLaw| DampedHertzParams {
-        restitution: d.restitution,
-        exponent: d.exponent,
-        onset_velocity_floor: d.impact_velocity_floor,
+    let damped = |d: scene::DissipativeLaw| {
+        DampedHertzParams::new(d.restitution)
+            .with_exponent(d.exponent)
+            .with_onset_velocity_floor(d.impact_velocity_floor)
     };
     let normal = match c.normal_law {
         NormalLaw::HertzLankaraniNikravesh(d) => {

@@ -117,7 +117,9 @@ pub struct SurfaceMetrics {
 
 /// Wear measures of `p` (see [`SurfaceMetrics`]).
 pub fn surface_metrics(p: &WornProfile) -> SurfaceMetrics {
-    let (peak, _, angle) = p.peak();
+    let wear::Peak {
+        depth: peak, angle, ..
+    } = p.peak();
     let worn: Vec<f64> = p
         .depth()
         .iter()

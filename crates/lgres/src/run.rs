@@ -1132,12 +1132,10 @@ fn stages(
     let started = Instant::now();
     let r = &scene.run;
     let k = r.cycles_per_stage.max(1);
-    let plan = StagePlan {
-        stages: r.wear_stages as usize,
-        amplification: r.amplification,
-        geometry_limits: (r.adaptive_extrapolation && r.stop_at_validity_limits)
-            .then_some(GeometryLimits::CONTACT_MODEL),
-        extrapolation: if r.adaptive_extrapolation {
+    let plan = StagePlan::new(
+        r.wear_stages as usize,
+        r.amplification,
+        if r.adaptive_extrapolation {
             Extrapolation::Adaptive {
                 max_fraction: r.max_clearance_change,
                 max_substeps: r.max_substeps as usize,
@@ -1149,7 +1147,11 @@ fn stages(
                 warn_fraction: r.max_clearance_change,
             }
         },
-    };
+    )
+    .with_geometry_limits(
+        (r.adaptive_extrapolation && r.stop_at_validity_limits)
+            .then_some(GeometryLimits::CONTACT_MODEL),
+    );
     // Gather wear after the start-up window only (see the module docs).
     let wear_start = r.transient_window;
     let t_end = wear_start + f64::from(k) * period;
@@ -1320,8 +1322,8 @@ fn stages(
         .iter()
         .filter_map(|h| h.stages.last().map(|j| (h, j)))
         .map(|(h, j)| {
-            let (bd, _, ba) = j.bearing().peak();
-            let (pd, _, pa) = j.pin().peak();
+            let (b, p) = (j.bearing().peak(), j.pin().peak());
+            let (bd, ba, pd, pa) = (b.depth, b.angle, p.depth, p.angle);
             let ranges = |p: &wear::WornProfile| {
                 p.concentrated_ranges(0.5)
                     .iter()

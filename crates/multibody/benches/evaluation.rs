@@ -4,12 +4,14 @@
 //! `cargo bench -p multibody --bench evaluation`. Medians are printed after criterion's lines.
 
 mod common;
+#[path = "../tests/common/lgres_scene.rs"]
+mod lgres_scene;
 
 use common::bench_median;
 use criterion::{Criterion, criterion_group, criterion_main};
+use lgres_scene::Lgres;
 use multibody::{
-    Anchor, Baumgarte, Body, BodyId, Coordinate, DriveTarget, ForceElement, ForcePartials, Gravity,
-    Harmonic, Model, RotationLock, System,
+    Anchor, Baumgarte, Body, BodyId, ForceElement, ForcePartials, Gravity, Model, System,
 };
 use nalgebra::DMatrix;
 
@@ -142,87 +144,24 @@ impl ForceElement for Bushing {
     }
 }
 
-/// The LGRES mechanism of `crates/lgres/scenes/lgres.toml` (bodies, ideal joints O1, C, O3, D,
-/// the slide rod's guide and drive): 15 coordinates, 11 constraints; the clearance joints A and
-/// B are bushings.
+/// The LGRES mechanism read from `crates/lgres/scenes/lgres.toml` (bodies, ideal joints O1, C,
+/// O3, D, the slide rod's guide and drive): 15 coordinates, 11 constraints; the clearance joints
+/// A and B are bushings.
 fn lgres_sized() -> System {
-    let mut model = Model::new();
-    let bodies = [
-        ("rod1", 6.32, 0.526667, [0.15441, 1.04244, -72.0124]),
-        ("rod2", 12.07, 1.261717, [0.79927, 0.29660, -28.8576]),
-        ("rod3", 12.54, 1.738985, [0.64487, 0.01316, 1.1694]),
-        ("rocker", 5.59, 0.151349, [0.24497, 0.29000, 89.9949]),
-        ("slide_rod", 6.93, 0.236544, [0.24500, 0.89500, 90.0]),
-    ];
-    let ids: Vec<BodyId> = bodies
-        .iter()
-        .map(|(name, mass, inertia, [x, y, deg])| {
-            model
-                .add_body(Body::new(
-                    *name,
-                    *mass,
-                    *inertia,
-                    [*x, *y, deg.to_radians()],
-                ))
-                .expect("valid body")
-        })
-        .collect();
-    let [rod1, rod2, rod3, rocker, slide] = [ids[0], ids[1], ids[2], ids[3], ids[4]];
-    let revolutes = [
-        (
-            "O1",
-            Anchor::on(rod1, -0.5, 0.0),
-            Anchor::ground(0.0, 1.518),
-        ),
-        (
-            "C",
-            Anchor::on(rod1, 0.5, 0.0),
-            Anchor::on(rod2, -0.56, 0.0),
-        ),
-        (
-            "O3",
-            Anchor::on(rod3, -0.645, 0.0),
-            Anchor::ground(0.0, 0.0),
-        ),
-        (
-            "D",
-            Anchor::on(rod3, -0.4, 0.0),
-            Anchor::on(rocker, -0.285, 0.0),
-        ),
-    ];
-    for (name, i, j) in revolutes {
-        model.add_revolute(name, i, j).expect("valid joint");
-    }
-    model
-        .add_prismatic(
-            "P",
-            Anchor::ground(0.245, 0.0),
-            [0.0, 1.0],
-            Anchor::on(slide, 0.0, 0.0),
-            RotationLock::At(90f64.to_radians()),
-        )
-        .expect("valid joint");
-    model
-        .add_driver(
-            "drive",
-            DriveTarget::Coordinate(slide, Coordinate::Y),
-            Box::new(Harmonic {
-                offset: 0.895,
-                amplitude: 0.09,
-                omega: 2.0 * std::f64::consts::PI,
-            }),
-        )
-        .expect("valid driver");
-    let gravity = Gravity::new(&model, [0.0, -9.81]);
+    let Lgres {
+        model,
+        clearance_joints,
+        gravity,
+        ..
+    } = Lgres::load(60.0);
+    let gravity = Gravity::new(&model, gravity);
     let mut system = System::new(model).expect("valid model");
     system.add_element(Box::new(gravity));
-    for (bearing, pin, points) in [
-        (rod3, rod2, [[0.645, 0.0], [0.56, 0.0]]),
-        (rocker, slide, [[0.285, 0.0], [-0.32, 0.0]]),
-    ] {
+    for joint in clearance_joints {
+        let body = |anchor: Anchor| anchor.body.expect("A and B join two bodies");
         system.add_element(Box::new(Bushing {
-            bodies: [bearing, pin],
-            points,
+            bodies: [body(joint.bearing), body(joint.pin)],
+            points: [joint.bearing.point, joint.pin.point],
             stiffness: 1e8,
             damping: 1e4,
         }));

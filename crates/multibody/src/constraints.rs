@@ -48,7 +48,9 @@ enum Target {
 /// Which model item an equation belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ConstraintOwner {
+    /// An ideal joint (a revolute owns two equations, a prismatic one or two).
     Joint(crate::model::JointId),
+    /// A driving constraint (one equation).
     Driver(crate::model::DriverId),
 }
 

@@ -33,7 +33,9 @@ impl DriveFunction for Constant {
 /// `f(t) = initial + rate·t`: constant-speed motion (e.g. a crank turning at fixed rate).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ramp {
+    /// Value at `t = 0` (m or rad).
     pub initial: f64,
+    /// Rate (m/s or rad/s).
     pub rate: f64,
 }
 
@@ -60,9 +62,11 @@ impl DriveFunction for Ramp {
 /// LGRES slide-rod drive does.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Harmonic {
+    /// Value at `t = 0` (m or rad).
     pub offset: f64,
+    /// Half the stroke (m or rad): the value swings between `offset` and `offset + 2·amplitude`.
     pub amplitude: f64,
-    /// angular frequency ω in rad/s
+    /// Angular frequency ω (rad/s).
     pub omega: f64,
 }
 

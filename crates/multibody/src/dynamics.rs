@@ -107,34 +107,43 @@ impl OutputTimes {
     }
 }
 
-/// Options of a dynamic simulation.
+/// Options of a dynamic simulation: start from [`SimulationOptions::until`] and change what
+/// differs, by field or with the `with_*` methods (new options can be added without breaking
+/// callers, so the struct cannot be written as a literal outside this crate).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct SimulationOptions {
+    /// End time (s); the run starts at the assembled state's time. No default.
     pub t_end: f64,
+    /// Time integrator, default [`Integrator::Bdf`].
     pub integrator: Integrator,
-    /// Relative tolerance, default 1e-6.
+    /// Relative tolerance of the local error test, default 1e-6.
     pub rtol: f64,
+    /// Absolute tolerances per kind of variable, default [`AbsoluteTolerances::default`]
+    /// (1e-8 m, 1e-8 rad, 1e-6 m/s, 1e-6 rad/s).
     pub atol: AbsoluteTolerances,
+    /// Constraint stabilisation, default α = β = 50 1/s ([`Baumgarte::default`]).
     pub baumgarte: Baumgarte,
-    /// Default: every 1e-4 s.
+    /// When frames are reported to the [`Observer`] and recorded, default every 1e-4 s.
     pub output: OutputTimes,
+    /// How the implicit integrators get `∂f/∂y`, default [`JacobianMethod::Exact`].
     pub jacobian: JacobianMethod,
     /// Keep every output frame in [`SimulationResult::trajectory`]. Default true. A frame
     /// holds `4n + m` numbers: 100 s of the 15-coordinate LGRES at 1e-4 s is ~0.5 GB, so long
     /// runs should turn this off and record selectively with an [`Observer`].
     pub record_trajectory: bool,
-    /// Integrate the work of drivers and non-conservative elements. Default true.
+    /// Integrate the work of drivers and non-conservative elements into
+    /// [`SimulationResult::energy`]. Default true.
     pub energy_audit: bool,
-    /// diffsol's limit on Newton failures, counted over the whole run (not per step). Any fixed
-    /// cap ends a long run at an arbitrary time (a contact-rich LGRES cycle has ~1 300 failures,
-    /// so a cap of 10⁶ stopped a 1000-cycle run at t = 775 s), so the default is no cap
-    /// (`usize::MAX`): a run that cannot make progress still stops, on `min_step`.
+    /// diffsol's limit on Newton failures, counted over the whole run (not per step). Default
+    /// no cap (`usize::MAX`): any fixed cap ends a long contact-rich run at an arbitrary time,
+    /// and a run that cannot make progress still stops, on `min_step`.
     pub max_nonlinear_solver_failures: usize,
     /// diffsol's limit on consecutive error-test failures, default 40.
     pub max_error_test_failures: usize,
     /// Smallest step diffsol may take before giving up, default 1e-14 s.
     pub min_step: f64,
-    /// Largest step, default none. diffsol has no such option; it is enforced with moving
+    /// Largest step (s), default none. diffsol has no such option; it is enforced with moving
     /// stop times (the step is shortened, the method keeps its order). Events are found from
     /// sign changes between step ends, so an element whose event could begin and end within
     /// one step (a brief impact) needs a bound here.
@@ -150,7 +159,7 @@ pub struct SimulationOptions {
 }
 
 impl SimulationOptions {
-    /// Defaults (BDF, rtol 1e-6, output every 1e-4 s) for a run ending at `t_end`.
+    /// Defaults (BDF, rtol 1e-6, output every 1e-4 s) for a run ending at `t_end` (s).
     pub fn until(t_end: f64) -> Self {
         Self {
             t_end,
@@ -169,6 +178,72 @@ impl SimulationOptions {
             max_steps: None,
             max_wall_time: None,
         }
+    }
+
+    /// The same options with `integrator`.
+    pub fn with_integrator(mut self, integrator: Integrator) -> Self {
+        self.integrator = integrator;
+        self
+    }
+
+    /// The same options with relative tolerance `rtol`.
+    pub fn with_rtol(mut self, rtol: f64) -> Self {
+        self.rtol = rtol;
+        self
+    }
+
+    /// The same options with absolute tolerances `atol`.
+    pub fn with_atol(mut self, atol: AbsoluteTolerances) -> Self {
+        self.atol = atol;
+        self
+    }
+
+    /// The same options with Baumgarte stabilisation `baumgarte`.
+    pub fn with_baumgarte(mut self, baumgarte: Baumgarte) -> Self {
+        self.baumgarte = baumgarte;
+        self
+    }
+
+    /// The same options with output at `output`.
+    pub fn with_output(mut self, output: OutputTimes) -> Self {
+        self.output = output;
+        self
+    }
+
+    /// The same options with Jacobian method `jacobian`.
+    pub fn with_jacobian(mut self, jacobian: JacobianMethod) -> Self {
+        self.jacobian = jacobian;
+        self
+    }
+
+    /// The same options keeping (or not) every frame in the result.
+    pub fn with_record_trajectory(mut self, record: bool) -> Self {
+        self.record_trajectory = record;
+        self
+    }
+
+    /// The same options with (or without) the energy audit.
+    pub fn with_energy_audit(mut self, audit: bool) -> Self {
+        self.energy_audit = audit;
+        self
+    }
+
+    /// The same options with steps no longer than `max_step` (s).
+    pub fn with_max_step(mut self, max_step: f64) -> Self {
+        self.max_step = Some(max_step);
+        self
+    }
+
+    /// The same options stopping after `max_steps` accepted steps.
+    pub fn with_max_steps(mut self, max_steps: usize) -> Self {
+        self.max_steps = Some(max_steps);
+        self
+    }
+
+    /// The same options stopping once `max_wall_time` of wall time has passed.
+    pub fn with_max_wall_time(mut self, max_wall_time: Duration) -> Self {
+        self.max_wall_time = Some(max_wall_time);
+        self
     }
 
     fn output_times(&self, t0: f64) -> Result<Vec<f64>, SimulationError> {
@@ -212,9 +287,13 @@ impl SimulationOptions {
 
 /// One output time, handed to the [`Observer`].
 pub struct Frame<'a> {
+    /// Time (s).
     pub t: f64,
+    /// Coordinates (m, rad).
     pub q: &'a [f64],
+    /// Velocities (m/s, rad/s).
     pub qd: &'a [f64],
+    /// Accelerations (m/s², rad/s²).
     pub qdd: &'a [f64],
     /// Lagrange multipliers in the order of [`System::constraint_labels`].
     pub lambda: &'a [f64],
@@ -232,8 +311,9 @@ impl Frame<'_> {
 /// Receives every output frame and progress reports during a run. Both methods default to
 /// doing nothing; `()` is the observer that ignores everything.
 pub trait Observer {
+    /// Called at every output time, in order; the frame is interpolated, not a step end.
     fn output(&mut self, _frame: &Frame<'_>) {}
-    /// Called after every accepted step.
+    /// Called after every accepted step with its end time and the run's end time (s).
     fn progress(&mut self, _t: f64, _t_end: f64) {}
 }
 
@@ -242,10 +322,13 @@ impl Observer for () {}
 /// Integrator statistics of one run.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SolverStatistics {
+    /// Accepted steps.
     pub steps: usize,
     /// Steps rejected by the local error test.
     pub rejected_steps: usize,
+    /// Newton iterations that failed to converge (the step is then retried smaller).
     pub nonlinear_solver_failures: usize,
+    /// Newton iterations over all steps.
     pub nonlinear_iterations: usize,
     /// Right-hand-side evaluations made by the integrator (including those of
     /// finite-difference Jacobians).
@@ -256,9 +339,13 @@ pub struct SolverStatistics {
     pub jacobian_vector_products: usize,
     /// Factorizations of the iteration matrix (diffsol's linear-solver setups).
     pub factorizations: usize,
+    /// Shortest accepted step (s).
     pub smallest_step: f64,
+    /// Longest accepted step (s).
     pub largest_step: f64,
+    /// Events located ([`SimulationResult::events`]).
     pub events: usize,
+    /// Wall time of the run (machine-dependent).
     pub wall_time: Duration,
 }
 
@@ -275,7 +362,9 @@ pub struct ConstraintDrift {
 /// the residual measures integration error and constraint drift.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct EnergyAudit {
+    /// Kinetic energy at the start (J).
     pub initial_kinetic: f64,
+    /// Kinetic energy at the end (J).
     pub final_kinetic: f64,
     /// Largest kinetic energy seen at output times and step ends.
     pub peak_kinetic: f64,
@@ -285,6 +374,7 @@ pub struct EnergyAudit {
     pub potential: Vec<(String, f64, f64)>,
     /// Work of each driver, from its multiplier: `∫ λ_d Φ_t,d dt`, by name.
     pub driver_work: Vec<(String, f64)>,
+    /// `ΔT − Σ W` (J): zero for an exact solution.
     pub residual: f64,
 }
 
@@ -310,19 +400,28 @@ impl EnergyAudit {
 /// An event located during the run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EventRecord {
+    /// Time of the root (s).
     pub t: f64,
+    /// Index of the element whose event it was (as in [`crate::ElementId`]).
     pub element: usize,
+    /// Which of that element's event functions changed sign.
     pub index: usize,
 }
 
 /// Everything a run reports. The force elements stay in the [`System`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SimulationResult {
+    /// State at the end time, to continue from.
     pub final_state: State,
+    /// The output frames; empty unless [`SimulationOptions::record_trajectory`].
     pub trajectory: Trajectory,
+    /// Integrator counters and timings.
     pub statistics: SolverStatistics,
+    /// Largest constraint violation seen.
     pub drift: ConstraintDrift,
+    /// Energy balance; `None` unless [`SimulationOptions::energy_audit`].
     pub energy: Option<EnergyAudit>,
+    /// Events in the order they were located.
     pub events: Vec<EventRecord>,
 }
 

@@ -5,45 +5,101 @@ use thiserror::Error;
 /// A model that cannot describe a physical planar mechanism.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum ModelError {
+    /// A body's mass is not positive and finite (kg).
     #[error("body '{body}': mass must be positive and finite, got {value}")]
-    InvalidMass { body: String, value: f64 },
+    InvalidMass {
+        /// The body's name.
+        body: String,
+        /// The rejected mass (kg).
+        value: f64,
+    },
+    /// A body's centroidal inertia is not positive and finite (kg m²).
     #[error("body '{body}': centroidal inertia must be positive and finite, got {value}")]
-    InvalidInertia { body: String, value: f64 },
+    InvalidInertia {
+        /// The body's name.
+        body: String,
+        /// The rejected inertia (kg m²).
+        value: f64,
+    },
+    /// A body's initial pose or velocity guess has a NaN or infinite entry.
     #[error("body '{body}': initial pose and velocity must be finite")]
-    NonFiniteBodyState { body: String },
+    NonFiniteBodyState {
+        /// The body's name.
+        body: String,
+    },
+    /// A joint or driver refers to a [`crate::BodyId`] that was not returned by this model.
     #[error("{owner} '{name}' refers to body #{index}, but the model has only {count} bodies")]
     MissingBody {
+        /// `"joint"` or `"driver"`.
         owner: &'static str,
+        /// The joint's or driver's name.
         name: String,
+        /// The body index given.
         index: usize,
+        /// Bodies in the model.
         count: usize,
     },
+    /// A joint connects ground to ground or a body to itself, so it constrains nothing.
     #[error("joint '{joint}' connects {what}")]
-    DegenerateJoint { joint: String, what: &'static str },
+    DegenerateJoint {
+        /// The joint's name.
+        joint: String,
+        /// What it connects.
+        what: &'static str,
+    },
+    /// A joint's anchor point, axis or locked angle is not finite.
     #[error("joint '{joint}': {what} must be finite, got ({x}, {y})")]
     NonFiniteJointGeometry {
+        /// The joint's name.
         joint: String,
+        /// Which quantity (e.g. `"anchor i"`, `"axis"`).
         what: &'static str,
+        /// Its first component (the angle for a locked angle).
         x: f64,
+        /// Its second component (0 for a locked angle).
         y: f64,
     },
+    /// A prismatic joint's axis has zero length, so it has no direction.
     #[error("prismatic joint '{joint}': the sliding axis must be a nonzero vector, got ({x}, {y})")]
-    ZeroAxis { joint: String, x: f64, y: f64 },
+    ZeroAxis {
+        /// The joint's name.
+        joint: String,
+        /// The axis's x component.
+        x: f64,
+        /// The axis's y component.
+        y: f64,
+    },
+    /// A driver refers to a [`crate::JointId`] that was not returned by this model.
     #[error("driver '{driver}' refers to joint #{index}, but the model has only {count} joints")]
     MissingJoint {
+        /// The driver's name.
         driver: String,
+        /// The joint index given.
         index: usize,
+        /// Joints in the model.
         count: usize,
     },
+    /// A driver prescribes an angle of a prismatic joint or the slide of a revolute one.
     #[error("driver '{driver}' drives {target} of joint '{joint}', which is a {kind} joint")]
     WrongJointKind {
+        /// The driver's name.
         driver: String,
+        /// The joint's name.
         joint: String,
+        /// `"the angle"` or `"the slide"`.
         target: &'static str,
+        /// The joint's kind, `"revolute"` or `"prismatic"`.
         kind: &'static str,
     },
+    /// A drive function or one of its derivatives is not finite at `t = 0`.
     #[error("driver '{driver}': the drive function is not finite at t = 0 (value {value})")]
-    NonFiniteDrive { driver: String, value: f64 },
+    NonFiniteDrive {
+        /// The driver's name.
+        driver: String,
+        /// The offending value, first derivative or second derivative.
+        value: f64,
+    },
+    /// A model without bodies has nothing to simulate.
     #[error("the model has no bodies")]
     Empty,
 }
@@ -51,45 +107,76 @@ pub enum ModelError {
 /// Failure to find a configuration (or velocities) that satisfies the constraints.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum AssemblyError {
+    /// Newton's method did not bring the constraints within tolerance.
     #[error(
         "position analysis did not converge in {iterations} Newton iterations at t = {t}: \
          residual {residual:.3e}; largest violations: {worst}"
     )]
     NotConverged {
+        /// Time of the analysis (s).
         t: f64,
+        /// Newton iterations made.
         iterations: usize,
+        /// Largest constraint violation left (m or rad).
         residual: f64,
         /// The most violated constraints, formatted "name = value".
         worst: String,
     },
+    /// `Φ_q` lost rank: some equations are redundant or the mechanism is locked.
     #[error(
         "the constraint Jacobian is rank deficient at t = {t}: constraints [{dependent}] depend \
          on the others (redundant or locked-up mechanism)"
     )]
-    RankDeficient { t: f64, dependent: String },
+    RankDeficient {
+        /// Time of the analysis (s).
+        t: f64,
+        /// Labels of the dependent constraint equations, comma-separated.
+        dependent: String,
+    },
+    /// More constraint equations than coordinates: no configuration can satisfy them in general.
     #[error("{equations} constraint equations for {coordinates} coordinates: overconstrained")]
     Overconstrained {
+        /// Constraint equations (joints and drivers).
         equations: usize,
+        /// Coordinates, `3 × bodies`.
         coordinates: usize,
     },
+    /// A `q` or `q̇` given to the analysis does not have one entry per coordinate.
     #[error("a state vector has length {actual}, expected {expected}")]
-    WrongLength { expected: usize, actual: usize },
+    WrongLength {
+        /// Coordinates of the system.
+        expected: usize,
+        /// Length given.
+        actual: usize,
+    },
+    /// A `q` or `q̇` given to the analysis has a NaN or infinite entry.
     #[error("the {what} vector contains a non-finite value")]
-    NonFinite { what: &'static str },
+    NonFinite {
+        /// `"position guess"` or `"velocity guess"`.
+        what: &'static str,
+    },
 }
 
 /// Failure to evaluate the equations of motion at one state.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum EvaluationError {
+    /// `Φ_q` lost rank at this state, so accelerations and multipliers are not unique.
     #[error(
         "the augmented matrix [M Φ_qᵀ; Φ_q 0] is singular: constraints [{dependent}] depend on \
          the others (singular position or redundant constraints)"
     )]
-    Singular { dependent: String },
+    Singular {
+        /// Labels of the dependent constraint equations, comma-separated.
+        dependent: String,
+    },
+    /// An input or output slice does not match the system's dimensions.
     #[error("{what} has length {actual}, expected {expected}")]
     WrongLength {
+        /// Which slice.
         what: &'static str,
+        /// Length the system needs.
         expected: usize,
+        /// Length given.
         actual: usize,
     },
 }
@@ -97,36 +184,74 @@ pub enum EvaluationError {
 /// Failure of a kinematic analysis.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum KinematicsError {
+    /// Kinematic analysis needs every degree of freedom driven: as many equations as coordinates.
     #[error(
         "kinematic analysis needs as many independent constraints as coordinates; the mechanism \
          has {coordinates} coordinates and {equations} constraint equations"
     )]
     NotFullyDriven {
+        /// Coordinates, `3 × bodies`.
         coordinates: usize,
+        /// Constraint equations (joints and drivers).
         equations: usize,
     },
+    /// Positions or velocities could not be found at one of the requested times.
     #[error(transparent)]
     Assembly(#[from] AssemblyError),
+    /// Accelerations or multipliers could not be solved for at one of the requested times.
     #[error("at t = {t}: {error}")]
-    Evaluation { t: f64, error: EvaluationError },
+    Evaluation {
+        /// The time (s).
+        t: f64,
+        /// What failed.
+        error: EvaluationError,
+    },
 }
 
 /// Failure of a dynamic simulation.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum SimulationError {
+    /// The start state, or the state after an event, does not satisfy the constraints.
     #[error(transparent)]
     Assembly(#[from] AssemblyError),
+    /// A [`crate::SimulationOptions`] field is out of range; the message names it.
     #[error("invalid simulation option: {0}")]
     InvalidOptions(String),
+    /// The equations of motion could not be evaluated (singular position).
     #[error("at t = {t}: {error}")]
-    Evaluation { t: f64, error: EvaluationError },
+    Evaluation {
+        /// Time of the failing evaluation (s).
+        t: f64,
+        /// What failed.
+        error: EvaluationError,
+    },
+    /// diffsol gave up (step too small, too many failures).
     #[error("the integrator failed at t = {t}: {message}")]
-    Integrator { t: f64, message: String },
+    Integrator {
+        /// Time reached (s).
+        t: f64,
+        /// diffsol's message.
+        message: String,
+    },
+    /// The run used up [`crate::SimulationOptions::max_steps`].
     #[error("stopped at t = {t} after {steps} accepted steps (the max_steps budget)")]
-    StepLimit { t: f64, steps: usize },
+    StepLimit {
+        /// Time reached (s).
+        t: f64,
+        /// Accepted steps.
+        steps: usize,
+    },
+    /// The run used up [`crate::SimulationOptions::max_wall_time`].
     #[error(
         "stopped at t = {t} after {steps} accepted steps: the wall-time budget of {seconds} s \
          (max_wall_time) ran out"
     )]
-    WallTimeLimit { t: f64, steps: usize, seconds: f64 },
+    WallTimeLimit {
+        /// Time reached (s).
+        t: f64,
+        /// Accepted steps.
+        steps: usize,
+        /// The budget (s of wall time).
+        seconds: f64,
+    },
 }

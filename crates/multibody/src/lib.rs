@@ -7,9 +7,10 @@
 //! (revolute between two [`Anchor`]s — a body-fixed or ground point —, prismatic with or
 //! without locked rotation) and driving constraints on a coordinate or a joint
 //! ([`DriveTarget`]) following a [`DriveFunction`] with exact derivatives ([`Constant`],
-//! [`Ramp`], [`Harmonic`], or your own). Every `add_*` validates at once and returns a
-//! [`ModelError`] naming the item. [`System::new`] compiles the model; force elements are added
-//! to the system.
+//! [`Ramp`], [`Harmonic`], or your own). Ground is `None` wherever a body or ground is asked
+//! for (an [`Anchor`]'s body, [`ForcePartials::add_pair`]); [`Anchor::ground`] is shorthand.
+//! Every `add_*` validates at once and returns a [`ModelError`] naming the item.
+//! [`System::new`] compiles the model; force elements are added to the system.
 //!
 //! # Analyses
 //! - [`System::assemble`]: Newton position analysis from the model's poses, then consistent
@@ -54,7 +55,8 @@
 //! # fn main() -> Result<(), Box<dyn std::error::Error>> {
 //! // A 1 m rod pinned at one end, released horizontal.
 //! let mut model = Model::new();
-//! let rod = model.add_body(Body::new("rod", 2.0, 2.0 / 12.0, [0.5, 0.0, 0.0]))?;
+//! let rod = Body::named("rod").with_mass(2.0).with_inertia(2.0 / 12.0).with_pose([0.5, 0.0, 0.0]);
+//! let rod = model.add_body(rod)?;
 //! model.add_revolute("pin", Anchor::ground(0.0, 0.0), Anchor::on(rod, -0.5, 0.0))?;
 //! let gravity = Gravity::new(&model, [0.0, -9.81]);
 //! let mut system = System::new(model)?;
@@ -63,8 +65,7 @@
 //!
 //! let (q, qd) = system.initial_guess();
 //! let start = system.assemble(0.0, &q, &qd)?;
-//! let mut options = SimulationOptions::until(1.0);
-//! options.output = OutputTimes::Every(0.01);
+//! let options = SimulationOptions::until(1.0).with_output(OutputTimes::Every(0.01));
 //! let result = system.simulate(&start, &options, &mut ())?;
 //!
 //! assert_eq!(result.trajectory.len(), 101);
@@ -98,29 +99,22 @@
 //! Jacobian–vector products and assembles the dense matrix from `2n` of them at one `(t, y)`;
 //! the closure caches the dense Jacobian of the last `(t, y)` and answers every product from
 //! it (implementing diffsol's equation traits with `jacobian_inplace` would do the same with
-//! ~150 more lines; a probe at this size measured no gain).
+//! more code; a probe at this size measured no gain).
 //!
-//! Without the cache each product would need at least the augmented solve again (one RHS worth,
-//! 2.5 µs), i.e. ≥ 45 µs per 18-column Jacobian instead of 7.6 µs.
-//! `cargo bench -p multibody --bench evaluation` (four-bar, 18 states): RHS 2.8 µs, exact
-//! Jacobian 8.5 µs, forward differences 49 µs.
-//!
-//! Measured on the slider-crank example (`n = 9`, 18 states, 2 cores, release build): one RHS
-//! 2.5 µs; one Jacobian exact 7.6 µs vs forward differences 47 µs (6×); a 4 s run (1 568 BDF
-//! steps, 37 Jacobians serving 666 products) needs 2 662 RHS evaluations with the exact
-//! Jacobian vs 3 365 with finite differences, 11.6 ms vs 13.1 ms of integrator time. The
-//! saving grows with `n` (exact: one LU + `2n` solves; differences: `2n` LUs) and with the
-//! cost of the force elements (differences evaluate every element `2n` more times).
-//! Output frames cost one augmented solve each (for `q̈` and `λ`): at the default 1e-4 s
-//! interval they, not the integration, dominate that run (146 ms in all).
+//! Without the cache every product would cost at least one augmented solve, so a Jacobian
+//! would cost `2n` right-hand sides; with it, one factorization and `2n` triangular solves.
+//! Differences pay `2n` factorizations and evaluate every force element `2n` more times, so the
+//! saving grows with `n` and with the cost of the elements. Output frames cost one augmented
+//! solve each (for `q̈` and `λ`); at a fine output interval they, not the integration, can
+//! dominate a run. Measurements: docs/performance.md (`cargo bench -p multibody --bench
+//! evaluation`).
 //!
 //! # The Newton iterations' linear solves
 //! The implicit methods factor the iteration matrix `I − cJ` of the `2n` states; with
 //! `J = [[0, I], [∂q̈/∂q, ∂q̈/∂q̇]]` its top block row is `[I, −cI]`, so [`SecondOrderLu`]
 //! eliminates it and factors only the `n × n` matrix `I − c ∂q̈/∂q̇ − c² ∂q̈/∂q` (an eighth of
 //! the LU's work). It checks that form on every factorization and falls back to the full LU
-//! without it. On one LGRES drive cycle it cut the instructions per step by 9 %
-//! (docs/performance.md).
+//! without it (its effect on an LGRES drive cycle: docs/performance.md).
 //!
 //! # Tolerances
 //! `rtol` 1e-6 and [`AbsoluteTolerances`] per kind of variable (positions, angles, velocities,
@@ -129,6 +123,8 @@
 //! over the whole run, so by default they are not capped
 //! ([`SimulationOptions::max_nonlinear_solver_failures`]); a run that cannot progress still stops on
 //! its minimum step, its step budget or its wall-time budget.
+
+#![warn(missing_docs)]
 
 mod constraints;
 pub mod drive;

@@ -28,26 +28,58 @@ pub struct DriverId(pub usize);
 /// One of a body's three coordinates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Coordinate {
+    /// Global x of the centroid (m).
     X = 0,
+    /// Global y of the centroid (m).
     Y = 1,
+    /// Angle of the body frame from the global x axis, counter-clockwise (rad).
     Theta = 2,
 }
 
 /// A rigid body with its centroidal mass properties and an (approximate) initial state.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Body {
+    /// Name used in error messages and reports.
     pub name: String,
+    /// Mass (kg).
     pub mass: f64,
-    /// Moment of inertia about the centroid, normal to the plane.
+    /// Moment of inertia about the centroid, normal to the plane (kg m²).
     pub inertia: f64,
-    /// Initial guess `(x, y, θ)`; assembly corrects it onto the constraints.
+    /// Initial guess `(x, y, θ)` (m, m, rad); assembly corrects it onto the constraints.
     pub pose: [f64; 3],
-    /// Initial guess `(ẋ, ẏ, θ̇)`; assembly projects it onto the velocity constraints.
+    /// Initial guess `(ẋ, ẏ, θ̇)` (m/s, m/s, rad/s); assembly projects it onto the velocity
+    /// constraints.
     pub velocity: [f64; 3],
 }
 
 impl Body {
-    /// A body at rest at `pose`.
+    /// A body named `name`, at rest at the origin, whose mass and inertia are still to be given
+    /// with [`Body::with_mass`] and [`Body::with_inertia`] ([`Model::add_body`] rejects a body
+    /// without them): `Body::named("rod").with_mass(2.0).with_inertia(0.17).with_pose([x, y, θ])`
+    /// reads without a reference to the argument order.
+    pub fn named(name: impl Into<String>) -> Self {
+        Self::new(name, f64::NAN, f64::NAN, [0.0; 3])
+    }
+
+    /// The same body with mass `mass` (kg).
+    pub fn with_mass(mut self, mass: f64) -> Self {
+        self.mass = mass;
+        self
+    }
+
+    /// The same body with centroidal moment of inertia `inertia` (kg m²).
+    pub fn with_inertia(mut self, inertia: f64) -> Self {
+        self.inertia = inertia;
+        self
+    }
+
+    /// The same body with initial pose guess `(x, y, θ)` (m, m, rad).
+    pub fn with_pose(mut self, pose: [f64; 3]) -> Self {
+        self.pose = pose;
+        self
+    }
+
+    /// A body at rest at `pose`, from its mass (kg) and centroidal inertia (kg m²).
     pub fn new(name: impl Into<String>, mass: f64, inertia: f64, pose: [f64; 3]) -> Self {
         Self {
             name: name.into(),
@@ -58,7 +90,7 @@ impl Body {
         }
     }
 
-    /// The same body with an initial velocity guess.
+    /// The same body with an initial velocity guess `(ẋ, ẏ, θ̇)` (m/s, m/s, rad/s).
     pub fn with_velocity(mut self, velocity: [f64; 3]) -> Self {
         self.velocity = velocity;
         self
@@ -68,8 +100,9 @@ impl Body {
 /// A point fixed to a body (in its centroidal frame) or to the ground (in the global frame).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Anchor {
-    /// `None` means ground.
+    /// The carrying body; `None` is ground, as everywhere a body-or-ground is asked for.
     pub body: Option<BodyId>,
+    /// Position in the body's centroidal frame, or global for ground (m).
     pub point: [f64; 2],
 }
 
@@ -104,19 +137,32 @@ pub enum RotationLock {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Joint {
     /// The two anchors coincide.
-    Revolute { name: String, i: Anchor, j: Anchor },
+    Revolute {
+        /// Name used in error messages, reports and constraint labels.
+        name: String,
+        /// Anchor on the first body.
+        i: Anchor,
+        /// Anchor on the second body.
+        j: Anchor,
+    },
     /// Anchor `slider` stays on the line through `base` along `axis` (given in the base's
     /// frame, or globally for ground).
     Prismatic {
+        /// Name used in error messages, reports and constraint labels.
         name: String,
+        /// A point on the sliding line.
         base: Anchor,
+        /// Unit direction of the line ([`Model::add_prismatic`] normalizes it).
         axis: [f64; 2],
+        /// The point that slides along the line.
         slider: Anchor,
+        /// Whether the relative rotation is locked too.
         rotation: RotationLock,
     },
 }
 
 impl Joint {
+    /// The joint's name.
     pub fn name(&self) -> &str {
         match self {
             Joint::Revolute { name, .. } | Joint::Prismatic { name, .. } => name,
@@ -144,8 +190,11 @@ pub enum DriveTarget {
 
 /// A driving constraint.
 pub struct Driver {
+    /// Name used in error messages, reports and constraint labels.
     pub name: String,
+    /// The coordinate or joint variable prescribed.
     pub target: DriveTarget,
+    /// Its prescribed value as a function of time, with exact derivatives.
     pub function: Box<dyn DriveFunction>,
 }
 
@@ -171,18 +220,22 @@ fn finite2(p: [f64; 2]) -> bool {
 }
 
 impl Model {
+    /// An empty model.
     pub fn new() -> Self {
         Self::default()
     }
 
+    /// The bodies, in the order of their [`BodyId`]s.
     pub fn bodies(&self) -> &[Body] {
         &self.bodies
     }
 
+    /// The ideal joints, in the order of their [`JointId`]s.
     pub fn joints(&self) -> &[Joint] {
         &self.joints
     }
 
+    /// The drivers, in the order of their [`DriverId`]s.
     pub fn drivers(&self) -> &[Driver] {
         &self.drivers
     }

@@ -21,8 +21,11 @@ const MAX_NEWTON_ITERATIONS: usize = 50;
 /// A configuration that satisfies the constraints: positions and velocities at time `t`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct State {
+    /// Time (s).
     pub t: f64,
+    /// Coordinates `(x, y, θ)` per body (m, rad).
     pub q: Vec<f64>,
+    /// Velocities (m/s, rad/s).
     pub qd: Vec<f64>,
 }
 
@@ -30,7 +33,9 @@ pub struct State {
 /// `Φ_q q̈ = γ − 2αΦ̇ − β²Φ`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Baumgarte {
+    /// Velocity feedback α (1/s): damps the drift of `Φ̇`.
     pub alpha: f64,
+    /// Position feedback β (1/s): pulls `Φ` back to zero.
     pub beta: f64,
 }
 
@@ -120,6 +125,7 @@ impl System {
         element.downcast_mut()
     }
 
+    /// The force elements in the order they were added (an [`ElementId`] indexes them).
     pub fn elements(&self) -> &[Box<dyn ForceElement>] {
         &self.elements
     }
@@ -203,14 +209,17 @@ impl System {
         Ok(report)
     }
 
+    /// The bodies as given to the model (initial guesses, not the assembled state).
     pub fn bodies(&self) -> &[Body] {
         &self.bodies
     }
 
+    /// The ideal joints, in the order of their [`crate::JointId`]s.
     pub fn joints(&self) -> &[Joint] {
         &self.joints
     }
 
+    /// The drivers' names, in the order of their [`crate::DriverId`]s.
     pub fn driver_names(&self) -> &[String] {
         &self.driver_names
     }

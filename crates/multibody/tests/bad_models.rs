@@ -37,6 +37,28 @@ fn invalid_mass_and_inertia_name_the_body() {
 }
 
 #[test]
+fn a_named_body_needs_its_mass_and_inertia() {
+    let mut model = Model::new();
+    let error = model
+        .add_body(Body::named("rod").with_inertia(0.1))
+        .expect_err("mass never given");
+    assert!(matches!(error, ModelError::InvalidMass { .. }), "{error}");
+    let error = model
+        .add_body(Body::named("rod").with_mass(1.0))
+        .expect_err("inertia never given");
+    assert!(
+        matches!(error, ModelError::InvalidInertia { .. }),
+        "{error}"
+    );
+    let body = Body::named("rod")
+        .with_mass(2.0)
+        .with_inertia(0.1)
+        .with_pose([0.5, 0.0, 0.3]);
+    assert_eq!(body, Body::new("rod", 2.0, 0.1, [0.5, 0.0, 0.3]));
+    assert!(model.add_body(body).is_ok());
+}
+
+#[test]
 fn joints_and_drivers_must_refer_to_existing_items() {
     let mut model = Model::new();
     let body = model

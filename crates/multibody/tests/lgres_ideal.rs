@@ -1,119 +1,52 @@
-//! The LGRES mechanism of docs/model.md §6 with all joints ideal (15 equations, 15 coordinates):
-//! assembly from the reconstructed initial configuration, the swing ranges over one drive
-//! period, and dynamics of the fully driven mechanism against its kinematics. The numbers are
-//! docs/model.md's reconstruction, used here as test data only.
+//! The LGRES mechanism of `crates/lgres/scenes/lgres.toml` (docs/model.md §6) with all joints
+//! ideal (15 equations, 15 coordinates): assembly from the scene's initial configuration, the
+//! swing ranges over one drive period, and dynamics of the fully driven mechanism against its
+//! kinematics. The geometry is read from the scene file, so it is the scene's, not a copy.
 
-use std::f64::consts::{FRAC_PI_2, TAU};
+mod common;
 
-use multibody::{
-    AbsoluteTolerances, Anchor, Body, BodyId, Coordinate, DriveTarget, Gravity, Harmonic, Model,
-    OutputTimes, RotationLock, SimulationOptions, System,
-};
+use common::lgres_scene::Lgres;
+use multibody::{AbsoluteTolerances, Gravity, OutputTimes, SimulationOptions, System};
 
-/// (name, length, mass, x, y, θ in degrees) from docs/model.md §5–6.
-const BODIES: [(&str, f64, f64, f64, f64, f64); 5] = [
-    ("rod 1", 1.00, 6.32, 0.15441, 1.04244, -72.0124),
-    ("rod 2", 1.12, 12.07, 0.79927, 0.29660, -28.8576),
-    ("rod 3", 1.29, 12.54, 0.64487, 0.01316, 1.1694),
-    ("rocker", 0.57, 5.59, 0.24497, 0.29000, 89.9949),
-    ("slide rod", 0.64, 6.93, 0.24500, 0.89500, 90.0),
-];
-
-fn lgres(rpm: f64) -> System {
-    let mut model = Model::new();
-    let ids: Vec<BodyId> = BODIES
-        .iter()
-        .map(|&(name, length, mass, x, y, degrees)| {
-            model
-                .add_body(Body::new(
-                    name,
-                    mass,
-                    mass * length * length / 12.0,
-                    [x, y, degrees.to_radians()],
-                ))
-                .expect("valid body")
-        })
-        .collect();
-    let [rod1, rod2, rod3, rocker, slide] = [ids[0], ids[1], ids[2], ids[3], ids[4]];
-    let joints = [
-        (
-            "O1",
-            Anchor::ground(0.0, 1.518),
-            Anchor::on(rod1, -0.5, 0.0),
-        ),
-        (
-            "C",
-            Anchor::on(rod1, 0.5, 0.0),
-            Anchor::on(rod2, -0.56, 0.0),
-        ),
-        (
-            "O3",
-            Anchor::ground(0.0, 0.0),
-            Anchor::on(rod3, -0.645, 0.0),
-        ),
-        (
-            "D",
-            Anchor::on(rod3, -0.4, 0.0),
-            Anchor::on(rocker, -0.285, 0.0),
-        ),
-        (
-            "A",
-            Anchor::on(rod2, 0.56, 0.0),
-            Anchor::on(rod3, 0.645, 0.0),
-        ),
-        (
-            "B",
-            Anchor::on(rocker, 0.285, 0.0),
-            Anchor::on(slide, -0.32, 0.0),
-        ),
-    ];
-    for (name, i, j) in joints {
-        model.add_revolute(name, i, j).expect("valid joint");
+/// The scene's mechanism with the clearance joints A and B made ideal revolutes, driven at
+/// `rpm`; also the scene's body names and poses (x, y in m, θ in degrees).
+fn lgres(rpm: f64) -> (System, Vec<String>, Vec<[f64; 3]>) {
+    let Lgres {
+        mut model,
+        names,
+        poses,
+        clearance_joints,
+        gravity,
+    } = Lgres::load(rpm);
+    for joint in clearance_joints {
+        model
+            .add_revolute(joint.name, joint.bearing, joint.pin)
+            .expect("valid joint");
     }
-    model
-        .add_prismatic(
-            "guide",
-            Anchor::ground(0.245, 0.0),
-            [0.0, 1.0],
-            Anchor::on(slide, 0.0, 0.0),
-            RotationLock::At(FRAC_PI_2),
-        )
-        .expect("valid joint");
-    model
-        .add_driver(
-            "slide drive",
-            DriveTarget::Coordinate(slide, Coordinate::Y),
-            Box::new(Harmonic {
-                offset: 0.895,
-                amplitude: 0.09,
-                omega: TAU * rpm / 60.0,
-            }),
-        )
-        .expect("valid driver");
-    let gravity = Gravity::new(&model, [0.0, -9.81]);
+    let gravity = Gravity::new(&model, gravity);
     let mut system = System::new(model).expect("valid model");
     system.add_element(Box::new(gravity));
-    system
+    (system, names, poses)
 }
 
 #[test]
 fn assembles_at_the_reconstructed_configuration() {
-    let system = lgres(60.0);
+    let (system, names, poses) = lgres(60.0);
     assert_eq!(
         (system.coordinate_count(), system.constraint_count()),
         (15, 15)
     );
     let (q, qd) = system.initial_guess();
     let state = system.assemble(0.0, &q, &qd).expect("assembles");
-    // The table is rounded to 5 decimals (m) and 4 (degrees): the assembled configuration
-    // must be within that rounding, and the drive starts at rest.
-    for (k, body) in BODIES.iter().enumerate() {
-        assert!((state.q[3 * k] - body.3).abs() < 2e-5, "{} x", body.0);
-        assert!((state.q[3 * k + 1] - body.4).abs() < 2e-5, "{} y", body.0);
+    // The scene's poses are rounded to 5 decimals (m) and 4 (degrees): the assembled
+    // configuration must be within that rounding, and the drive starts at rest.
+    assert_eq!(poses.len(), 5);
+    for (k, (name, [x, y, degrees])) in names.iter().zip(&poses).enumerate() {
+        assert!((state.q[3 * k] - x).abs() < 2e-5, "{name} x");
+        assert!((state.q[3 * k + 1] - y).abs() < 2e-5, "{name} y");
         assert!(
-            (state.q[3 * k + 2].to_degrees() - body.5).abs() < 2e-3,
-            "{} θ",
-            body.0
+            (state.q[3 * k + 2].to_degrees() - degrees).abs() < 2e-3,
+            "{name} θ"
         );
     }
     assert!(state.qd.iter().all(|v| v.abs() < 1e-12));
@@ -121,7 +54,7 @@ fn assembles_at_the_reconstructed_configuration() {
 
 #[test]
 fn one_period_sweeps_the_reported_ranges() {
-    let system = lgres(60.0);
+    let (system, ..) = lgres(60.0);
     let (q, _) = system.initial_guess();
     let times: Vec<f64> = (0..=200).map(|k| k as f64 / 200.0).collect();
     let solution = system
@@ -170,13 +103,13 @@ fn one_period_sweeps_the_reported_ranges() {
 
 #[test]
 fn driven_dynamics_follows_the_kinematics() {
-    let mut system = lgres(105.0);
+    let (mut system, ..) = lgres(105.0);
     let (q, qd) = system.initial_guess();
     let start = system.assemble(0.0, &q, &qd).expect("assembles");
-    let mut options = SimulationOptions::until(60.0 / 105.0);
-    options.rtol = 1e-8;
-    options.atol = AbsoluteTolerances::uniform(1e-10);
-    options.output = OutputTimes::Every(0.01);
+    let options = SimulationOptions::until(60.0 / 105.0)
+        .with_rtol(1e-8)
+        .with_atol(AbsoluteTolerances::uniform(1e-10))
+        .with_output(OutputTimes::Every(0.01));
     let result = system
         .simulate(&start, &options, &mut ())
         .expect("integrates");

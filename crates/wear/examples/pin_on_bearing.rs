@@ -74,7 +74,9 @@ fn simulate(joint: &WornJoint) -> Result<StageWear, WearError> {
 }
 
 fn summary(name: &str, p: &WornProfile) {
-    let (peak, _, angle) = p.peak();
+    let wear::Peak {
+        depth: peak, angle, ..
+    } = p.peak();
     let ranges: Vec<String> = p
         .concentrated_ranges(0.5)
         .iter()
@@ -93,8 +95,8 @@ fn summary(name: &str, p: &WornProfile) {
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let params = WearParams::new(1.8e-13, 0.1, 1000)?;
-    let fresh = WornJoint::new(&params, R_BEARING, R_BEARING - CLEARANCE)?.ok_or("wear is off")?;
+    let params = WearParams::archard(1.8e-13).with_hinge_width(0.1);
+    let fresh = WornJoint::new(&params, R_BEARING, R_BEARING - CLEARANCE)?;
 
     println!("LGRES joint B, synthetic load, {CYCLES} cycles at 60 rpm, dt = {DT} s");
     let stage = simulate(&fresh)?;
@@ -113,10 +115,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ("paper single jump", Extrapolation::single_jump()),
         ("adaptive, 10 % per sub-step", Extrapolation::adaptive()),
     ] {
-        let plan = StagePlan {
-            extrapolation,
-            ..StagePlan::paper(1)
-        };
+        let plan = StagePlan::paper(1).with_extrapolation(extrapolation);
         let mut joints = vec![fresh.clone()];
         let mut archard = Vec::new();
         let reports = run_stages(&mut joints, &plan, |_: RunContext, js: &[WornJoint]| {
@@ -160,7 +159,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             joint.worn_volume(),
             kfs,
             joint.worn_volume() / kfs,
-            1e3 * (CLEARANCE + 0.5 * (joint.bearing().peak().0 + joint.pin().peak().0))
+            1e3 * (CLEARANCE + 0.5 * (joint.bearing().peak().depth + joint.pin().peak().depth))
         );
     }
     Ok(())

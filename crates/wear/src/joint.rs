@@ -22,6 +22,31 @@ pub struct WearParams {
 }
 
 impl WearParams {
+    /// Parameters with dimensional wear coefficient `K_d` (m²/N; 0: wear off) and the default
+    /// grid ([`DEFAULT_CELLS`]); the hinge width is still to be given with
+    /// [`WearParams::with_hinge_width`] (validation rejects it unset):
+    /// `WearParams::archard(1.8e-13).with_hinge_width(0.1)` reads without the argument order.
+    /// Validated where used ([`WornJoint::new`]) or by [`WearParams::validate`].
+    pub fn archard(wear_coefficient: f64) -> Self {
+        Self {
+            wear_coefficient,
+            hinge_width: f64::NAN,
+            cells: DEFAULT_CELLS,
+        }
+    }
+
+    /// The same parameters with hinge width `w` (m).
+    pub fn with_hinge_width(mut self, hinge_width: f64) -> Self {
+        self.hinge_width = hinge_width;
+        self
+    }
+
+    /// The same parameters with `cells` cells per surface.
+    pub fn with_cells(mut self, cells: usize) -> Self {
+        self.cells = cells;
+        self
+    }
+
     /// Validated parameters: `K_d` finite and ≥ 0, `w` finite and > 0, `cells ≥ 1`.
     pub fn new(wear_coefficient: f64, hinge_width: f64, cells: usize) -> Result<Self, WearError> {
         let params = Self {
@@ -142,28 +167,39 @@ impl TryFrom<JointData> for WornJoint {
 }
 
 impl WornJoint {
-    /// An unworn joint, or `Ok(None)` when `params.wear_coefficient == 0`.
-    ///
-    /// `K_d = 0` is normalized to "wear off" rather than rejected: the caller keeps an
-    /// `Option<WornJoint>`, and with `None` allocates no grid and calls no wear code (it uses
-    /// `contact::CircularProfile` for the surfaces). Radii are validated either way.
+    /// An unworn joint with bearing radius `R_i` and pin radius `R_j < R_i` (m). A joint value
+    /// always wears, so `K_d = 0` is an error here; for parameters that may say "wear off" use
+    /// [`WornJoint::if_wearing`].
     pub fn new(
         params: &WearParams,
         bearing_radius: f64,
         pin_radius: f64,
-    ) -> Result<Option<Self>, WearError> {
+    ) -> Result<Self, WearError> {
         params.validate()?;
         check_radii(bearing_radius, pin_radius)?;
-        if !params.is_on() {
-            return Ok(None);
-        }
         Self::from_profiles(
             params.wear_coefficient,
             params.hinge_width,
             WornProfile::new(Side::Bearing, bearing_radius, params.cells)?,
             WornProfile::new(Side::Pin, pin_radius, params.cells)?,
         )
-        .map(Some)
+    }
+
+    /// [`WornJoint::new`], or `Ok(None)` when `params` turn wear off (`K_d = 0`, e.g. read from a
+    /// scene): the caller keeps an `Option<WornJoint>` and with `None` allocates no grid and
+    /// calls no wear code (it uses `contact::CircularProfile` for the surfaces). Parameters and
+    /// radii are validated either way.
+    pub fn if_wearing(
+        params: &WearParams,
+        bearing_radius: f64,
+        pin_radius: f64,
+    ) -> Result<Option<Self>, WearError> {
+        if params.is_on() {
+            return Self::new(params, bearing_radius, pin_radius).map(Some);
+        }
+        params.validate()?;
+        check_radii(bearing_radius, pin_radius)?;
+        Ok(None)
     }
 
     /// A joint from existing (possibly worn) surfaces, e.g. loaded from a previous stage.

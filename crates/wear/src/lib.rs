@@ -9,8 +9,9 @@
 //!   negative, O(1) per sample), so the contact kernel sees a smooth worn radius and its exact
 //!   slope.
 //! - [`WornJoint`]: bearing + pin + wear parameters; serializable so a stage can be saved and
-//!   resumed. [`WornJoint::new`] returns `None` for `K_d = 0`: a caller holding
-//!   `Option<WornJoint>` with wear off allocates no grid and calls no wear code.
+//!   resumed. A joint value always wears; [`WornJoint::if_wearing`] returns `None` for
+//!   `K_d = 0`, so a caller holding `Option<WornJoint>` with wear off allocates no grid and
+//!   calls no wear code.
 //! - [`StageWear`]: the depth one stage gathers from **accepted** integration steps
 //!   ([`StageWear::accumulate_step`], allocation-free), kept apart from the surfaces so the
 //!   geometry stays frozen within the stage; [`WornJoint::apply`] moves it in, amplified.
@@ -23,8 +24,8 @@
 //! use wear::{WearParams, WornJoint};
 //!
 //! // LGRES joint B: bearing 80 mm, clearance 0.5 mm, hinge 0.1 m, K_d = 1.8e-13 m²/N.
-//! let params = WearParams::new(1.8e-13, 0.1, 1000)?;
-//! let mut joint = WornJoint::new(&params, 0.080, 0.0795)?.expect("K_d > 0: wear is on");
+//! let params = WearParams::archard(1.8e-13).with_hinge_width(0.1).with_cells(1000);
+//! let mut joint = WornJoint::new(&params, 0.080, 0.0795)?;
 //!
 //! // One stage: the caller's integrator reports each accepted step's end states.
 //! let mut stage = joint.start_stage();
@@ -55,6 +56,8 @@
 //! # Ok::<(), wear::WearError>(())
 //! ```
 
+#![warn(missing_docs)]
+
 mod accumulate;
 mod error;
 mod joint;
@@ -64,7 +67,7 @@ mod staging;
 pub use accumulate::StageWear;
 pub use error::WearError;
 pub use joint::{ContactArc, DEFAULT_CELLS, ShapeBound, WearParams, WornJoint};
-pub use profile::{AngularRange, Side, WornProfile};
+pub use profile::{AngularRange, Peak, Side, WornProfile};
 pub use staging::{
     Extrapolation, ExtrapolationWarning, GeometryLimits, JointSubstep, RunContext, StagePlan,
     StageReport, StagingError, SubstepReport, run_stage, run_stages,

@@ -79,6 +79,17 @@ impl TryFrom<ProfileData> for WornProfile {
     }
 }
 
+/// The deepest cell of a surface ([`WornProfile::peak`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Peak {
+    /// Its Archard depth `h` (m); the radius changed by `h/2`. 0 on an unworn surface.
+    pub depth: f64,
+    /// Its index, from 0 (the first cell when several are equally deep).
+    pub cell: usize,
+    /// Its centre, body-frame angle in `[0, 2π)` (rad).
+    pub angle: f64,
+}
+
 /// A contiguous angular range of a surface (body frame, radians).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct AngularRange {
@@ -169,8 +180,8 @@ impl WornProfile {
         &self.depth
     }
 
-    /// Largest cell depth, its cell index and the cell centre angle (rad).
-    pub fn peak(&self) -> (f64, usize, f64) {
+    /// The deepest cell: its depth, index and centre angle.
+    pub fn peak(&self) -> Peak {
         let (k, h) = self
             .depth
             .iter()
@@ -180,7 +191,11 @@ impl WornProfile {
                 (0, 0.0),
                 |best, (k, h)| if h > best.1 { (k, h) } else { best },
             );
-        (h, k, self.cell_center(k))
+        Peak {
+            depth: h,
+            cell: k,
+            angle: self.cell_center(k),
+        }
     }
 
     /// Interpolated wear depth `h(θ)` and its derivative `dh/dθ` at body-frame angle `angle`.
@@ -236,7 +251,7 @@ impl WornProfile {
     /// Contiguous ranges of cells whose depth is at least `fraction` of the peak depth,
     /// deepest first. Empty for an unworn surface. A range through 0 is reported once.
     pub fn concentrated_ranges(&self, fraction: f64) -> Vec<AngularRange> {
-        let (peak, _, _) = self.peak();
+        let peak = self.peak().depth;
         if peak <= 0.0 {
             return Vec::new();
         }

@@ -115,8 +115,10 @@ fn unbounded() -> f64 {
 }
 
 /// A staged-wear plan: `stages` stages, each standing for `amplification ×` the simulated
-/// cycles.
+/// cycles. Built with [`StagePlan::new`] or [`StagePlan::paper`] and the `with_*` methods (new
+/// settings can be added without breaking callers, so it is no literal outside this crate).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct StagePlan {
     /// Number of stages S.
     pub stages: usize,
@@ -136,6 +138,7 @@ pub struct StagePlan {
 /// measures a run checks at its contacts: the slope `|c'|/|e| ≤ (max|R_i'| + max|R_j'|)/c0`
 /// and the conformity `(R_j'' − R_i'')/c ≤ (max|R_i''| + max|R_j''|)/c0`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
 pub struct GeometryLimits {
     /// Largest `(max|R_i'| + max|R_j'|)/c0` (1/rad).
     pub slope: f64,
@@ -144,6 +147,12 @@ pub struct GeometryLimits {
 }
 
 impl GeometryLimits {
+    /// Limits on `(max|R_i'| + max|R_j'|)/c0` (1/rad) and `(max|R_i''| + max|R_j''|)/c0`
+    /// (1/rad²); infinite: no limit.
+    pub fn new(slope: f64, curvature: f64) -> Self {
+        Self { slope, curvature }
+    }
+
     /// The slope limit of the clearance joint's validity checks, 0.3. The curvature is not
     /// limited here: the wear of one or a few chaotic cycles carries cell-scale curvature that
     /// passes the conformity limit at sub-micrometre depths, long before a pin whose contact
@@ -174,14 +183,38 @@ impl StagePlan {
     /// The paper's amplification of a stage: 100 simulated cycles stand for 2 million.
     pub const PAPER_AMPLIFICATION: f64 = 20_000.0;
 
-    /// `stages` stages of the paper's factor, extrapolated adaptively.
-    pub fn paper(stages: usize) -> Self {
+    /// `stages` stages, each amplifying the simulated cycles by `amplification` (> 0) the way
+    /// `extrapolation` says, with no geometry limits.
+    pub fn new(stages: usize, amplification: f64, extrapolation: Extrapolation) -> Self {
         Self {
             stages,
-            amplification: Self::PAPER_AMPLIFICATION,
-            extrapolation: Extrapolation::adaptive(),
+            amplification,
+            extrapolation,
             geometry_limits: None,
         }
+    }
+
+    /// `stages` stages of the paper's factor, extrapolated adaptively.
+    pub fn paper(stages: usize) -> Self {
+        Self::new(stages, Self::PAPER_AMPLIFICATION, Extrapolation::adaptive())
+    }
+
+    /// The same plan with amplification factor `amplification` per stage.
+    pub fn with_amplification(mut self, amplification: f64) -> Self {
+        self.amplification = amplification;
+        self
+    }
+
+    /// The same plan applying the factor as `extrapolation` says.
+    pub fn with_extrapolation(mut self, extrapolation: Extrapolation) -> Self {
+        self.extrapolation = extrapolation;
+        self
+    }
+
+    /// The same plan ending stages early at `limits` (`None`: no limit; adaptive only).
+    pub fn with_geometry_limits(mut self, limits: Option<GeometryLimits>) -> Self {
+        self.geometry_limits = limits;
+        self
     }
 
     /// Checks amplification (> 0, finite) and the extrapolation's fraction and limit.
@@ -439,8 +472,8 @@ fn apply_all(
         let (slope, curvature) = joint.shape_change_per_amplification(w)?;
         let change_fraction = joint.apply(w, amplification)?;
         let step = JointSubstep {
-            max_bearing_depth: joint.bearing().peak().0,
-            max_pin_depth: joint.pin().peak().0,
+            max_bearing_depth: joint.bearing().peak().depth,
+            max_pin_depth: joint.pin().peak().depth,
             change_fraction,
             slope_change: amplification * slope,
             curvature_change: amplification * curvature,

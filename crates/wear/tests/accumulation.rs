@@ -145,7 +145,9 @@ fn surfaces_stay_frozen_until_the_stage_is_applied() {
     assert!(stage.max_depth() > 0.0);
     assert_eq!(joint, before);
     joint.apply(&stage, 10.0).unwrap();
-    let (peak, _, angle) = joint.pin().peak();
+    let wear::Peak {
+        depth: peak, angle, ..
+    } = joint.pin().peak();
     assert_relative_eq!(peak, 10.0 * stage.pin().iter().copied().fold(0.0, f64::max));
     // The peak lies on the loaded arc of the pin.
     let arc = ContactArc::new(s.eccentricity, R_BEARING, R_PIN).unwrap();

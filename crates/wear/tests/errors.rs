@@ -43,10 +43,14 @@ fn parameters() {
 #[test]
 fn zero_wear_coefficient_means_off() {
     let off = WearParams::new(0.0, WIDTH, 1000).unwrap();
-    assert!(WornJoint::new(&off, R_BEARING, R_PIN).unwrap().is_none());
+    assert!(
+        WornJoint::if_wearing(&off, R_BEARING, R_PIN)
+            .unwrap()
+            .is_none()
+    );
     // Radii are still validated when wear is off.
     assert!(matches!(
-        WornJoint::new(&off, R_PIN, R_BEARING),
+        WornJoint::if_wearing(&off, R_PIN, R_BEARING),
         Err(WearError::RadiiInconsistent { .. })
     ));
     // A joint value always means wear on.
@@ -132,10 +136,7 @@ fn amplification_and_pin_worn_through() {
 
 #[test]
 fn plans() {
-    let with = |x| StagePlan {
-        extrapolation: x,
-        ..StagePlan::paper(1)
-    };
+    let with = |x| StagePlan::paper(1).with_extrapolation(x);
     let adaptive = |f| {
         with(Extrapolation::Adaptive {
             max_fraction: f,
@@ -170,10 +171,7 @@ fn plans() {
         "max_substeps"
     );
     for bad in [0.0, -20_000.0, f64::INFINITY] {
-        let plan = StagePlan {
-            amplification: bad,
-            ..StagePlan::paper(1)
-        };
+        let plan = StagePlan::paper(1).with_amplification(bad);
         assert_eq!(name(plan.validate().unwrap_err()), "amplification");
     }
 }

@@ -173,7 +173,7 @@ fn worn_joint_round_trips_through_json() {
             );
         }
     }
-    assert!(joint.pin().peak().0 > 0.0 && joint.bearing().peak().0 > 0.0);
+    assert!(joint.pin().peak().depth > 0.0 && joint.bearing().peak().depth > 0.0);
     // Deserialization validates: a negative depth is refused.
     let bad = json.replacen("\"depth\":[0.0", "\"depth\":[-1.0", 1);
     assert_ne!(bad, json);

@@ -49,15 +49,12 @@ fn measured_change(before: &WornJoint, after: &WornJoint, shift: isize) -> f64 {
 
 /// The paper's plan, adaptive in the clearance change only (no shape bounds).
 fn fraction_only(stages: usize) -> StagePlan {
-    StagePlan {
-        extrapolation: Extrapolation::Adaptive {
-            max_fraction: Extrapolation::DEFAULT_FRACTION,
-            max_substeps: Extrapolation::DEFAULT_MAX_SUBSTEPS,
-            max_slope_change: f64::INFINITY,
-            max_curvature_change: f64::INFINITY,
-        },
-        ..StagePlan::paper(stages)
-    }
+    StagePlan::paper(stages).with_extrapolation(Extrapolation::Adaptive {
+        max_fraction: Extrapolation::DEFAULT_FRACTION,
+        max_substeps: Extrapolation::DEFAULT_MAX_SUBSTEPS,
+        max_slope_change: f64::INFINITY,
+        max_curvature_change: f64::INFINITY,
+    })
 }
 
 #[test]
@@ -140,10 +137,7 @@ fn constant_wear_extrapolates_linearly_whatever_the_split() {
     .unwrap();
     assert!(r[0].substeps.len() > 1);
     let mut jump = vec![joint0];
-    let plan = StagePlan {
-        extrapolation: Extrapolation::single_jump(),
-        ..StagePlan::paper(1)
-    };
+    let plan = StagePlan::paper(1).with_extrapolation(Extrapolation::single_jump());
     let r = run_stages(&mut jump, &plan, |_, js: &[WornJoint]| {
         Ok::<_, Infallible>(vec![fixed(&js[0])])
     })
@@ -161,10 +155,7 @@ fn constant_wear_extrapolates_linearly_whatever_the_split() {
 
 #[test]
 fn single_jump_warns_only_when_too_large() {
-    let plan = StagePlan {
-        extrapolation: Extrapolation::single_jump(),
-        ..StagePlan::paper(1)
-    };
+    let plan = StagePlan::paper(1).with_extrapolation(Extrapolation::single_jump());
     let mut big = vec![joint(1000)];
     let r = run_stages(&mut big, &plan, |_, js: &[WornJoint]| {
         Ok::<_, Infallible>(vec![clearance_proportional(&js[0], 1e-4)])
@@ -186,15 +177,12 @@ fn single_jump_warns_only_when_too_large() {
 
 #[test]
 fn substep_limit_and_runner_errors_surface() {
-    let plan = StagePlan {
-        extrapolation: Extrapolation::Adaptive {
-            max_fraction: 0.1,
-            max_substeps: 3,
-            max_slope_change: f64::INFINITY,
-            max_curvature_change: f64::INFINITY,
-        },
-        ..StagePlan::paper(1)
-    };
+    let plan = StagePlan::paper(1).with_extrapolation(Extrapolation::Adaptive {
+        max_fraction: 0.1,
+        max_substeps: 3,
+        max_slope_change: f64::INFINITY,
+        max_curvature_change: f64::INFINITY,
+    });
     let mut js = vec![joint(1000)];
     let err = run_stages(&mut js, &plan, |_, js: &[WornJoint]| {
         Ok::<_, Infallible>(vec![clearance_proportional(&js[0], 1e-4)])
@@ -236,15 +224,12 @@ fn shape_bounds_limit_slope_and_curvature_of_each_substep() {
         let b: Vec<f64> = (0..1000).map(bump).collect();
         StageWear::from_depths(j, b.clone(), b).unwrap()
     };
-    let plan = StagePlan {
-        extrapolation: Extrapolation::Adaptive {
-            max_fraction: 1.0,
-            max_substeps: 1000,
-            max_slope_change: 0.05,
-            max_curvature_change: 0.25,
-        },
-        ..StagePlan::paper(1)
-    };
+    let plan = StagePlan::paper(1).with_extrapolation(Extrapolation::Adaptive {
+        max_fraction: 1.0,
+        max_substeps: 1000,
+        max_slope_change: 0.05,
+        max_curvature_change: 0.25,
+    });
     let mut js = vec![joint(1000)];
     let mut before = js[0].clone();
     let mut changes = Vec::new();
@@ -299,13 +284,7 @@ fn shape_bounds_limit_slope_and_curvature_of_each_substep() {
 fn geometry_limits_end_a_stage_at_the_limit() {
     // The bump of `clearance_proportional` grows the slope bound by about 1.6e-4 c0/rad per
     // unit amplification: the slope limit 0.3 is reached long before the stage's 20 000.
-    let plan = StagePlan {
-        geometry_limits: Some(GeometryLimits {
-            slope: 0.3,
-            curvature: f64::INFINITY,
-        }),
-        ..fraction_only(1)
-    };
+    let plan = fraction_only(1).with_geometry_limits(Some(GeometryLimits::new(0.3, f64::INFINITY)));
     let mut js = vec![joint(1000)];
     let reports = run_stages(&mut js, &plan, |_, current: &[WornJoint]| {
         Ok::<_, Infallible>(vec![clearance_proportional(&current[0], 1e-6)])

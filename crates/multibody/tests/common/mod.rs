@@ -1,6 +1,8 @@
 //! Mechanisms shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod lgres_scene;
+
 use multibody::{
     Anchor, Body, BodyId, DriveFunction, DriveTarget, ElementId, ForceElement, ForcePartials,
     Gravity, JointId, Model, RotationLock, System,

@@ -12,7 +12,7 @@ pub const K_D: f64 = 1.8e-13;
 
 pub fn joint(cells: usize) -> WornJoint {
     let params = WearParams::new(K_D, WIDTH, cells).unwrap();
-    WornJoint::new(&params, R_BEARING, R_PIN).unwrap().unwrap()
+    WornJoint::new(&params, R_BEARING, R_PIN).unwrap()
 }
 
 /// A loaded contact state with penetration `delta` on the nominal geometry.
