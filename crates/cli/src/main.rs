@@ -96,8 +96,8 @@ enum Command {
         /// A built-in scene name or a TOML file.
         scene: Option<String>,
         /// Integrators, comma-separated (default: all).
-        #[arg(long, value_delimiter = ',', value_enum)]
-        methods: Vec<MethodName>,
+        #[arg(long, value_delimiter = ',', value_parser = method_parser())]
+        methods: Vec<scene::Integrator>,
         /// Relative tolerances, comma-separated (default: 1e-3 to 1e-10 by decades).
         #[arg(long, value_delimiter = ',')]
         rtols: Vec<f64>,
@@ -116,24 +116,13 @@ enum Command {
     },
 }
 
-/// Integrator names on the command line.
-#[derive(Clone, Copy, ValueEnum)]
-enum MethodName {
-    Bdf,
-    TrBdf2,
-    Esdirk34,
-    Tsit45,
-}
-
-impl MethodName {
-    fn integrator(self) -> scene::Integrator {
-        match self {
-            MethodName::Bdf => scene::Integrator::Bdf,
-            MethodName::TrBdf2 => scene::Integrator::TrBdf2,
-            MethodName::Esdirk34 => scene::Integrator::Esdirk34,
-            MethodName::Tsit45 => scene::Integrator::Tsit45,
-        }
-    }
+/// Integrator names on the command line: the names of the scene format and the reports.
+fn method_parser() -> impl clap::builder::TypedValueParser<Value = scene::Integrator> {
+    use clap::builder::TypedValueParser;
+    let names = lgres::precision::ALL_METHODS.map(lgres::precision::method_name);
+    clap::builder::PossibleValuesParser::new(names).try_map(|name| {
+        lgres::precision::method_by_name(&name).ok_or("no integrator of this name")
+    })
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -508,7 +497,7 @@ fn stress(quick: bool, o: &Overrides) -> Result<(), CliError> {
 
 /// Settings of `wearsim precision` beyond the scene.
 struct PrecisionArgs<'a> {
-    methods: &'a [MethodName],
+    methods: &'a [scene::Integrator],
     rtols: &'a [f64],
     repeats: usize,
     duration: Option<f64>,
@@ -531,7 +520,7 @@ fn precision(spec: &str, args: &PrecisionArgs<'_>, o: &Overrides) -> Result<(), 
         ..Default::default()
     };
     if !args.methods.is_empty() {
-        options.methods = args.methods.iter().map(|m| m.integrator()).collect();
+        options.methods = args.methods.to_vec();
     }
     if !args.rtols.is_empty() {
         options.rtols = args.rtols.to_vec();

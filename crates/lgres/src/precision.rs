@@ -140,7 +140,7 @@ pub enum PrecisionError {
     Output(#[from] OutputError),
 }
 
-/// Command-line and report name of an integrator.
+/// Command-line and report name of an integrator (its scene-file spelling).
 pub fn method_name(method: Integrator) -> &'static str {
     match method {
         Integrator::Bdf => "bdf",
@@ -148,6 +148,11 @@ pub fn method_name(method: Integrator) -> &'static str {
         Integrator::Esdirk34 => "esdirk34",
         Integrator::Tsit45 => "tsit45",
     }
+}
+
+/// The integrator of a [`method_name`].
+pub fn method_by_name(name: &str) -> Option<Integrator> {
+    ALL_METHODS.into_iter().find(|m| method_name(*m) == name)
 }
 
 /// Paths sampled at the output times of a measured run.

@@ -19,7 +19,7 @@
 use std::time::Instant;
 
 use multibody::{
-    AbsoluteTolerances, AssemblyError, Baumgarte, Frame, Integrator, KinematicsError, Observer,
+    AbsoluteTolerances, AssemblyError, Baumgarte, Frame, KinematicsError, Observer,
     OutputTimes, SimulationError, SimulationOptions, SimulationResult,
 };
 use serde::Serialize;
@@ -682,12 +682,7 @@ pub fn simulation_options(
 ) -> SimulationOptions {
     let tol = scene.tolerances();
     let mut o = SimulationOptions::until(t_end);
-    o.integrator = match scene.solver.integrator {
-        scene::Integrator::Bdf => Integrator::Bdf,
-        scene::Integrator::TrBdf2 => Integrator::TrBdf2,
-        scene::Integrator::Esdirk34 => Integrator::Esdirk34,
-        scene::Integrator::Tsit45 => Integrator::Tsit45,
-    };
+    o.integrator = scene.solver.integrator;
     o.rtol = scene.solver.rtol;
     o.atol = AbsoluteTolerances {
         position: tol.position,

@@ -23,6 +23,10 @@ use std::f64::consts::TAU;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use contact::ContactError;
+/// The lower crates' types the scene format is made of (one definition each, there).
+pub use contact::{FrictionLawParams, MaterialParams, NormalLawParams, SlidingVelocity};
+pub use multibody::{Coordinate, Integrator};
 use serde::{Deserialize, Serialize};
 
 /// Reserved body name for the fixed frame.
@@ -225,18 +229,6 @@ pub enum DriverTarget {
     },
 }
 
-/// A pose coordinate.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Coordinate {
-    /// Centroid x, m.
-    X,
-    /// Centroid y, m.
-    Y,
-    /// Body angle, rad.
-    Theta,
-}
-
 /// A time law `f(t)`; its unit is the driven quantity's (m or rad).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case", deny_unknown_fields)]
@@ -327,13 +319,13 @@ pub struct ClearanceJoint {
     /// Radial clearance `c = R_i − R_j`, m; the pin radius is `bearing_radius − clearance`.
     pub clearance: f64,
     /// Bearing material.
-    pub bearing_material: Material,
+    pub bearing_material: MaterialParams,
     /// Pin material.
-    pub pin_material: Material,
+    pub pin_material: MaterialParams,
     /// Normal contact force law.
-    pub normal_law: NormalLaw,
+    pub normal_law: NormalLawParams,
     /// Tangential (friction) law.
-    pub friction: FrictionLaw,
+    pub friction: FrictionLawParams,
     /// Archard wear of both surfaces; absent: no wear.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wear: Option<WearSpec>,
@@ -361,94 +353,16 @@ impl ClearanceJoint {
 pub struct Sliding {
     /// For the friction force.
     #[serde(default)]
-    pub friction: contact::SlidingVelocity,
+    pub friction: SlidingVelocity,
     /// For Archard wear.
     #[serde(default)]
-    pub wear: contact::SlidingVelocity,
+    pub wear: SlidingVelocity,
 }
 
 impl Sliding {
     fn is_default(&self) -> bool {
         *self == Self::default()
     }
-}
-
-/// Elastic constants of one contacting surface.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Material {
-    /// Young's modulus `E`, Pa.
-    pub youngs_modulus: f64,
-    /// Poisson's ratio `ν`, dimensionless, in (−1, 0.5).
-    pub poisson_ratio: f64,
-}
-
-/// Normal contact force law `F_n(δ, δ̇)`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "law", rename_all = "kebab-case", deny_unknown_fields)]
-pub enum NormalLaw {
-    /// `K δⁿ (1 + 3(1−c_e²)/4 · δ̇/δ̇⁻)` — Lankarani & Nikravesh.
-    HertzLankaraniNikravesh(DissipativeLaw),
-    /// `K δⁿ (1 + 3(1−c_e)/2 · δ̇/δ̇⁻)` — Hunt & Crossley.
-    HuntCrossley(DissipativeLaw),
-    /// `K δⁿ (1 + 8(1−c_e)/(5 c_e) · δ̇/δ̇⁻)` — Flores et al.
-    Flores(DissipativeLaw),
-    /// `K δⁿ`, no damping.
-    Hertz(ElasticLaw),
-}
-
-/// Parameters of a damped Hertz-type law.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DissipativeLaw {
-    /// Hertz exponent `n`, dimensionless (1.5 for Hertz contact).
-    #[serde(default = "hertz_exponent")]
-    pub exponent: f64,
-    /// Coefficient of restitution `c_e` in (0, 1].
-    pub restitution: f64,
-    /// Floor on the impact velocity `δ̇⁻` used in the damping term, m/s: a contact that starts
-    /// gently would otherwise get unbounded damping.
-    #[serde(default = "impact_velocity_floor")]
-    pub impact_velocity_floor: f64,
-}
-
-/// Parameters of the undamped Hertz law.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ElasticLaw {
-    /// Hertz exponent `n`, dimensionless.
-    #[serde(default = "hertz_exponent")]
-    pub exponent: f64,
-}
-
-fn hertz_exponent() -> f64 {
-    1.5
-}
-fn impact_velocity_floor() -> f64 {
-    1e-4
-}
-
-/// Friction law at the contact.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "law", rename_all = "kebab-case", deny_unknown_fields)]
-pub enum FrictionLaw {
-    /// Ambrósio's modified Coulomb law: `c_f c_d F_n`, `c_d` ramps 0→1 for `v0 ≤ |v_t| ≤ v1`.
-    Ambrosio {
-        /// Friction coefficient `c_f`, dimensionless.
-        coefficient: f64,
-        /// Sliding speed below which there is no friction, m/s.
-        v0: f64,
-        /// Sliding speed above which friction is fully developed, m/s.
-        v1: f64,
-    },
-    /// Coulomb friction `c_f F_n sgn(v_t)`: parsed, but validation rejects it (the integrator
-    /// cannot step over its jump at `v_t = 0`; runs hung) and suggests `ambrosio`.
-    Coulomb {
-        /// Friction coefficient `c_f`, dimensionless.
-        coefficient: f64,
-    },
-    /// Frictionless contact.
-    None,
 }
 
 /// Archard wear of a clearance joint.
@@ -480,21 +394,6 @@ pub const MAX_WEAR_CELLS: usize = 1_000_000;
 
 fn wear_cells() -> usize {
     1000
-}
-
-/// Time integrator.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Integrator {
-    /// Variable-order BDF (the `ode15s` analogue).
-    #[default]
-    Bdf,
-    /// TR-BDF2 (SDIRK).
-    TrBdf2,
-    /// ESDIRK3(4).
-    Esdirk34,
-    /// Explicit Tsitouras 5(4): for non-stiff checks only.
-    Tsit45,
 }
 
 /// Integrator settings.
@@ -1113,49 +1012,16 @@ impl Validator {
             );
         }
         for (side, m) in [("bearing", c.bearing_material), ("pin", c.pin_material)] {
-            let q = format!("{p}.{side}_material");
-            self.number(&format!("{q}.youngs_modulus"), m.youngs_modulus, true);
-            let nu = m.poisson_ratio;
-            if self.number(&format!("{q}.poisson_ratio"), nu, false) && !(-1.0 < nu && nu < 0.5) {
-                self.push(format!("{q}.poisson_ratio"), nu, "must lie in (-1, 0.5)");
-            }
+            self.contact(&format!("{p}.{side}_material"), contact::Material::try_from(m));
         }
-        let q = format!("{p}.normal_law");
-        match c.normal_law {
-            NormalLaw::HertzLankaraniNikravesh(d)
-            | NormalLaw::HuntCrossley(d)
-            | NormalLaw::Flores(d) => {
-                self.number(&format!("{q}.exponent"), d.exponent, true);
-                let e = d.restitution;
-                if self.number(&format!("{q}.restitution"), e, true) && e > 1.0 {
-                    self.push(format!("{q}.restitution"), e, "must lie in (0, 1]");
-                }
-                self.number(
-                    &format!("{q}.impact_velocity_floor"),
-                    d.impact_velocity_floor,
-                    true,
-                );
-            }
-            NormalLaw::Hertz(e) => {
-                self.number(&format!("{q}.exponent"), e.exponent, true);
-            }
-        }
-        let q = format!("{p}.friction");
-        match c.friction {
-            FrictionLaw::Ambrosio {
-                coefficient,
-                v0,
-                v1,
-            } => {
-                self.friction_coefficient(&q, coefficient);
-                let ok0 = self.number(&format!("{q}.v0"), v0, true);
-                if self.number(&format!("{q}.v1"), v1, true) && ok0 && v1 <= v0 {
-                    self.push(format!("{q}.v1"), v1, format!("must exceed v0 ({v0} m/s)"));
-                }
-            }
-            FrictionLaw::Coulomb { coefficient } => self.friction_coefficient(&q, coefficient),
-            FrictionLaw::None => {}
-        }
+        self.contact(
+            &format!("{p}.normal_law"),
+            contact::NormalLawKind::from_params(c.normal_law),
+        );
+        self.contact(
+            &format!("{p}.friction"),
+            contact::FrictionLawKind::from_params(c.friction),
+        );
         if let Some(w) = &c.wear {
             let q = format!("{p}.wear");
             self.number(&format!("{q}.k_d"), w.k_d, true);
@@ -1173,9 +1039,20 @@ impl Validator {
         }
     }
 
-    fn friction_coefficient(&mut self, q: &str, cf: f64) {
-        if self.number(&format!("{q}.coefficient"), cf, false) && cf < 0.0 {
-            self.push(format!("{q}.coefficient"), cf, "must not be negative");
+    /// Records `contact`'s verdict on a law or material (its ranges are defined once, there)
+    /// under the field path of the parameter it names.
+    fn contact<T>(&mut self, q: &str, checked: Result<T, ContactError>) {
+        match checked {
+            Ok(_) => {}
+            Err(ContactError::NonFinite { parameter, value }) => {
+                self.push(format!("{q}.{parameter}"), value, "must be a finite number");
+            }
+            Err(ContactError::OutOfRange {
+                parameter,
+                value,
+                expected,
+            }) => self.push(format!("{q}.{parameter}"), value, format!("must be {expected}")),
+            Err(other) => self.push(q, "…", other.to_string()),
         }
     }
 

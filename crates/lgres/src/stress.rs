@@ -34,7 +34,9 @@ use wear::{Side, WornJoint, WornProfile};
 use crate::build::{Surfaces, build, unworn_joints};
 use crate::output::{OutputError, sci, write_atomic};
 use crate::run::simulation_options;
-use crate::scene::{FrictionLaw, NormalLaw, Scene, TimeLaw};
+use contact::{FrictionLawParams, NormalLawParams};
+
+use crate::scene::{Scene, TimeLaw};
 use crate::scenes;
 
 /// Simulated time of a short case, s: the start-up impacts (first 0.02 s) plus contact.
@@ -211,19 +213,18 @@ fn each_joint(scene: &mut Scene, f: impl Fn(&mut crate::scene::ClearanceJoint)) 
 
 fn set_restitution(scene: &mut Scene, e: f64) {
     each_joint(scene, |c| match &mut c.normal_law {
-        NormalLaw::HertzLankaraniNikravesh(d)
-        | NormalLaw::HuntCrossley(d)
-        | NormalLaw::Flores(d) => d.restitution = e,
-        NormalLaw::Hertz(_) => {}
+        NormalLawParams::LankaraniNikravesh(d)
+        | NormalLawParams::HuntCrossley(d)
+        | NormalLawParams::Flores(d) => d.restitution = e,
+        NormalLawParams::Hertz(_) => {}
     });
 }
 
 fn set_friction(scene: &mut Scene, cf: f64) {
     each_joint(scene, |c| match &mut c.friction {
-        FrictionLaw::Ambrosio { coefficient, .. } | FrictionLaw::Coulomb { coefficient } => {
-            *coefficient = cf
-        }
-        FrictionLaw::None => {}
+        FrictionLawParams::Ambrosio(a) => a.coefficient = cf,
+        FrictionLawParams::Coulomb(k) => k.coefficient = cf,
+        FrictionLawParams::None => {}
     });
 }
 
@@ -287,14 +288,14 @@ pub fn cases(base: &Scene, duration: f64) -> Vec<StressCase> {
             set_friction(s, 0.5)
         }),
         StressCase {
-            expect: Expect::Rejected("friction.v1".into()),
+            expect: Expect::Rejected("friction.slip_velocity".into()),
             ..case(
                 "v0 = v1",
                 "Ambrosio v0 = v1 = 1e-4 m/s (rejected by validation, not made Coulomb)",
                 &|s| {
                     each_joint(s, |c| {
-                        if let FrictionLaw::Ambrosio { v0, v1, .. } = &mut c.friction {
-                            *v1 = *v0;
+                        if let FrictionLawParams::Ambrosio(a) = &mut c.friction {
+                            a.slip_velocity = a.stick_velocity;
                         }
                     })
                 },

@@ -205,7 +205,7 @@ fn extends_can_change_a_law_kind() {
     .unwrap();
     assert!(matches!(
         s.clearance_joints[0].normal_law,
-        lgres::scene::NormalLaw::Hertz(_)
+        lgres::scene::NormalLawParams::Hertz(_)
     ));
 }
 
