@@ -2,7 +2,9 @@
 //! below the errors they measure, errors fall with the tolerance, timed runs repeat the
 //! measured trajectory bit for bit, and bad settings are named.
 
-use lgres::precision::{PrecisionError, PrecisionOptions, PrecisionReport, RowOutcome, run_sweep};
+use lgres::analysis::precision::{
+    PrecisionError, PrecisionOptions, PrecisionReport, RowOutcome, run_sweep,
+};
 use lgres::scene::Integrator;
 
 /// The start-up window only (first impacts at ~0.012 s), two methods, two tolerances.

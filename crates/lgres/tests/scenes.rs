@@ -139,7 +139,10 @@ fn older_law_spellings_load_as_contacts_own() {
         "law = \"hertz-lankarani-nikravesh\", exponent = 1.5, restitution = 0.9, impact_velocity_floor = 1e-4",
         "law = \"lankarani_nikravesh\", exponent = 1.5, restitution = 0.9, onset_velocity_floor = 2e-4",
     );
-    let new = edited("v0 = 1e-4, v1 = 1e-3", "stick_velocity = 1e-4, slip_velocity = 1e-3");
+    let new = edited(
+        "v0 = 1e-4, v1 = 1e-3",
+        "stick_velocity = 1e-4, slip_velocity = 1e-3",
+    );
     let (old, new) = (
         scene::load_str(&old, "old").unwrap(),
         scene::load_str(&new, "new").unwrap(),

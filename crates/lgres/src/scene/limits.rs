@@ -11,9 +11,7 @@ use crate::build::Built;
 use crate::run::{ContactSeries, RunError};
 use contact::{FrictionLawParams, NormalLawParams};
 
-use crate::scene::{
-    BodyRef, ClearanceJoint, Scene, TimeLaw, Validator, WearSpec,
-};
+use crate::scene::{BodyRef, ClearanceJoint, Scene, TimeLaw, Validator, WearSpec};
 
 /// Most bodies in a scene: the dense `3n × 3n` matrices of 1000 bodies already take ~70 MB.
 pub const MAX_BODIES: usize = 1000;
