@@ -1,7 +1,7 @@
 //! `wearsim`: the command line of the worn-clearance-joint toolkit.
 //!
 //! Thin by design: it parses arguments, loads and validates scenes through `lgres`, runs them
-//! with [`lgres::run::run_scene`], writes the outputs with [`lgres::io::artifacts`], shows progress
+//! with [`lgres::run_scene`], writes the outputs with [`lgres::write_run`], shows progress
 //! bars and maps errors to exit codes (0 success, 1 could not run, 2 bad input). `study` runs
 //! [`lgres::analysis::study`] (see the `study` module).
 
@@ -13,9 +13,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use lgres::io::output::OutputError;
-use lgres::run::{RunError, RunOptions, RunOutcome};
-use lgres::scene::{self, Scene, SceneError};
+use lgres::scene;
 use lgres::scenes;
+use lgres::{RunError, RunOptions, RunOutcome, Scene, SceneError};
 
 #[derive(Parser)]
 #[command(
@@ -324,9 +324,9 @@ fn run(spec: &str, o: &Overrides) -> Result<(), CliError> {
     // staging folder that replaces `out` whole only when every file is written.
     let staged = lgres::io::output::StagedDir::begin(&out)?;
     let mut bars = progress::Bars::new();
-    let outcome = lgres::run::run_scene(&name, &scene, &options, &mut bars)?;
+    let outcome = lgres::run_scene(&name, &scene, &options, &mut bars)?;
     drop(bars);
-    let files = lgres::io::artifacts::write_run(&outcome, staged.path())?;
+    let files = lgres::write_run(&outcome, staged.path())?;
     staged.commit()?;
     print_summary(&outcome, &out, files.len());
     Ok(())

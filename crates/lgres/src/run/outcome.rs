@@ -267,9 +267,9 @@ pub struct WearSummary {
     /// on the relative clearance change it caused.
     pub substeps: Vec<SubstepSummary>,
     /// Convergence of each sub-step's wear estimate: the largest disagreement of the two
-    /// halves of its K cycles (absent for odd K), against [`HALVES_TOLERANCE`].
+    /// halves of its K cycles (absent for odd K), against [`HALVES_TOLERANCE`](crate::run::HALVES_TOLERANCE).
     pub max_halves_difference: Option<f64>,
-    /// Whether every sub-step's two halves agree within [`HALVES_TOLERANCE`] (false for odd K:
+    /// Whether every sub-step's two halves agree within [`HALVES_TOLERANCE`](crate::run::HALVES_TOLERANCE) (false for odd K:
     /// not checked).
     pub converged: bool,
     /// Per stage: the drive cycles it applied when it ended early at the contact model's
