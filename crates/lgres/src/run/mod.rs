@@ -15,6 +15,10 @@
 //!   response is simulated once more on the worn surfaces.
 //! - **Peaks** are statistics over cycles, with and without the start-up window (MODEL §8:
 //!   the clearance dynamics are chaotic, single peaks are not reproducible).
+//!
+//! Here: the options, errors and the driver; `outcome` holds the result types, `record` the
+//! response run and its recording observer, `summary` the statistics and energy books,
+//! `stages` the wear stages and [`validity`] the worn geometry's validity measures.
 
 mod outcome;
 mod record;
