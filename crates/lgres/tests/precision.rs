@@ -144,3 +144,17 @@ fn bad_settings_name_the_option() {
         Err(PrecisionError::Unsuitable(_))
     ));
 }
+
+#[test]
+fn method_names_are_the_scene_files_spelling_and_parse_back() {
+    use lgres::analysis::precision::{ALL_METHODS, method_by_name, method_name};
+    for method in ALL_METHODS {
+        let name = method_name(method);
+        assert_eq!(
+            serde_json::to_value(method).expect("serializes"),
+            serde_json::Value::from(name)
+        );
+        assert_eq!(method_by_name(name), Some(method));
+    }
+    assert_eq!(method_by_name("rk4"), None);
+}

@@ -1,5 +1,5 @@
-//! The response run: assembly, the observer that records the response body and the contact
-//! state at the output frames, and its energy books.
+//! The response run: assembly, and the observer that records the response body and the
+//! contact state at the output frames (its energy books are in `summary`).
 
 use multibody::{Frame, Observer, OutputTimes};
 use wear::WornJoint;

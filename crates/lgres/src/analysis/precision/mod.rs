@@ -29,6 +29,7 @@
 //! report gives the median wall time of each (build and assembly excluded). Every timed run
 //! must end in the measured run's final state bit for bit: output frames, the energy audit and
 //! wear accumulation only observe the integration (checked and reported per row).
+
 mod engine;
 mod render;
 

@@ -21,6 +21,7 @@
 //! - **Doubled clearance by wear**: both surfaces carry a uniform Archard depth `h = c0`, so the
 //!   local clearance `c0 + (h_bearing + h_pin)/2 = 2 c0` everywhere; the tolerances stay those
 //!   of the nominal clearance (the scene's default `2e-4 × c0`).
+
 mod engine;
 mod render;
 
@@ -31,7 +32,6 @@ use contact::{FrictionLawParams, NormalLawParams};
 use serde::Serialize;
 
 use crate::io::output::OutputError;
-
 use crate::scene::{Scene, TimeLaw};
 
 /// Simulated time of a short case, s: the start-up impacts (first 0.02 s) plus contact.
