@@ -1,9 +1,9 @@
 //! `wearsim`: the command line of the worn-clearance-joint toolkit.
 //!
 //! Thin by design: it parses arguments, loads and validates scenes through `lgres`, runs them
-//! with [`lgres::run::run_scene`], writes the outputs with [`lgres::artifacts`], shows progress
+//! with [`lgres::run_scene`], writes the outputs with [`lgres::write_run`], shows progress
 //! bars and maps errors to exit codes (0 success, 1 could not run, 2 bad input). `study` runs
-//! [`lgres::study`] (see the `study` module).
+//! [`lgres::analysis::study`] (see the `study` module).
 
 mod progress;
 mod study;
@@ -12,10 +12,10 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use lgres::output::OutputError;
-use lgres::run::{RunError, RunOptions, RunOutcome};
-use lgres::scene::{self, Scene, SceneError};
+use lgres::io::output::OutputError;
+use lgres::scene;
 use lgres::scenes;
+use lgres::{RunError, RunOptions, RunOutcome, Scene, SceneError};
 
 #[derive(Parser)]
 #[command(
@@ -96,8 +96,8 @@ enum Command {
         /// A built-in scene name or a TOML file.
         scene: Option<String>,
         /// Integrators, comma-separated (default: all).
-        #[arg(long, value_delimiter = ',', value_enum)]
-        methods: Vec<MethodName>,
+        #[arg(long, value_delimiter = ',', value_parser = method_parser())]
+        methods: Vec<scene::Integrator>,
         /// Relative tolerances, comma-separated (default: 1e-3 to 1e-10 by decades).
         #[arg(long, value_delimiter = ',')]
         rtols: Vec<f64>,
@@ -108,32 +108,22 @@ enum Command {
         #[arg(long)]
         duration: Option<f64>,
         /// End of the start-up window of error (a), s.
-        #[arg(long, default_value_t = lgres::precision::DEFAULT_START_UP)]
+        #[arg(long, default_value_t = lgres::analysis::precision::DEFAULT_START_UP)]
         start_up: f64,
         /// Accepted-step budget per run; a method that exceeds it is not run tighter.
-        #[arg(long, default_value_t = lgres::precision::DEFAULT_MAX_STEPS)]
+        #[arg(long, default_value_t = lgres::analysis::precision::DEFAULT_MAX_STEPS)]
         max_steps: usize,
     },
 }
 
-/// Integrator names on the command line.
-#[derive(Clone, Copy, ValueEnum)]
-enum MethodName {
-    Bdf,
-    TrBdf2,
-    Esdirk34,
-    Tsit45,
-}
-
-impl MethodName {
-    fn integrator(self) -> scene::Integrator {
-        match self {
-            MethodName::Bdf => scene::Integrator::Bdf,
-            MethodName::TrBdf2 => scene::Integrator::TrBdf2,
-            MethodName::Esdirk34 => scene::Integrator::Esdirk34,
-            MethodName::Tsit45 => scene::Integrator::Tsit45,
-        }
-    }
+/// Integrator names on the command line: the names of the scene format and the reports.
+fn method_parser() -> impl clap::builder::TypedValueParser<Value = scene::Integrator> {
+    use clap::builder::TypedValueParser;
+    let names =
+        lgres::analysis::precision::ALL_METHODS.map(lgres::analysis::precision::method_name);
+    clap::builder::PossibleValuesParser::new(names).try_map(|name| {
+        lgres::analysis::precision::method_by_name(&name).ok_or("no integrator of this name")
+    })
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -151,7 +141,7 @@ impl StudyName {
             StudyName::WearStages => "wear-stages",
             StudyName::Clearance => "clearance",
             StudyName::Speed => "speed",
-            StudyName::Extrapolation => lgres::study::EXTRAPOLATION,
+            StudyName::Extrapolation => lgres::analysis::study::EXTRAPOLATION,
             StudyName::All => "all",
         }
     }
@@ -174,10 +164,10 @@ enum CliError {
     Output(#[from] OutputError),
     /// A study failed or was given bad settings.
     #[error(transparent)]
-    Study(#[from] lgres::study::StudyError),
+    Study(#[from] lgres::analysis::study::StudyError),
     /// A work–precision sweep could not run.
     #[error(transparent)]
-    Precision(#[from] lgres::precision::PrecisionError),
+    Precision(#[from] lgres::analysis::precision::PrecisionError),
 }
 
 impl CliError {
@@ -187,9 +177,9 @@ impl CliError {
             CliError::Run(e) if e.is_bad_input() => 2,
             CliError::Study(e) if e.is_bad_input() => 2,
             CliError::Precision(
-                lgres::precision::PrecisionError::Options { .. }
-                | lgres::precision::PrecisionError::Scene(_)
-                | lgres::precision::PrecisionError::Unsuitable(_),
+                lgres::analysis::precision::PrecisionError::Options { .. }
+                | lgres::analysis::precision::PrecisionError::Scene(_)
+                | lgres::analysis::precision::PrecisionError::Unsuitable(_),
             ) => 2,
             CliError::Run(_)
             | CliError::Output(_)
@@ -332,11 +322,11 @@ fn run(spec: &str, o: &Overrides) -> Result<(), CliError> {
     };
     // Lock the folder before simulating, so a second run is refused at once; files go to a
     // staging folder that replaces `out` whole only when every file is written.
-    let staged = lgres::output::StagedDir::begin(&out)?;
+    let staged = lgres::io::output::StagedDir::begin(&out)?;
     let mut bars = progress::Bars::new();
-    let outcome = lgres::run::run_scene(&name, &scene, &options, &mut bars)?;
+    let outcome = lgres::run_scene(&name, &scene, &options, &mut bars)?;
     drop(bars);
-    let files = lgres::artifacts::write_run(&outcome, staged.path())?;
+    let files = lgres::write_run(&outcome, staged.path())?;
     staged.commit()?;
     print_summary(&outcome, &out, files.len());
     Ok(())
@@ -466,32 +456,33 @@ fn print_joints(r: &lgres::run::ResponseSummary, window: f64) {
     }
 }
 
-/// `wearsim stress`: runs [`lgres::stress`], prints each case as it ends, writes the tables.
+/// `wearsim stress`: runs [`lgres::analysis::stress`], prints each case as it ends, writes the tables.
 fn stress(quick: bool, o: &Overrides) -> Result<(), CliError> {
     let out = o
         .out
         .clone()
         .unwrap_or_else(|| Path::new("out").join("stress"));
-    let options = lgres::stress::StressOptions {
+    let options = lgres::analysis::stress::StressOptions {
         quick,
         ..Default::default()
     };
     let started = std::time::Instant::now();
-    let results = lgres::stress::run_battery(&options, &mut |case, result| match result {
-        None => eprint!("{:<24} ", case.name),
-        Some(r) => eprintln!(
-            "{} ({:.1} s) {}",
-            r.outcome.label(),
-            r.wall_time_s,
-            r.outcome.detail()
-        ),
-    })
-    .map_err(|e| match e {
-        lgres::stress::StressError::Scene(e) => CliError::Scene(e),
-        lgres::stress::StressError::Output(e) => CliError::Output(e),
-    })?;
-    let files = lgres::stress::write_report(&results, &out)?;
-    print!("{}", lgres::stress::markdown(&results));
+    let results =
+        lgres::analysis::stress::run_battery(&options, &mut |case, result| match result {
+            None => eprint!("{:<24} ", case.name),
+            Some(r) => eprintln!(
+                "{} ({:.1} s) {}",
+                r.outcome.label(),
+                r.wall_time_s,
+                r.outcome.detail()
+            ),
+        })
+        .map_err(|e| match e {
+            lgres::analysis::stress::StressError::Scene(e) => CliError::Scene(e),
+            lgres::analysis::stress::StressError::Output(e) => CliError::Output(e),
+        })?;
+    let files = lgres::analysis::stress::write_report(&results, &out)?;
+    print!("{}", lgres::analysis::stress::markdown(&results));
     let failed = results
         .iter()
         .filter(|r| r.outcome.label() == "FAILED")
@@ -508,7 +499,7 @@ fn stress(quick: bool, o: &Overrides) -> Result<(), CliError> {
 
 /// Settings of `wearsim precision` beyond the scene.
 struct PrecisionArgs<'a> {
-    methods: &'a [MethodName],
+    methods: &'a [scene::Integrator],
     rtols: &'a [f64],
     repeats: usize,
     duration: Option<f64>,
@@ -516,14 +507,14 @@ struct PrecisionArgs<'a> {
     max_steps: usize,
 }
 
-/// `wearsim precision`: runs [`lgres::precision`], one line per run, writes the report.
+/// `wearsim precision`: runs [`lgres::analysis::precision`], one line per run, writes the report.
 fn precision(spec: &str, args: &PrecisionArgs<'_>, o: &Overrides) -> Result<(), CliError> {
     let Loaded { name, scene } = load(spec, o)?;
     let out = o
         .out
         .clone()
         .unwrap_or_else(|| Path::new("out").join("precision"));
-    let mut options = lgres::precision::PrecisionOptions {
+    let mut options = lgres::analysis::precision::PrecisionOptions {
         repeats: args.repeats,
         duration: args.duration,
         start_up: args.start_up,
@@ -531,30 +522,31 @@ fn precision(spec: &str, args: &PrecisionArgs<'_>, o: &Overrides) -> Result<(), 
         ..Default::default()
     };
     if !args.methods.is_empty() {
-        options.methods = args.methods.iter().map(|m| m.integrator()).collect();
+        options.methods = args.methods.to_vec();
     }
     if !args.rtols.is_empty() {
         options.rtols = args.rtols.to_vec();
     }
     let started = std::time::Instant::now();
-    let report = lgres::precision::run_sweep(&name, &scene, &options, &mut |event| match event {
-        lgres::precision::Event::Start(method, rtol, what) => {
-            eprintln!(
-                "[{:>6.0} s] {method:<9} rtol {rtol:.0e}: {what}",
-                started.elapsed().as_secs_f64()
-            );
-        }
-        lgres::precision::Event::Row(row) => match row.errors() {
-            Some(e) => eprintln!(
-                "           {} steps, {:.3} s; start-up error {:.2e} m, cycle error {:.2e}",
-                row.steps,
-                row.wall_s,
-                e.start_up_m(),
-                e.cycle_max()
-            ),
-            None => eprintln!("           {:?}", row.outcome),
-        },
-    })?;
+    let report =
+        lgres::analysis::precision::run_sweep(&name, &scene, &options, &mut |event| match event {
+            lgres::analysis::precision::Event::Start(method, rtol, what) => {
+                eprintln!(
+                    "[{:>6.0} s] {method:<9} rtol {rtol:.0e}: {what}",
+                    started.elapsed().as_secs_f64()
+                );
+            }
+            lgres::analysis::precision::Event::Row(row) => match row.errors() {
+                Some(e) => eprintln!(
+                    "           {} steps, {:.3} s; start-up error {:.2e} m, cycle error {:.2e}",
+                    row.steps,
+                    row.wall_s,
+                    e.start_up_m(),
+                    e.cycle_max()
+                ),
+                None => eprintln!("           {:?}", row.outcome),
+            },
+        })?;
     let files = report.write(&out)?;
     println!("{}", report.markdown(None));
     println!(
@@ -590,7 +582,7 @@ fn main() -> ExitCode {
     // On SIGINT/SIGTERM remove the staging folder and lock of a run in progress: its target
     // folder stays as it was.
     if let Err(e) = ctrlc::set_handler(|| {
-        lgres::output::abandon_staged();
+        lgres::io::output::abandon_staged();
         eprintln!("wearsim: interrupted; the output folder is left as it was");
         std::process::exit(EXIT_INTERRUPTED);
     }) {

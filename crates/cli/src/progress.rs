@@ -52,7 +52,7 @@ impl StudyBars {
     }
 }
 
-impl lgres::study::StudyProgress for StudyBars {
+impl lgres::analysis::study::StudyProgress for StudyBars {
     fn run(
         &self,
         key: &str,

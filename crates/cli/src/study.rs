@@ -1,10 +1,10 @@
-//! `wearsim study`: runs the paper's studies through [`lgres::study`] with progress bars and
+//! `wearsim study`: runs the paper's studies through [`lgres::analysis::study`] with progress bars and
 //! prints the trend verdicts; the numbers and figures are in `<out>/report.md`.
 
 use std::path::PathBuf;
 
-use lgres::report::{self, Verdict};
-use lgres::study::{self, StudyError, StudyOptions};
+use lgres::analysis::study::judge::{self, Verdict};
+use lgres::analysis::study::{self, StudyError, StudyOptions};
 
 use crate::progress::StudyBars;
 use crate::{CliError, Overrides};
@@ -68,7 +68,7 @@ pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
             forces.join(", ")
         );
     }
-    for (t, _, _) in report::trends(&results) {
+    for (t, _, _) in judge::trends(&results) {
         let mark = match t.verdict {
             Verdict::Holds => "HOLDS",
             Verdict::DoesNotHold => "DOES NOT HOLD",

@@ -41,9 +41,11 @@ pub struct Ambrosio {
 pub struct AmbrosioParams {
     /// Friction coefficient `c_f ≥ 0`.
     pub coefficient: f64,
-    /// Velocity `v_0 ≥ 0` below which friction vanishes (m/s).
+    /// Velocity `v_0 ≥ 0` below which friction vanishes (m/s); also read as `v0`.
+    #[serde(alias = "v0")]
     pub stick_velocity: f64,
-    /// Velocity `v_1 > v_0` above which full Coulomb friction acts (m/s).
+    /// Velocity `v_1 > v_0` above which full Coulomb friction acts (m/s); also read as `v1`.
+    #[serde(alias = "v1")]
     pub slip_velocity: f64,
 }
 
@@ -212,11 +214,12 @@ impl FrictionLaw for Frictionless {
     }
 }
 
-/// Any friction law, chosen at run time (scene files). Serialised with a `law` tag, e.g.
+/// Any friction law, chosen at run time (scene files). Serialised through
+/// [`FrictionLawParams`], e.g.
 /// `{"law": "ambrosio", "coefficient": 0.15, "stick_velocity": 1e-4, "slip_velocity": 1e-3}`
-/// or `{"law": "none"}`.
+/// or `{"law": "none"}`, and validated on load.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(tag = "law", rename_all = "snake_case")]
+#[serde(try_from = "FrictionLawParams", into = "FrictionLawParams")]
 pub enum FrictionLawKind {
     /// [`Ambrosio`].
     Ambrosio(Ambrosio),
@@ -224,6 +227,52 @@ pub enum FrictionLawKind {
     Coulomb(Coulomb),
     /// [`Frictionless`].
     None,
+}
+
+/// The parameters of any friction law, as written in scene files (with a `law` tag): plain
+/// data a scene can hold and edit before [`FrictionLawKind::from_params`] validates it.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "law", rename_all = "snake_case")]
+pub enum FrictionLawParams {
+    /// [`Ambrosio`].
+    Ambrosio(AmbrosioParams),
+    /// [`Coulomb`].
+    Coulomb(CoulombParams),
+    /// [`Frictionless`].
+    None,
+}
+
+impl FrictionLawKind {
+    /// The law from its parameters, validated (the error names the parameter).
+    pub fn from_params(params: FrictionLawParams) -> Result<Self, ContactError> {
+        Ok(match params {
+            FrictionLawParams::Ambrosio(p) => Self::Ambrosio(Ambrosio::from_params(p)?),
+            FrictionLawParams::Coulomb(p) => Self::Coulomb(Coulomb::try_from(p)?),
+            FrictionLawParams::None => Self::None,
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> FrictionLawParams {
+        match self {
+            Self::Ambrosio(law) => FrictionLawParams::Ambrosio(law.params()),
+            Self::Coulomb(law) => FrictionLawParams::Coulomb((*law).into()),
+            Self::None => FrictionLawParams::None,
+        }
+    }
+}
+
+impl TryFrom<FrictionLawParams> for FrictionLawKind {
+    type Error = ContactError;
+    fn try_from(params: FrictionLawParams) -> Result<Self, ContactError> {
+        Self::from_params(params)
+    }
+}
+
+impl From<FrictionLawKind> for FrictionLawParams {
+    fn from(law: FrictionLawKind) -> Self {
+        law.params()
+    }
 }
 
 impl FrictionLaw for FrictionLawKind {

@@ -80,7 +80,7 @@ pub use diagnostics::ContactDiagnostics;
 pub use error::ContactError;
 pub use friction::{
     Ambrosio, AmbrosioParams, Coulomb, CoulombParams, FrictionForce, FrictionLaw, FrictionLawKind,
-    Frictionless,
+    FrictionLawParams, Frictionless,
 };
 pub use joint::{
     BodyState, ClearanceJoint, ContactForces, ContactJacobian, JointKinematics, JointSurface,
@@ -89,6 +89,6 @@ pub use joint::{
 pub use normal::{
     DEFAULT_HERTZ_EXPONENT, DEFAULT_ONSET_VELOCITY_FLOOR, DampedHertzParams, Flores, Hertz,
     HertzParams, HuntCrossley, ImpactMemory, LankaraniNikravesh, NormalForce, NormalLaw,
-    NormalLawKind,
+    NormalLawKind, NormalLawParams,
 };
 pub use surface::{CircularProfile, RadiusSample, SurfaceProfile};

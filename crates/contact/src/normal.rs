@@ -120,8 +120,9 @@ pub struct DampedHertzParams {
     /// Hertz exponent `n ≥ 1` (default 1.5).
     #[serde(default = "default_exponent")]
     pub exponent: f64,
-    /// Floor on the onset velocity `δ̇⁻` (m/s, > 0, default 1e-4).
-    #[serde(default = "default_onset_floor")]
+    /// Floor on the onset velocity `δ̇⁻` (m/s, > 0, default 1e-4). Also read as
+    /// `impact_velocity_floor`, the name older scene files use.
+    #[serde(default = "default_onset_floor", alias = "impact_velocity_floor")]
     pub onset_velocity_floor: f64,
 }
 
@@ -339,11 +340,11 @@ impl From<Hertz> for HertzParams {
     }
 }
 
-/// Any normal law, chosen at run time (scene files). Serialised with a `law` tag, e.g.
-/// `{"law": "lankarani_nikravesh", "restitution": 0.9}`. Generic code that knows its law at
-/// compile time can use the law types directly and skip the dispatch.
+/// Any normal law, chosen at run time (scene files). Serialised through [`NormalLawParams`],
+/// e.g. `{"law": "lankarani_nikravesh", "restitution": 0.9}`, and validated on load. Generic
+/// code that knows its law at compile time can use the law types directly and skip the dispatch.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(tag = "law", rename_all = "snake_case")]
+#[serde(try_from = "NormalLawParams", into = "NormalLawParams")]
 pub enum NormalLawKind {
     /// [`LankaraniNikravesh`].
     LankaraniNikravesh(LankaraniNikravesh),
@@ -353,6 +354,61 @@ pub enum NormalLawKind {
     Flores(Flores),
     /// [`Hertz`].
     Hertz(Hertz),
+}
+
+/// The parameters of any normal law, as written in scene files (with a `law` tag): plain data a
+/// scene can hold and edit before [`NormalLawKind::from_params`] validates it. The tags
+/// `hertz-lankarani-nikravesh` and `hunt-crossley` of older scene files are read too.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "law", rename_all = "snake_case")]
+pub enum NormalLawParams {
+    /// [`LankaraniNikravesh`].
+    #[serde(alias = "hertz-lankarani-nikravesh")]
+    LankaraniNikravesh(DampedHertzParams),
+    /// [`HuntCrossley`].
+    #[serde(alias = "hunt-crossley")]
+    HuntCrossley(DampedHertzParams),
+    /// [`Flores`].
+    Flores(DampedHertzParams),
+    /// [`Hertz`].
+    Hertz(HertzParams),
+}
+
+impl NormalLawKind {
+    /// The law from its parameters, validated (the error names the parameter).
+    pub fn from_params(params: NormalLawParams) -> Result<Self, ContactError> {
+        Ok(match params {
+            NormalLawParams::LankaraniNikravesh(p) => {
+                Self::LankaraniNikravesh(LankaraniNikravesh::from_params(p)?)
+            }
+            NormalLawParams::HuntCrossley(p) => Self::HuntCrossley(HuntCrossley::from_params(p)?),
+            NormalLawParams::Flores(p) => Self::Flores(Flores::from_params(p)?),
+            NormalLawParams::Hertz(p) => Self::Hertz(Hertz::try_from(p)?),
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> NormalLawParams {
+        match self {
+            Self::LankaraniNikravesh(law) => NormalLawParams::LankaraniNikravesh(law.params()),
+            Self::HuntCrossley(law) => NormalLawParams::HuntCrossley(law.params()),
+            Self::Flores(law) => NormalLawParams::Flores(law.params()),
+            Self::Hertz(law) => NormalLawParams::Hertz((*law).into()),
+        }
+    }
+}
+
+impl TryFrom<NormalLawParams> for NormalLawKind {
+    type Error = ContactError;
+    fn try_from(params: NormalLawParams) -> Result<Self, ContactError> {
+        Self::from_params(params)
+    }
+}
+
+impl From<NormalLawKind> for NormalLawParams {
+    fn from(law: NormalLawKind) -> Self {
+        law.params()
+    }
 }
 
 impl NormalLaw for NormalLawKind {

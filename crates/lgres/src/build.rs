@@ -6,20 +6,15 @@
 //! then it samples that joint's surfaces, frozen for the run, and optionally accumulates a
 //! stage's wear. Errors name the scene field at fault.
 
-use contact::{
-    Ambrosio, ContactError, Coulomb, DampedHertzParams, Flores, FrictionLawKind, Hertz,
-    HuntCrossley, JointSurface, LankaraniNikravesh, NormalLawKind,
-};
+use contact::{ContactError, FrictionLawKind, JointSurface, NormalLawKind};
 use multibody::{
     Anchor, Body, BodyId, DriveFunction, DriveTarget, ElementId, Gravity, JointId, Model,
     ModelError, RotationLock, System,
 };
 use wear::{WearError, WearParams, WornJoint};
 
-use crate::clearance::{ClearanceForce, ClearanceProbe, RoundClearanceForce, WornClearanceForce};
-use crate::scene::{
-    self, BodyRef, ClearanceJoint, Coordinate, DriverTarget, FrictionLaw, NormalLaw, Scene, TimeLaw,
-};
+use crate::scene::{BodyRef, ClearanceJoint, DriverTarget, Scene, TimeLaw};
+use clearance::{ClearanceForce, ClearanceProbe};
 
 /// Why a scene could not be turned into a system; `field` is the scene path at fault.
 #[derive(Debug, thiserror::Error)]
@@ -87,14 +82,7 @@ impl JointHandle {
         &self,
         elements: &'a [Box<dyn multibody::ForceElement>],
     ) -> Option<&'a dyn ClearanceProbe> {
-        let any: &dyn std::any::Any = elements.get(self.element.0)?.as_ref();
-        if self.worn {
-            any.downcast_ref::<WornClearanceForce>()
-                .map(|e| e as &dyn ClearanceProbe)
-        } else {
-            any.downcast_ref::<RoundClearanceForce>()
-                .map(|e| e as &dyn ClearanceProbe)
-        }
+        clearance::as_probe(elements.get(self.element.0)?.as_ref())
     }
 }
 
@@ -241,12 +229,7 @@ pub fn build(scene: &Scene, surfaces: Surfaces<'_>) -> Result<Built, BuildError>
                         name: body.clone(),
                     });
                 };
-                let c = match coordinate {
-                    Coordinate::X => multibody::Coordinate::X,
-                    Coordinate::Y => multibody::Coordinate::Y,
-                    Coordinate::Theta => multibody::Coordinate::Theta,
-                };
-                DriveTarget::Coordinate(BodyId(b), c)
+                DriveTarget::Coordinate(BodyId(b), *coordinate)
             }
             DriverTarget::JointAngle { joint } => {
                 let Some((_, id)) = revolute_ids.iter().find(|(n, _)| n == joint) else {
@@ -329,37 +312,10 @@ fn round_joint(
         let field = format!("{p}.{field}");
         move |source| BuildError::Contact { field, source }
     };
-    let material = |m: scene::Material, f: &str| {
-        contact::Material::new(m.youngs_modulus, m.poisson_ratio).map_err(err(f))
-    };
-    let damped = |d: scene::DissipativeLaw| {
-        DampedHertzParams::new(d.restitution)
-            .with_exponent(d.exponent)
-            .with_onset_velocity_floor(d.impact_velocity_floor)
-    };
-    let normal = match c.normal_law {
-        NormalLaw::HertzLankaraniNikravesh(d) => {
-            LankaraniNikravesh::from_params(damped(d)).map(NormalLawKind::LankaraniNikravesh)
-        }
-        NormalLaw::HuntCrossley(d) => {
-            HuntCrossley::from_params(damped(d)).map(NormalLawKind::HuntCrossley)
-        }
-        NormalLaw::Flores(d) => Flores::from_params(damped(d)).map(NormalLawKind::Flores),
-        NormalLaw::Hertz(e) => Hertz::new(e.exponent).map(NormalLawKind::Hertz),
-    }
-    .map_err(err("normal_law"))?;
-    let friction = match c.friction {
-        FrictionLaw::Ambrosio {
-            coefficient,
-            v0,
-            v1,
-        } => Ambrosio::new(coefficient, v0, v1).map(FrictionLawKind::Ambrosio),
-        FrictionLaw::Coulomb { coefficient } => {
-            Coulomb::new(coefficient).map(FrictionLawKind::Coulomb)
-        }
-        FrictionLaw::None => Ok(FrictionLawKind::None),
-    }
-    .map_err(err("friction"))?;
+    let material =
+        |m: contact::MaterialParams, f: &str| contact::Material::try_from(m).map_err(err(f));
+    let normal = NormalLawKind::from_params(c.normal_law).map_err(err("normal_law"))?;
+    let friction = FrictionLawKind::from_params(c.friction).map_err(err("friction"))?;
     contact::ClearanceJoint::new(
         JointSurface {
             centre: c.bearing_point,

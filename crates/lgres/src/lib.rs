@@ -1,13 +1,24 @@
-//! Scenes for planar mechanisms with worn clearance joints.
+//! Scenes for planar mechanisms with worn clearance joints: the landing-gear
+//! retraction/extension system of Ma, Jiang & Yin (*Aerospace* 2026), its variants and a
+//! slider-crank, as data, and everything around simulating them.
 //!
-//! This crate holds the serde scene format and its validation ([`scene`]), the shipped scenes
-//! and the paper's studies ([`scenes`]: the landing-gear retraction/extension system of Ma,
-//! Jiang & Yin, *Aerospace* 2026, its variants, and a slider-crank), atomic output writers
-//! ([`output`]) and figures ([`plot`]). [`build`] turns a scene into a `multibody` system whose
-//! clearance joints are [`clearance::ClearanceForce`] elements (the `contact` kernel, with `wear`
-//! accumulation when a joint wears). [`run::run_scene`] simulates a scene (response against the
-//! ideal mechanism, wear stages) and returns every summary number in memory;
-//! [`artifacts::write_run`] writes its CSV, JSON and PNG files.
+//! The layout follows the data flow of a run:
+//! - [`scene`]: the TOML scene format — its types ([`scene::Scene`]; laws, materials, the
+//!   integrator and driven coordinates are `contact`'s and `multibody`'s own serde types),
+//!   validation with field-named issues, `extends` variants, and the numeric limits
+//!   ([`scene::limits`]). [`scenes`] holds the shipped scenes and the paper's studies.
+//! - [`build`]: a validated scene → a `multibody` system whose clearance joints are
+//!   [`clearance::ClearanceForce`] elements (the `contact` kernel, `wear` accumulation when a
+//!   joint wears).
+//! - [`run`]: one run ([`run_scene`]): the response against the ideal mechanism, the wear
+//!   stages, the validity of the worn geometry ([`run::validity`]), every summary number in
+//!   memory ([`RunOutcome`]); nothing is written.
+//! - [`analysis`]: the paper's studies and their report, the work–precision sweep and the
+//!   stress battery, each engine apart from its rendering.
+//! - [`io`]: atomic output writers, a run's files ([`write_run`]: CSV, JSON, PNG), figures and
+//!   worn surfaces read back from an earlier run.
+//!
+//! The paper's reported numbers are data (`data/paper.toml`), not code.
 //!
 //! ```
 //! use lgres::scene::BodyRef;
@@ -25,18 +36,15 @@
 //! # Ok::<(), lgres::scene::SceneError>(())
 //! ```
 
-pub mod artifacts;
+#![warn(missing_docs)]
+
+pub mod analysis;
 pub mod build;
-pub mod clearance;
-pub mod limits;
-pub mod output;
-pub mod plot;
-pub mod precision;
-pub mod report;
+pub mod io;
 pub mod run;
 pub mod scene;
 pub mod scenes;
-pub mod stress;
-pub mod study;
-pub mod surfaces;
-pub mod validity;
+
+pub use io::artifacts::write_run;
+pub use run::{RunError, RunOptions, RunOutcome, run_scene};
+pub use scene::{Scene, SceneError};

@@ -114,7 +114,7 @@ fn pin_outside_its_bearing_is_rejected_naming_the_field() {
         text.contains("clearance_joints[0] (A)") && text.contains("outside its bearing"),
         "{text}"
     );
-    let e = lgres::run::run_scene("outside", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = lgres::run_scene("outside", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(
         matches!(e, RunError::PinOutsideBearing { index: 0, .. }),
         "{e}"
@@ -205,7 +205,7 @@ fn extends_can_change_a_law_kind() {
     .unwrap();
     assert!(matches!(
         s.clearance_joints[0].normal_law,
-        lgres::scene::NormalLaw::Hertz(_)
+        lgres::scene::NormalLawParams::Hertz(_)
     ));
 }
 
@@ -276,8 +276,8 @@ fn penetration_beyond_half_the_clearance_fails_the_response_run() {
         penetration: vec![-1e-4, peak, 0.0],
         ..Default::default()
     };
-    lgres::limits::check_penetration(&scene, "response", &[series(2.4e-4)]).unwrap();
-    match lgres::limits::check_penetration(&scene, "response", &[series(2.6e-4)]) {
+    lgres::scene::limits::check_penetration(&scene, "response", &[series(2.4e-4)]).unwrap();
+    match lgres::scene::limits::check_penetration(&scene, "response", &[series(2.6e-4)]) {
         Err(e @ RunError::PenetrationBeyondLimit { .. }) => {
             let text = e.to_string();
             assert!(
@@ -297,7 +297,7 @@ fn soft_contact_run_fails_with_penetration_beyond_limit() {
     )
     .unwrap();
     let options = lgres::run::RunOptions::default();
-    match lgres::run::run_scene("soft", &scene, &options, &mut ()) {
+    match lgres::run_scene("soft", &scene, &options, &mut ()) {
         Err(RunError::PenetrationBeyondLimit { joint, .. }) => assert_eq!(joint, "A"),
         other => panic!("expected PenetrationBeyondLimit, got {:?}", other.err()),
     }
@@ -310,7 +310,7 @@ fn step_budget_ends_a_run_in_a_failure_naming_the_field() {
         "budget",
     )
     .unwrap();
-    let e = lgres::run::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = lgres::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(!e.is_bad_input());
     assert!(e.to_string().contains("solver.max_steps"), "{e}");
     let scene = load_str(
@@ -318,7 +318,7 @@ fn step_budget_ends_a_run_in_a_failure_naming_the_field() {
         "budget",
     )
     .unwrap();
-    let e = lgres::run::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = lgres::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(e.to_string().contains("solver.max_wall_time"), "{e}");
 }
 
@@ -327,7 +327,7 @@ fn run_scene_validates_a_scene_built_in_code() {
     // A library caller can skip `load_str`; `run_scene` still refuses the allocation.
     let mut scene = scenes::builtin("lgres").unwrap();
     scene.solver.output_interval = 1e-300;
-    let e = lgres::run::run_scene("code", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = lgres::run_scene("code", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(e.is_bad_input());
     assert!(e.to_string().contains("solver.output_interval"), "{e}");
 }

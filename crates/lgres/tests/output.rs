@@ -3,8 +3,8 @@
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 
-use lgres::output::{self, AtomicFile, Column, CsvWriter};
-use lgres::plot::{self, Figure, Series, WornJoint};
+use lgres::io::output::{self, AtomicFile, Column, CsvWriter};
+use lgres::io::plot::{self, Figure, Series, WornJoint};
 
 fn temp_dir(tag: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("lgres-{tag}-{}", std::process::id()));

@@ -2,7 +2,9 @@
 //! below the errors they measure, errors fall with the tolerance, timed runs repeat the
 //! measured trajectory bit for bit, and bad settings are named.
 
-use lgres::precision::{PrecisionError, PrecisionOptions, PrecisionReport, RowOutcome, run_sweep};
+use lgres::analysis::precision::{
+    PrecisionError, PrecisionOptions, PrecisionReport, RowOutcome, run_sweep,
+};
 use lgres::scene::Integrator;
 
 /// The start-up window only (first impacts at ~0.012 s), two methods, two tolerances.
@@ -141,4 +143,18 @@ fn bad_settings_name_the_option() {
         ),
         Err(PrecisionError::Unsuitable(_))
     ));
+}
+
+#[test]
+fn method_names_are_the_scene_files_spelling_and_parse_back() {
+    use lgres::analysis::precision::{ALL_METHODS, method_by_name, method_name};
+    for method in ALL_METHODS {
+        let name = method_name(method);
+        assert_eq!(
+            serde_json::to_value(method).expect("serializes"),
+            serde_json::Value::from(name)
+        );
+        assert_eq!(method_by_name(name), Some(method));
+    }
+    assert_eq!(method_by_name("rk4"), None);
 }

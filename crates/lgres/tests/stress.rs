@@ -1,6 +1,6 @@
 //! The stress battery runs and reports every case's outcome (tiny durations).
 
-use lgres::stress::{self, Outcome};
+use lgres::analysis::stress::{self, Outcome};
 
 #[test]
 fn battery_reports_each_case_and_expected_errors_by_name() {
@@ -42,7 +42,10 @@ fn battery_reports_each_case_and_expected_errors_by_name() {
     // Tolerances scale with the nominal clearance: 2e-4 × 0.5 mm.
     assert!((by("baseline").atol_position_m - 1e-7).abs() < 1e-15);
 
-    for (name, field) in [("clearance 0", ".clearance"), ("v0 = v1", "friction.v1")] {
+    for (name, field) in [
+        ("clearance 0", ".clearance"),
+        ("v0 = v1", "friction.slip_velocity"),
+    ] {
         match &by(name).outcome {
             Outcome::ExpectedError { error, message } => {
                 assert_eq!(error, "SceneError::Invalid");

@@ -24,8 +24,9 @@ use crate::iteration::SecondOrderLu;
 use crate::system::{Baumgarte, Evaluator, State, System};
 use crate::trajectory::Trajectory;
 
-/// Time integrator (all from diffsol).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+/// Time integrator (all from diffsol); named in kebab case in scene files (`tr-bdf2`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Integrator {
     /// Variable-order BDF (orders 1–5), the stiff default (the paper's `ode15s` is similar).
     #[default]

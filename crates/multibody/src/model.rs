@@ -25,8 +25,9 @@ pub struct JointId(pub usize);
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct DriverId(pub usize);
 
-/// One of a body's three coordinates.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+/// One of a body's three coordinates; `x`, `y`, `theta` in scene files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Coordinate {
     /// Global x of the centroid (m).
     X = 0,

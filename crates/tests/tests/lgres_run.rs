@@ -163,7 +163,7 @@ fn stage_wear_accumulates_after_its_start() {
         let id = built.joints[1].element;
         let force = built
             .system
-            .element::<lgres::clearance::WornClearanceForce>(id)
+            .element::<clearance::WornClearanceForce>(id)
             .unwrap();
         force.stage_wear().unwrap().max_depth()
     };

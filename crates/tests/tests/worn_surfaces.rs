@@ -8,8 +8,8 @@
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 
+use lgres::io::surfaces::SurfacesError;
 use lgres::run::{RunError, RunOptions, run_scene};
-use lgres::surfaces::SurfacesError;
 
 /// A Gaussian dent `depth · exp(−((θ − centre)/width)²)` on `cells` cells (wrapped).
 fn dent(cells: usize, centre_deg: f64, depth: f64) -> Vec<f64> {
@@ -160,7 +160,7 @@ fn default_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_energy() 
         // Stopped at the slope limit 0.3 (a bound on the profile; measured at the contacts).
         assert!(v.max_slope_ratio <= 0.3, "joint {}: {v:?}", j.name);
     }
-    lgres::artifacts::write_run(&outcome, &dir).expect("writes");
+    lgres::io::artifacts::write_run(&outcome, &dir).expect("writes");
 
     let mut elastic = lgres::scenes::builtin("lgres-elastic").expect("built-in");
     elastic.run.cycles = 1;
@@ -185,7 +185,7 @@ fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
     let dir = worn_folder("partials");
     let scene = lgres::scenes::builtin("lgres").expect("built-in");
     let unworn = unworn_joints(&scene).expect("joints");
-    let worn = lgres::surfaces::load_last_stage(&dir, &scene, &unworn).expect("loads");
+    let worn = lgres::io::surfaces::load_last_stage(&dir, &scene, &unworn).expect("loads");
     let build_worn = || {
         build(
             &scene,

@@ -1,7 +1,7 @@
 //! The paper's studies (Sec. 4.2) and the extrapolation study: run every scene a study needs
 //! with [`run_scene`], write each scene's normal outputs under `<out>/<scene>/`
-//! ([`crate::artifacts::write_run`]) and the study report `<out>/report.md`
-//! ([`crate::report`]).
+//! ([`crate::io::artifacts::write_run`]) and the study report `<out>/report.md`
+//! ([`crate::analysis::study::report`]).
 //!
 //! A study run differs from a plain `wearsim run` in its defaults, chosen so that `study all`
 //! finishes in minutes on a laptop:
@@ -14,13 +14,17 @@
 //!
 //! A scene used by several studies (the default `lgres` is in all of them) is run once.
 
+pub mod judge;
+pub mod paper;
+pub mod report;
+
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
-use crate::artifacts::write_run;
-use crate::output::OutputError;
+use crate::io::artifacts::write_run;
+use crate::io::output::OutputError;
 use crate::run::{Progress, RunError, RunOptions, RunOutcome, run_scene};
 use crate::scene::{Scene, SceneError};
 use crate::scenes::{self, STUDIES, Study};
@@ -353,7 +357,7 @@ pub fn run_studies(
         options: options.clone(),
         wall_time_s: started.elapsed().as_secs_f64(),
     };
-    let report = crate::report::write_report(&results, &options.out)?;
+    let report = crate::analysis::study::report::write_report(&results, &options.out)?;
     Ok((results, report))
 }
 

@@ -1,11 +1,11 @@
-//! The files of one run, written atomically with [`crate::output`] and drawn with
-//! [`crate::plot`]: CSV time series, per-stage wear grids, `summary.json`, the resolved
+//! The files of one run, written atomically with [`crate::io::output`] and drawn with
+//! [`crate::io::plot`]: CSV time series, per-stage wear grids, `summary.json`, the resolved
 //! `scene.toml` and PNG figures.
 
 use std::path::{Path, PathBuf};
 
-use crate::output::{Column, OutputError, write_atomic, write_csv, write_json};
-use crate::plot::{self, DEFAULT_SIZE, Figure, Series};
+use crate::io::output::{Column, OutputError, write_atomic, write_csv, write_json};
+use crate::io::plot::{self, DEFAULT_SIZE, Figure, Series};
 use crate::run::{Response, RunOutcome};
 
 const QUANTITIES: [(&str, &str, &str); 6] = [
@@ -23,7 +23,7 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
     let names = outcome.response.contact.iter().map(|c| &c.name);
     if let Some(name) = names
         .chain(outcome.wear.iter().map(|w| &w.name))
-        .find(|n| !crate::limits::is_file_name_safe(n))
+        .find(|n| !crate::scene::limits::is_file_name_safe(n))
     {
         return Err(OutputError::UnsafeName { name: name.clone() });
     }

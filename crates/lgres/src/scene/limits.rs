@@ -9,9 +9,9 @@
 
 use crate::build::Built;
 use crate::run::{ContactSeries, RunError};
-use crate::scene::{
-    BodyRef, ClearanceJoint, FrictionLaw, NormalLaw, Scene, TimeLaw, Validator, WearSpec,
-};
+use contact::{FrictionLawParams, NormalLawParams};
+
+use crate::scene::{BodyRef, ClearanceJoint, Scene, TimeLaw, Validator, WearSpec};
 
 /// Most bodies in a scene: the dense `3n × 3n` matrices of 1000 bodies already take ~70 MB.
 pub const MAX_BODIES: usize = 1000;
@@ -192,7 +192,7 @@ impl Limits<'_> {
             MAX_LENGTH,
             "m",
         );
-        if let FrictionLaw::Coulomb { .. } = c.friction {
+        if let FrictionLawParams::Coulomb(_) = c.friction {
             self.0.push(
                 format!("{p}.friction.law"),
                 "coulomb",
@@ -390,17 +390,18 @@ impl Limits<'_> {
 fn speed_scales(k: usize, c: &ClearanceJoint) -> Vec<(f64, String)> {
     let p = format!("clearance_joints[{k}]");
     let mut v = Vec::new();
-    if let FrictionLaw::Ambrosio { v0, .. } = c.friction {
-        v.push((v0, format!("{p}.friction.v0 = {v0:e}")));
+    if let FrictionLawParams::Ambrosio(a) = c.friction {
+        let v0 = a.stick_velocity;
+        v.push((v0, format!("{p}.friction.stick_velocity = {v0:e}")));
     }
     match c.normal_law {
-        NormalLaw::HertzLankaraniNikravesh(d)
-        | NormalLaw::HuntCrossley(d)
-        | NormalLaw::Flores(d) => {
-            let f = d.impact_velocity_floor;
-            v.push((f, format!("{p}.normal_law.impact_velocity_floor = {f:e}")));
+        NormalLawParams::LankaraniNikravesh(d)
+        | NormalLawParams::HuntCrossley(d)
+        | NormalLawParams::Flores(d) => {
+            let f = d.onset_velocity_floor;
+            v.push((f, format!("{p}.normal_law.onset_velocity_floor = {f:e}")));
         }
-        NormalLaw::Hertz(_) => {}
+        NormalLawParams::Hertz(_) => {}
     }
     v
 }

@@ -1,4 +1,4 @@
-//! Figures as PNG, written atomically (see [`crate::output`]).
+//! Figures as PNG, written atomically (see [`crate::io::output`]).
 //!
 //! Text uses the DejaVu Sans font embedded in the binary, so figures render the same on a
 //! machine without system fonts.
@@ -13,7 +13,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
-use crate::output::{OutputError, write_via_temp};
+use crate::io::output::{OutputError, write_via_temp};
 
 /// Default figure size, pixels.
 pub const DEFAULT_SIZE: (u32, u32) = (1000, 650);

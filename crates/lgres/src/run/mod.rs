@@ -1,0 +1,386 @@
+//! One run of a scene: the response over `cycles` drive periods against the ideal mechanism,
+//! then the wear stages, with every summary number kept in memory ([`RunOutcome`]).
+//!
+//! [`run_scene`] is what the CLI's `run` calls and what a study loop can call repeatedly; it
+//! writes nothing (see [`crate::io::artifacts`]) and reports progress through [`Progress`].
+//!
+//! - **Response run**: assembled from the scene's initial poses (pins concentric), integrated
+//!   over `run.cycles` periods on unworn surfaces, sampled every `solver.output_interval`.
+//! - **Reference**: the all-ideal mechanism ([`Scene::idealized`]) by kinematic analysis at the
+//!   same times. A scene without active clearance joints runs this kinematic path only.
+//! - **Wear stages** ([`wear::run_stage`]): each sub-step rebuilds the system on the current
+//!   (frozen) worn surfaces and integrates `run.transient_window + K` periods, gathering wear
+//!   over the last `K` only: the concentric start-up impact (MODEL §8) is not amplified, and a
+//!   periodic drive makes any `K` consecutive periods `K` full cycles. After the stages the
+//!   response is simulated once more on the worn surfaces.
+//! - **Peaks** are statistics over cycles, with and without the start-up window (MODEL §8:
+//!   the clearance dynamics are chaotic, single peaks are not reproducible).
+//!
+//! Here: the options, errors and the driver; `outcome` holds the result types, `record` the
+//! response run and its recording observer, `summary` the statistics and energy books,
+//! `stages` the wear stages and [`validity`] the worn geometry's validity measures.
+
+mod outcome;
+mod record;
+mod stages;
+mod summary;
+pub mod validity;
+
+use std::time::Instant;
+
+use multibody::{
+    AbsoluteTolerances, AssemblyError, Baumgarte, KinematicsError, OutputTimes, SimulationError,
+    SimulationOptions,
+};
+use serde::Serialize;
+use wear::WornJoint;
+
+use crate::build::{BuildError, Surfaces, build, unworn_joints};
+use crate::scene::{self, Scene};
+
+pub use outcome::{
+    ContactSeries, Deviation, JointSummary, JointWearHistory, JointWearSummary, Motion, Numerics,
+    PeakStats, Response, ResponseSummary, RunOutcome, SubstepSummary, Summary, WearSummary,
+};
+use record::{assemble, respond};
+use stages::stages;
+use summary::summarize;
+pub use summary::{HALVES_TOLERANCE, peak_stats};
+
+/// Receives progress; every method defaults to doing nothing (`()` ignores everything).
+pub trait Progress {
+    /// A new phase of `cycles` drive periods starts (e.g. `"response"`, `"stage 1.2"`).
+    fn phase(&mut self, _label: &str, _cycles: f64) {}
+    /// Position within the current phase, in periods.
+    fn advance(&mut self, _cycles: f64) {}
+    /// The current phase is done.
+    fn finish(&mut self) {}
+    /// A note or warning for the user (e.g. a single-jump extrapolation warning).
+    fn note(&mut self, _text: &str) {}
+}
+
+impl Progress for () {}
+
+/// Overrides of the scene's run settings.
+#[derive(Debug, Clone, Default)]
+pub struct RunOptions {
+    /// Start from the worn surfaces of an earlier run: the folder holding its last-stage
+    /// `wear_<joint>_stage<k>.csv` files (see [`crate::io::surfaces`]). The response run and the
+    /// stages then begin from those surfaces.
+    pub surfaces: Option<std::path::PathBuf>,
+    /// Simulated cycles per wear stage `K` instead of `run.cycles_per_stage`; the
+    /// amplification is rescaled so a stage still stands for `K_scene × amplification` cycles.
+    pub cycles_per_stage: Option<u32>,
+    /// Skip the response run on the worn surfaces after the stages.
+    pub skip_worn_response: bool,
+}
+
+/// Why a run failed.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The scene does not make a valid system (field named).
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// The initial poses do not assemble.
+    #[error(
+        "{what}: the initial poses (bodies[*].x, y, theta_deg) do not assemble at t = 0: {source}"
+    )]
+    Assembly {
+        /// Which system.
+        what: String,
+        /// Cause, naming the constraints.
+        source: AssemblyError,
+    },
+    /// The ideal mechanism's kinematic analysis failed.
+    #[error("kinematic analysis of the ideal mechanism: {0}")]
+    Kinematics(#[from] KinematicsError),
+    /// The integrator failed or ran out of its budget (the hint names the scene field).
+    #[error("{what}: {source}{}", crate::scene::limits::budget_hint(source))]
+    Simulation {
+        /// Which run.
+        what: String,
+        /// Cause.
+        source: SimulationError,
+    },
+    /// Wear staging failed (e.g. a pin worn through, too many sub-steps).
+    #[error("wear staging: {0}")]
+    Wear(#[from] wear::WearError),
+    /// A wear stage's run ended without the wear record of a worn joint (an internal error:
+    /// the element was built without one, or it was taken twice).
+    #[error("{what}: clearance joint {joint} has no wear record after its run (internal error)")]
+    LostWearBuffer {
+        /// Which run.
+        what: String,
+        /// The joint.
+        joint: String,
+    },
+    /// The worn surfaces to start from could not be loaded (file and joint named).
+    #[error(transparent)]
+    Surfaces(#[from] crate::io::surfaces::SurfacesError),
+    /// The scene has no drive period (validation normally catches this).
+    #[error("run.period: no drive period; give run.period")]
+    NoPeriod,
+    /// The scene has no body to record.
+    #[error("run.response_body: no body to record")]
+    NoResponseBody,
+    /// The scene (with the run's overrides applied) is not valid.
+    #[error(transparent)]
+    Scene(#[from] scene::SceneError),
+    /// A pin starts outside its bearing after assembly at t = 0.
+    #[error(
+        "{what}: clearance_joints[{index}] ({joint}): after assembly at t = 0 the pin centre is \
+         {eccentricity:.6e} m from the bearing centre, beyond the clearance ({clearance:e} m): \
+         the pin starts outside its bearing (check the bodies' initial poses and the joint's \
+         pin_point, bearing_point)"
+    )]
+    PinOutsideBearing {
+        /// Which system.
+        what: String,
+        /// Index into `clearance_joints`.
+        index: usize,
+        /// Joint name.
+        joint: String,
+        /// Initial eccentricity, m.
+        eccentricity: f64,
+        /// Nominal clearance, m.
+        clearance: f64,
+    },
+    /// A contact penetrated beyond [`crate::scene::limits::MAX_PENETRATION_FRACTION`] of its
+    /// clearance (or pin radius): the contact law is outside its validity.
+    #[error(
+        "{what}: clearance joint {joint}: peak penetration {penetration:.3e} m exceeds {limit:.3e} m \
+         (half the smaller of clearance and pin radius): the contact law is outside its validity \
+         (material too soft, load too high or tolerances too loose); forces are not trusted"
+    )]
+    PenetrationBeyondLimit {
+        /// Which run.
+        what: String,
+        /// Clearance joint name.
+        joint: String,
+        /// Peak penetration, m.
+        penetration: f64,
+        /// The limit, m.
+        limit: f64,
+    },
+    /// A run produced a non-finite value.
+    #[error("{what}: the solution became non-finite (NaN or infinite) at t = {t}")]
+    NonFinite {
+        /// Which run.
+        what: String,
+        /// First bad output time.
+        t: f64,
+    },
+}
+
+impl RunError {
+    /// Whether the scene itself is at fault (exit code 2) rather than the run (1).
+    pub fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            RunError::Build(_)
+                | RunError::Surfaces(_)
+                | RunError::Scene(_)
+                | RunError::Kinematics(_)
+                | RunError::Assembly { .. }
+                | RunError::PinOutsideBearing { .. }
+                | RunError::NoPeriod
+                | RunError::NoResponseBody
+        )
+    }
+}
+
+/// What [`check_assembly`] found.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct AssemblyCheck {
+    /// Coordinates (3 per body).
+    pub coordinates: usize,
+    /// Constraint equations (clearance joints are force elements, not constraints).
+    pub constraints: usize,
+    /// `coordinates − constraints`.
+    pub degrees_of_freedom: isize,
+    /// Largest coordinate change assembly made to the file's initial poses (m or rad).
+    pub largest_move: f64,
+}
+
+/// Everything `run` checks before it simulates: validation, the drive period, the recorded
+/// body, the ideal mechanism's kinematic analysis at the output times, and the scene's system
+/// assembled at t = 0 from the file's initial poses. So `check` rejects what `run` would.
+pub fn check_assembly(scene: &Scene) -> Result<AssemblyCheck, RunError> {
+    let (times, body) = run_plan(scene)?;
+    ideal_motion(scene, &times, body)?;
+    unworn_joints(scene)?;
+    let built = build(scene, Surfaces::default())?;
+    let state = assemble(&built, "assembly check")?;
+    let (q0, _) = built.system.initial_guess();
+    Ok(AssemblyCheck {
+        coordinates: built.system.coordinate_count(),
+        constraints: built.system.constraint_count(),
+        degrees_of_freedom: built.system.degrees_of_freedom(),
+        largest_move: q0
+            .iter()
+            .zip(&state.q)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max),
+    })
+}
+
+/// Simulates `scene` (see the module docs); `name` labels the summary.
+pub fn run_scene(
+    name: &str,
+    scene: &Scene,
+    options: &RunOptions,
+    progress: &mut dyn Progress,
+) -> Result<RunOutcome, RunError> {
+    let started = Instant::now();
+    let mut scene = scene.clone();
+    let scene_k = scene.run.cycles_per_stage;
+    if let Some(k) = options.cycles_per_stage.filter(|k| *k > 0) {
+        scene.run.amplification *= f64::from(scene_k) / f64::from(k);
+        scene.run.cycles_per_stage = k;
+    }
+    let (times, body) = run_plan(&scene)?;
+    let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
+    let cycles = scene.run.cycles.max(1);
+    let t_end = period * f64::from(cycles);
+    progress.phase("ideal mechanism", f64::from(cycles));
+    let ideal = ideal_motion(&scene, &times, body)?;
+    progress.finish();
+
+    let active = scene.active_clearance_joints().count() > 0;
+    let unworn = unworn_joints(&scene)?;
+    let initial = match &options.surfaces {
+        Some(dir) => crate::io::surfaces::load_last_stage(dir, &scene, &unworn)?,
+        None => unworn,
+    };
+    let mut wear_history = Vec::new();
+    let (response, response_summary, wear_summary, worn) = if !active {
+        let response = Response {
+            times: times.clone(),
+            motion: ideal.clone(),
+            ideal,
+            contact: Vec::new(),
+        };
+        let summary = summarize(&scene, &response, None, cycles, t_end);
+        (response, summary, None, None)
+    } else {
+        // The unworn response samples round surfaces (no wear code); one from loaded surfaces
+        // samples those.
+        let start: &[Option<WornJoint>] = if options.surfaces.is_some() {
+            &initial
+        } else {
+            &[]
+        };
+        let (response, summary) =
+            respond(&scene, start, &times, &ideal, body, progress, "response")?;
+        // Worn surfaces may legitimately open the clearance past the limit: warn only there.
+        match crate::scene::limits::check_penetration(&scene, "response", &response.contact) {
+            Err(e) if options.surfaces.is_some() => progress.note(&format!("warning: {e}")),
+            checked => checked?,
+        }
+        let mut wear_summary = None;
+        let mut worn = None;
+        if scene.run.wear_stages > 0 && initial.iter().any(Option::is_some) {
+            let (history, mut ws, surfaces) = stages(&scene, &initial, period, progress)?;
+            ws.scene_cycles_per_stage = scene_k;
+            wear_history = history;
+            wear_summary = Some(ws);
+            if !options.skip_worn_response {
+                let run = respond(
+                    &scene,
+                    &surfaces,
+                    &times,
+                    &ideal,
+                    body,
+                    progress,
+                    "worn response",
+                )?;
+                // Worn surfaces may legitimately open the clearance past the limit: warn only.
+                if let Err(e) =
+                    crate::scene::limits::check_penetration(&scene, "worn response", &run.0.contact)
+                {
+                    progress.note(&format!("warning: {e}"));
+                }
+                worn = Some(run);
+            }
+        }
+        (response, summary, wear_summary, worn)
+    };
+    let summary = Summary {
+        scene: name.to_string(),
+        description: scene.description.clone(),
+        response_body: scene.bodies[body].name.clone(),
+        period_s: period,
+        transient_window_s: scene.run.transient_window,
+        reference: "kinematic analysis of the scene with every clearance joint ideal, at the \
+                    output times"
+            .into(),
+        response: response_summary,
+        wear: wear_summary,
+        worn_response: worn.as_ref().map(|(_, s)| s.clone()),
+        wall_time_s: started.elapsed().as_secs_f64(),
+    };
+    Ok(RunOutcome {
+        scene,
+        summary,
+        response,
+        worn_response: worn.map(|(r, _)| r),
+        wear: wear_history,
+    })
+}
+
+/// Validates `scene` and returns the response run's output times and recorded body.
+fn run_plan(scene: &Scene) -> Result<(Vec<f64>, usize), RunError> {
+    scene.validate("the scene as run")?;
+    let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
+    let body = scene.response_body().ok_or(RunError::NoResponseBody)?;
+    let t_end = period * f64::from(scene.run.cycles.max(1));
+    Ok((
+        OutputTimes::uniform(0.0, t_end, scene.solver.output_interval),
+        body,
+    ))
+}
+
+/// The all-ideal mechanism's motion of `body` at `times` (kinematic analysis).
+fn ideal_motion(scene: &Scene, times: &[f64], body: usize) -> Result<Motion, RunError> {
+    let ideal_built = build(&scene.idealized(), Surfaces::default())?;
+    let (q0, _) = ideal_built.system.initial_guess();
+    let kin = ideal_built.system.kinematics(times, &q0)?;
+    let mut ideal = Motion::default();
+    for f in 0..kin.times.len() {
+        ideal.push(body, kin.q(f), kin.qd(f), kin.qdd(f));
+    }
+    Ok(ideal)
+}
+
+/// Simulation options from the scene's solver settings (integrator, rtol, the clearance-scaled
+/// absolute tolerances, Baumgarte gains) for a run to `t_end`.
+pub fn simulation_options(
+    scene: &Scene,
+    t_end: f64,
+    output: OutputTimes,
+    record: bool,
+) -> SimulationOptions {
+    let tol = scene.tolerances();
+    let mut o = SimulationOptions::until(t_end);
+    o.integrator = scene.solver.integrator;
+    o.rtol = scene.solver.rtol;
+    o.atol = AbsoluteTolerances {
+        position: tol.position,
+        angle: tol.angle,
+        velocity: tol.velocity,
+        angular_velocity: tol.velocity,
+    };
+    o.baumgarte = Baumgarte {
+        alpha: scene.solver.baumgarte_alpha,
+        beta: scene.solver.baumgarte_beta,
+    };
+    o.output = output;
+    o.record_trajectory = record;
+    o.max_steps = Some(scene.solver.max_steps.unwrap_or(scene::DEFAULT_MAX_STEPS));
+    let wall = scene
+        .solver
+        .max_wall_time
+        .unwrap_or(scene::DEFAULT_MAX_WALL_TIME);
+    o.max_wall_time = std::time::Duration::try_from_secs_f64(wall).ok();
+    o
+}

@@ -1,0 +1,345 @@
+//! What a run returns: the recorded series and every summary number, serialized as
+//! `summary.json`.
+
+use serde::Serialize;
+use wear::WornJoint;
+
+use crate::run::validity::Validity;
+use crate::scene::Scene;
+
+/// Centroid motion of one body at the output times.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Motion {
+    /// x, m.
+    pub x: Vec<f64>,
+    /// y, m.
+    pub y: Vec<f64>,
+    /// ẋ, m/s.
+    pub vx: Vec<f64>,
+    /// ẏ, m/s.
+    pub vy: Vec<f64>,
+    /// ẍ, m/s².
+    pub ax: Vec<f64>,
+    /// ÿ, m/s².
+    pub ay: Vec<f64>,
+}
+
+impl Motion {
+    pub(super) fn push(&mut self, k: usize, q: &[f64], qd: &[f64], qdd: &[f64]) {
+        let i = 3 * k;
+        self.x.push(q[i]);
+        self.y.push(q[i + 1]);
+        self.vx.push(qd[i]);
+        self.vy.push(qd[i + 1]);
+        self.ax.push(qdd[i]);
+        self.ay.push(qdd[i + 1]);
+    }
+
+    /// The six series in the order x, y, vx, vy, ax, ay.
+    pub fn series(&self) -> [&[f64]; 6] {
+        [&self.x, &self.y, &self.vx, &self.vy, &self.ax, &self.ay]
+    }
+}
+
+/// Contact history of one clearance joint at the output times.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ContactSeries {
+    /// Joint name.
+    pub name: String,
+    /// Nominal clearance, m.
+    pub clearance: f64,
+    /// Normal force `F_n`, N.
+    pub normal_force: Vec<f64>,
+    /// Signed friction force along the tangent, N.
+    pub friction_force: Vec<f64>,
+    /// Penetration `δ` (negative: free), m.
+    pub penetration: Vec<f64>,
+    /// Eccentricity `|e|`, m.
+    pub eccentricity: Vec<f64>,
+    /// Journal-centre offset `e = r_pin − r_bearing` in the global frame, m.
+    pub ex: Vec<f64>,
+    /// See `ex`.
+    pub ey: Vec<f64>,
+    /// The same offset in the bearing body's frame (where the bearing wears), m.
+    pub ex_bearing: Vec<f64>,
+    /// See `ex_bearing`.
+    pub ey_bearing: Vec<f64>,
+    /// Whether the worn geometry stayed inside the contact model's validity (measured at the
+    /// output frames; `None` until the run is over).
+    pub validity: Option<Validity>,
+}
+
+/// One simulated response with its reference.
+#[derive(Debug, Clone, Default)]
+pub struct Response {
+    /// Output times, s.
+    pub times: Vec<f64>,
+    /// The recorded body (with clearance).
+    pub motion: Motion,
+    /// The ideal mechanism at the same times.
+    pub ideal: Motion,
+    /// Per active clearance joint.
+    pub contact: Vec<ContactSeries>,
+}
+
+/// Wear of one joint after each stage.
+#[derive(Debug, Clone)]
+pub struct JointWearHistory {
+    /// Joint name.
+    pub name: String,
+    /// Nominal bearing radius, m.
+    pub bearing_radius: f64,
+    /// Nominal pin radius, m.
+    pub pin_radius: f64,
+    /// The joint after stage 1, 2, … (cumulative surfaces).
+    pub stages: Vec<WornJoint>,
+}
+
+/// Statistics of per-cycle peaks.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct PeakStats {
+    /// Largest value over the whole window, N.
+    pub max: f64,
+    /// Cycles with samples in the window.
+    pub cycles: usize,
+    /// Median of the per-cycle peaks, N.
+    pub cycle_median: f64,
+    /// Smallest per-cycle peak, N.
+    pub cycle_min: f64,
+    /// Largest per-cycle peak, N (equals `max`).
+    pub cycle_max: f64,
+    /// Interquartile range of the per-cycle peaks, N.
+    pub cycle_iqr: f64,
+}
+
+/// Contact summary of one joint in one response run.
+#[derive(Debug, Clone, Serialize)]
+pub struct JointSummary {
+    /// Joint name.
+    pub name: String,
+    /// Nominal clearance, m.
+    pub clearance_m: f64,
+    /// Normal-force peaks over all output samples.
+    pub normal_force_all: PeakStats,
+    /// Normal-force peaks after the start-up window `run.transient_window`.
+    pub normal_force_after_transient: PeakStats,
+    /// Largest penetration, m.
+    pub max_penetration_m: f64,
+    /// Largest eccentricity, m.
+    pub max_eccentricity_m: f64,
+    /// Whether the (worn) geometry stayed where the contact model holds, with the measures
+    /// (see [`crate::run::validity`]). Force peaks of a run outside it are not results.
+    pub validity: Option<Validity>,
+    /// Energy friction dissipates per cycle, `∫ F_t v_t dt` on the material sliding, J
+    /// (`ClearanceForce::friction_dissipation`, trapezoid over accepted steps).
+    pub friction_dissipation_per_cycle_j: f64,
+    /// Energy the normal force dissipates per cycle beyond its elastic part,
+    /// `∫ (F_n − F_e) δ̇ dt`, J (`ClearanceForce::damping_dissipation`).
+    pub damping_dissipation_per_cycle_j: f64,
+    /// Elastic energy stored in the contact at the start of the run, J.
+    pub elastic_energy_start_j: f64,
+    /// Elastic energy stored in the contact at the end of the run, J.
+    pub elastic_energy_end_j: f64,
+    /// Energy the whole contact force takes out of the mechanism per cycle, from the energy
+    /// audit's work `W = ∫ Q·q̇ dt` (Gauss quadrature on the integrator's interpolant) net of
+    /// the stored energy: `(−W − (V_end − V_start)) / cycles`, J. Equals damping + friction up
+    /// to integration error; an elastic, frictionless contact whose force derives from a
+    /// potential gives zero.
+    pub contact_dissipation_per_cycle_j: f64,
+    /// `contact_dissipation − damping − friction` per cycle, J: how well the books close.
+    pub energy_books_residual_per_cycle_j: f64,
+}
+
+/// Largest deviation of the recorded body from the ideal mechanism.
+#[derive(Debug, Clone, Copy, Default, Serialize)]
+pub struct Deviation {
+    /// m.
+    pub x_m: f64,
+    /// m.
+    pub y_m: f64,
+    /// m/s.
+    pub vx_m_s: f64,
+    /// m/s.
+    pub vy_m_s: f64,
+    /// m/s².
+    pub ax_m_s2: f64,
+    /// m/s².
+    pub ay_m_s2: f64,
+}
+
+/// Integrator statistics, drift and energy balance of one dynamic run.
+#[derive(Debug, Clone, Serialize)]
+pub struct Numerics {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected steps.
+    pub rejected_steps: usize,
+    /// Right-hand-side evaluations.
+    pub rhs_evaluations: usize,
+    /// Jacobian evaluations.
+    pub jacobian_evaluations: usize,
+    /// Factorizations.
+    pub factorizations: usize,
+    /// Smallest step, s.
+    pub smallest_step_s: f64,
+    /// Largest step, s.
+    pub largest_step_s: f64,
+    /// Located events (contact onsets and separations).
+    pub events: usize,
+    /// Largest |Φ|, m or rad.
+    pub drift_position: f64,
+    /// Largest |Φ̇|, m/s or rad/s.
+    pub drift_velocity: f64,
+    /// Energy-balance residual, J.
+    pub energy_residual_j: f64,
+    /// Residual relative to the largest energy term.
+    pub energy_relative_residual: f64,
+    /// Solver wall time, s.
+    pub wall_time_s: f64,
+}
+
+/// Summary of one response run.
+#[derive(Debug, Clone, Serialize)]
+pub struct ResponseSummary {
+    /// Simulated cycles.
+    pub cycles: u32,
+    /// Duration, s.
+    pub duration_s: f64,
+    /// Per active clearance joint.
+    pub joints: Vec<JointSummary>,
+    /// Peak deviation of the recorded body from the ideal mechanism (whole run).
+    pub deviation: Deviation,
+    /// The same after the start-up window.
+    pub deviation_after_transient: Deviation,
+    /// Energy dissipated per cycle by all clearance joints, J: the sum of the joints'
+    /// `contact_dissipation_per_cycle_j` (energy audit, net of stored elastic energy).
+    pub dissipated_per_cycle_j: f64,
+    /// Of which friction, J (sum of the joints' `friction_dissipation_per_cycle_j`).
+    pub friction_per_cycle_j: f64,
+    /// Of which normal-force damping, J (sum of `damping_dissipation_per_cycle_j`).
+    pub damping_per_cycle_j: f64,
+    /// What the energy books say is wrong, if anything: a contact that puts energy into the
+    /// mechanism (negative dissipation) is reported here, never as dissipation.
+    pub energy_warnings: Vec<String>,
+    /// Integrator numbers (absent for the kinematic path).
+    pub numerics: Option<Numerics>,
+}
+
+/// Wear of one joint at the end of all stages.
+#[derive(Debug, Clone, Serialize)]
+pub struct JointWearSummary {
+    /// Joint name.
+    pub name: String,
+    /// Peak bearing depth `h` (radius grew by h/2), m.
+    pub bearing_peak_depth_m: f64,
+    /// Body-frame angle of the bearing peak, deg.
+    pub bearing_peak_angle_deg: f64,
+    /// Peak pin depth, m.
+    pub pin_peak_depth_m: f64,
+    /// Body-frame angle of the pin peak, deg.
+    pub pin_peak_angle_deg: f64,
+    /// Bearing ranges with depth ≥ half the peak, `[start, end]` deg, deepest first.
+    pub bearing_ranges_deg: Vec<[f64; 2]>,
+    /// Pin ranges with depth ≥ half the peak, deg.
+    pub pin_ranges_deg: Vec<[f64; 2]>,
+}
+
+/// How the wear stages were run.
+#[derive(Debug, Clone, Serialize)]
+pub struct WearSummary {
+    /// Stages.
+    pub stages: u32,
+    /// Simulated cycles per stage `K` actually used.
+    pub cycles_per_stage: u32,
+    /// `K` the scene asks for (the paper: 100).
+    pub scene_cycles_per_stage: u32,
+    /// Amplification used (rescaled when `K` differs from the scene's).
+    pub amplification: f64,
+    /// Drive cycles one stage stands for (`K × amplification`).
+    pub cycles_represented_per_stage: f64,
+    /// Start of wear accumulation in each K-cycle run (start-up skipped), s.
+    pub wear_start_s: f64,
+    /// `adaptive` or `single-jump`.
+    pub extrapolation: String,
+    /// K-cycle simulations per stage (sub-steps).
+    pub substeps_per_stage: Vec<usize>,
+    /// Every sub-step: stage, amplification applied, deepest cell after it (m) and the bound
+    /// on the relative clearance change it caused.
+    pub substeps: Vec<SubstepSummary>,
+    /// Convergence of each sub-step's wear estimate: the largest disagreement of the two
+    /// halves of its K cycles (absent for odd K), against [`HALVES_TOLERANCE`](crate::run::HALVES_TOLERANCE).
+    pub max_halves_difference: Option<f64>,
+    /// Whether every sub-step's two halves agree within [`HALVES_TOLERANCE`](crate::run::HALVES_TOLERANCE) (false for odd K:
+    /// not checked).
+    pub converged: bool,
+    /// Per stage: the drive cycles it applied when it ended early at the contact model's
+    /// validity limits (`run.stop_at_validity_limits`), else `None` (all of them).
+    pub cycles_applied_at_limits: Vec<Option<f64>>,
+    /// Single-jump warnings, the convergence check's verdict when it fails, and stages that
+    /// ended at the validity limits.
+    pub warnings: Vec<String>,
+    /// Per wearing joint, after the last stage.
+    pub joints: Vec<JointWearSummary>,
+    /// Wall time of the stages, s.
+    pub wall_time_s: f64,
+}
+
+/// One extrapolation sub-step of a wear stage.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct SubstepSummary {
+    /// Stage, from 1.
+    pub stage: usize,
+    /// Amplification applied.
+    pub amplification: f64,
+    /// Deepest cell on any surface after the update, m.
+    pub max_depth_m: f64,
+    /// Bound on the relative local-clearance change of the update.
+    pub change_fraction: f64,
+    /// Bound on the change of the clearance slope `|Δc'|/c0` of the update, 1/rad.
+    pub slope_change: f64,
+    /// Bound on the change of the clearance curvature `|Δc''|/c0` of the update, 1/rad².
+    pub curvature_change: f64,
+    /// How far the wear of the two halves of the sub-step's K cycles disagree, per cell,
+    /// relative to the peak (see `clearance::halves_difference`); absent for odd K.
+    pub halves_difference: Option<f64>,
+}
+
+/// What `summary.json` holds.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// Scene name.
+    pub scene: String,
+    /// Scene description.
+    pub description: String,
+    /// Body whose response is recorded.
+    pub response_body: String,
+    /// Drive period, s.
+    pub period_s: f64,
+    /// Start-up window excluded from the `after_transient` statistics, s.
+    pub transient_window_s: f64,
+    /// How the ideal reference was computed.
+    pub reference: String,
+    /// The response on the initial (unworn) surfaces.
+    pub response: ResponseSummary,
+    /// Wear stages, if any ran.
+    pub wear: Option<WearSummary>,
+    /// The response on the worn surfaces after the last stage.
+    pub worn_response: Option<ResponseSummary>,
+    /// Total wall time, s.
+    pub wall_time_s: f64,
+}
+
+/// Everything a run produced.
+#[derive(Debug, Clone)]
+pub struct RunOutcome {
+    /// The scene as run (overrides applied).
+    pub scene: Scene,
+    /// The numbers.
+    pub summary: Summary,
+    /// The response on unworn surfaces.
+    pub response: Response,
+    /// The response on the worn surfaces after the stages.
+    pub worn_response: Option<Response>,
+    /// Wear per wearing joint.
+    pub wear: Vec<JointWearHistory>,
+}

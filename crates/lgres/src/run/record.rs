@@ -1,0 +1,189 @@
+//! The response run: assembly, and the observer that records the response body and the
+//! contact state at the output frames (its energy books are in `summary`).
+
+use multibody::{Frame, Observer, OutputTimes};
+use wear::WornJoint;
+
+use super::summary::{Audit, summarize};
+use super::{
+    ContactSeries, Motion, Progress, Response, ResponseSummary, RunError, simulation_options,
+};
+use crate::build::{Built, JointHandle, Surfaces, build};
+use crate::run::validity::{Limits, Tally};
+use crate::scene::Scene;
+
+/// Records the response body and the contact state at output frames; forwards progress.
+pub(super) struct Recorder<'a> {
+    pub(super) body: usize,
+    pub(super) joints: &'a [JointHandle],
+    pub(super) period: f64,
+    pub(super) times: Vec<f64>,
+    pub(super) motion: Motion,
+    pub(super) contact: Vec<ContactSeries>,
+    /// Validity measures per joint (same order as `contact`).
+    pub(super) validity: Vec<Tally>,
+    pub(super) progress: &'a mut dyn Progress,
+    pub(super) record: bool,
+}
+
+/// Points on the pin outline for the true-overlap check (0.5° apart).
+const OVERLAP_SAMPLES: usize = 720;
+/// The overlap is measured at every this-many-th output frame near contact.
+const OVERLAP_EVERY: usize = 4;
+
+impl Observer for Recorder<'_> {
+    fn output(&mut self, frame: &Frame<'_>) {
+        if !self.record {
+            return;
+        }
+        self.times.push(frame.t);
+        self.motion.push(self.body, frame.q, frame.qd, frame.qdd);
+        let frame_index = self.times.len();
+        for ((series, handle), tally) in self
+            .contact
+            .iter_mut()
+            .zip(self.joints)
+            .zip(&mut self.validity)
+        {
+            let probe = handle.probe(frame.elements);
+            let d = probe
+                .map(|p| p.contact(frame.q, frame.qd).diagnostics)
+                .unwrap_or_default();
+            // On round surfaces the overlap is δ itself: measure it on worn ones only.
+            let overlap = probe
+                .filter(|_| {
+                    handle.worn
+                        && frame_index.is_multiple_of(OVERLAP_EVERY)
+                        && d.penetration > -0.25 * handle.clearance
+                })
+                .map(|p| p.outline_overlap(frame.q, OVERLAP_SAMPLES).depth);
+            tally.frame(&d, overlap);
+            series.normal_force.push(d.normal_force);
+            series.friction_force.push(d.friction_force);
+            series.penetration.push(d.penetration);
+            series.eccentricity.push(d.eccentricity);
+            let (s, c) = d.contact_angle.sin_cos();
+            series.ex.push(d.eccentricity * c);
+            series.ey.push(d.eccentricity * s);
+            let (s, c) = d.bearing_angle.sin_cos();
+            series.ex_bearing.push(d.eccentricity * c);
+            series.ey_bearing.push(d.eccentricity * s);
+        }
+    }
+
+    fn progress(&mut self, t: f64, _t_end: f64) {
+        self.progress.advance(t / self.period);
+    }
+}
+
+/// Assemble `built` from the scene's initial poses at t = 0.
+pub(super) fn assemble(built: &Built, what: &str) -> Result<multibody::State, RunError> {
+    let (q0, qd0) = built.system.initial_guess();
+    let state = built
+        .system
+        .assemble(0.0, &q0, &qd0)
+        .map_err(|source| RunError::Assembly {
+            what: what.to_string(),
+            source,
+        })?;
+    crate::scene::limits::check_initial_penetration(built, &state, what)?;
+    Ok(state)
+}
+
+/// The response run on `worn` surfaces (empty: round) with its summary.
+pub(super) fn respond(
+    scene: &Scene,
+    worn: &[Option<WornJoint>],
+    times: &[f64],
+    ideal: &Motion,
+    body: usize,
+    progress: &mut dyn Progress,
+    what: &str,
+) -> Result<(Response, ResponseSummary), RunError> {
+    let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
+    let t_end = times.last().copied().unwrap_or(period);
+    let cycles = scene.run.cycles.max(1);
+    let mut built = build(
+        scene,
+        Surfaces {
+            worn,
+            accumulate_from: None,
+            split_halves_at: None,
+        },
+    )?;
+    let state = assemble(&built, what)?;
+    let opts = simulation_options(scene, t_end, OutputTimes::At(times.to_vec()), false);
+    progress.phase(what, f64::from(cycles));
+    let joints = built.joints.clone();
+    let initial_energy: Vec<f64> = joints
+        .iter()
+        .map(|h| {
+            h.probe(built.system.elements()).map_or(0.0, |p| {
+                p.contact(&state.q, &state.qd).diagnostics.elastic_energy
+            })
+        })
+        .collect();
+    let mut recorder = Recorder {
+        body,
+        joints: &joints,
+        period,
+        times: Vec::with_capacity(times.len()),
+        motion: Motion::default(),
+        contact: joints
+            .iter()
+            .map(|j| ContactSeries {
+                name: j.name.clone(),
+                clearance: j.clearance,
+                ..Default::default()
+            })
+            .collect(),
+        validity: joints
+            .iter()
+            .map(|j| Tally::new(j.clearance, Limits::default()))
+            .collect(),
+        progress,
+        record: true,
+    };
+    let result = built
+        .system
+        .simulate(&state, &opts, &mut recorder)
+        .map_err(|source| RunError::Simulation {
+            what: what.to_string(),
+            source,
+        })?;
+    let Recorder {
+        times: rec_times,
+        motion,
+        mut contact,
+        validity,
+        progress,
+        ..
+    } = recorder;
+    progress.finish();
+    for (series, tally) in contact.iter_mut().zip(validity) {
+        series.validity = Some(tally.finish());
+    }
+    if let Some(k) = (0..rec_times.len()).find(|&k| {
+        motion.series().iter().any(|s| !s[k].is_finite())
+            || contact.iter().any(|c| !c.normal_force[k].is_finite())
+    }) {
+        return Err(RunError::NonFinite {
+            what: what.to_string(),
+            t: rec_times[k],
+        });
+    }
+    let response = Response {
+        times: rec_times,
+        motion,
+        ideal: ideal.clone(),
+        contact,
+    };
+    let audit = Audit {
+        built: &built,
+        result: &result,
+        joints: &joints,
+        initial_energy: &initial_energy,
+    };
+    let summary = summarize(scene, &response, Some(audit), cycles, t_end);
+    Ok((response, summary))
+}

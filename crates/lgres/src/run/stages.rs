@@ -1,0 +1,318 @@
+//! The wear stages of a run: each sub-step simulates `K` cycles on the frozen worn surfaces,
+//! then extrapolates their wear within the plan's limits (see [`wear::run_stage`]).
+
+use std::time::Instant;
+
+use clearance::{StageRuns, StageSimulation, WearStagesError, run_wear_stages};
+use multibody::{OutputTimes, SimulationError, SimulationResult};
+use wear::{Extrapolation, GeometryLimits, RunContext, StagePlan, WornJoint};
+
+use super::record::{Recorder, assemble};
+use super::summary::HALVES_TOLERANCE;
+use super::{
+    JointWearHistory, JointWearSummary, Motion, Progress, RunError, SubstepSummary, WearSummary,
+    simulation_options,
+};
+use crate::build::{Surfaces, build};
+use crate::scene::Scene;
+
+/// Per-stage history, summary and final surfaces (one slot per active clearance joint).
+type Staged = (Vec<JointWearHistory>, WearSummary, Vec<Option<WornJoint>>);
+
+/// A scene's K-cycle runs for the stage driver: the scene built on the current surfaces,
+/// wearing after the start-up window, observed for progress only.
+struct SceneRuns<'a> {
+    scene: &'a Scene,
+    /// Per active clearance joint: its index among the wearing joints, if it wears.
+    slots: &'a [Option<usize>],
+    wear_start: f64,
+    t_end: f64,
+    period: f64,
+    /// Cycles per run.
+    k: u32,
+    progress: &'a mut dyn Progress,
+}
+
+fn run_name(context: RunContext) -> String {
+    format!(
+        "wear stage {} run {}",
+        context.stage + 1,
+        context.substep + 1
+    )
+}
+
+impl StageRuns for SceneRuns<'_> {
+    type Error = RunError;
+
+    fn build(
+        &mut self,
+        context: RunContext,
+        current: &[WornJoint],
+    ) -> Result<StageSimulation, RunError> {
+        let worn: Vec<Option<WornJoint>> = self
+            .slots
+            .iter()
+            .map(|s| s.map(|i| current[i].clone()))
+            .collect();
+        let built = build(
+            self.scene,
+            Surfaces {
+                worn: &worn,
+                accumulate_from: Some(self.wear_start),
+                // Whole cycles in each half: only for an even K.
+                split_halves_at: self
+                    .k
+                    .is_multiple_of(2)
+                    .then(|| self.wear_start + f64::from(self.k / 2) * self.period),
+            },
+        )?;
+        let start = assemble(&built, &run_name(context))?;
+        let mut options = simulation_options(
+            self.scene,
+            self.t_end,
+            OutputTimes::At(vec![self.t_end]),
+            false,
+        );
+        // Only the wear matters here; skipping the energy quadrature saves time per step.
+        options.energy_audit = false;
+        let elements = built
+            .joints
+            .iter()
+            .filter(|h| h.worn)
+            .map(|h| h.element)
+            .collect();
+        Ok(StageSimulation {
+            system: built.system,
+            start,
+            options,
+            elements,
+        })
+    }
+
+    fn simulate(
+        &mut self,
+        context: RunContext,
+        run: &mut StageSimulation,
+    ) -> Result<SimulationResult, SimulationError> {
+        self.progress
+            .phase(&run_name(context), self.t_end / self.period);
+        let mut recorder = Recorder {
+            body: 0,
+            joints: &[],
+            period: self.period,
+            times: Vec::new(),
+            motion: Motion::default(),
+            contact: Vec::new(),
+            validity: Vec::new(),
+            progress: &mut *self.progress,
+            record: false,
+        };
+        let result = run.system.simulate(&run.start, &run.options, &mut recorder);
+        self.progress.finish();
+        result
+    }
+}
+
+/// Runs the wear stages; returns the per-stage history, the summary and the final surfaces
+/// (one slot per active clearance joint).
+pub(super) fn stages(
+    scene: &Scene,
+    initial: &[Option<WornJoint>],
+    period: f64,
+    progress: &mut dyn Progress,
+) -> Result<Staged, RunError> {
+    let started = Instant::now();
+    let r = &scene.run;
+    let k = r.cycles_per_stage.max(1);
+    let extrapolation = if r.adaptive_extrapolation {
+        Extrapolation::Adaptive {
+            max_fraction: r.max_clearance_change,
+            max_substeps: r.max_substeps as usize,
+            max_slope_change: r.max_slope_change,
+            max_curvature_change: r.max_curvature_change,
+        }
+    } else {
+        Extrapolation::SingleJump {
+            warn_fraction: r.max_clearance_change,
+        }
+    };
+    let plan = StagePlan::new(r.wear_stages as usize, r.amplification, extrapolation)
+        .with_geometry_limits(
+            (r.adaptive_extrapolation && r.stop_at_validity_limits)
+                .then_some(GeometryLimits::CONTACT_MODEL),
+        );
+    // Gather wear after the start-up window only (see the module docs).
+    let wear_start = r.transient_window;
+    let t_end = wear_start + f64::from(k) * period;
+    let slots: Vec<Option<usize>> = {
+        let mut next = 0;
+        initial
+            .iter()
+            .map(|w| {
+                w.as_ref().map(|_| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect()
+    };
+    let mut joints: Vec<WornJoint> = initial.iter().flatten().cloned().collect();
+    let names: Vec<String> = scene
+        .active_clearance_joints()
+        .zip(initial)
+        .filter(|(_, w)| w.is_some())
+        .map(|(c, _)| c.name.clone())
+        .collect();
+    let mut runs = SceneRuns {
+        scene,
+        slots: &slots,
+        wear_start,
+        t_end,
+        period,
+        k,
+        progress: &mut *progress,
+    };
+    let staged = run_wear_stages(&mut joints, &plan, &mut runs).map_err(|e| match e {
+        WearStagesError::Wear(e) => RunError::Wear(e),
+        WearStagesError::Build { source, .. } => source,
+        WearStagesError::Simulation { context, source } => RunError::Simulation {
+            what: run_name(context),
+            source,
+        },
+        WearStagesError::NotWearing { context, element } => RunError::LostWearBuffer {
+            what: run_name(context),
+            joint: format!("element {element}"),
+        },
+    })?;
+    let history: Vec<JointWearHistory> = joints
+        .iter()
+        .enumerate()
+        .zip(&names)
+        .map(|((i, j), name)| JointWearHistory {
+            name: name.clone(),
+            bearing_radius: j.bearing().nominal_radius(),
+            pin_radius: j.pin().nominal_radius(),
+            stages: staged.surfaces.iter().map(|s| s[i].clone()).collect(),
+        })
+        .collect();
+    let mut substeps = Vec::new();
+    let mut details = Vec::new();
+    let mut warnings = Vec::new();
+    let mut ended_at_limits = Vec::new();
+    for (stage, report) in staged.reports.iter().enumerate() {
+        substeps.push(report.substeps.len());
+        let first = details.len();
+        details.extend(report.substeps.iter().enumerate().map(|(i, r)| {
+            SubstepSummary {
+                stage: stage + 1,
+                amplification: r.amplification,
+                max_depth_m: r.max_depth,
+                change_fraction: r.max_change_fraction,
+                slope_change: r.joints.iter().map(|j| j.slope_change).fold(0.0, f64::max),
+                curvature_change: r
+                    .joints
+                    .iter()
+                    .map(|j| j.curvature_change)
+                    .fold(0.0, f64::max),
+                halves_difference: staged.halves_differences.get(first + i).copied().flatten(),
+            }
+        }));
+        if let Some(w) = report.warning {
+            let text = format!("warning: {w}");
+            warnings.push(text);
+        }
+        let applied = report
+            .ended_at_limits
+            .map(|amplification| amplification * f64::from(k));
+        if let (Some(cycles), Some(limits)) = (applied, plan.geometry_limits) {
+            warnings.push(format!(
+                "note: stage {} ended after {cycles:.3e} of its {:.3e} cycles ({:.2} %): the worn \
+                 geometry reached the contact model's slope limit {} (run.stop_at_validity_limits)",
+                stage + 1,
+                plan.amplification * f64::from(k),
+                100.0 * cycles / (plan.amplification * f64::from(k)),
+                limits.slope
+            ));
+        }
+        ended_at_limits.push(applied);
+    }
+    let max_halves_difference = details
+        .iter()
+        .filter_map(|d| d.halves_difference)
+        .reduce(f64::max);
+    let converged = max_halves_difference.is_some_and(|d| d <= HALVES_TOLERANCE);
+    match max_halves_difference {
+        None => warnings.push(format!(
+            "warning: K = {k} simulated cycle(s) per sub-step: the wear of one chaotic cycle is \
+             not a converged estimate, and with odd K it cannot be checked; give an even K \
+             (--cycles-per-stage 2 or more)"
+        )),
+        Some(d) if d > HALVES_TOLERANCE => warnings.push(format!(
+            "warning: the two halves of a sub-step's K = {k} cycles wear differently by up to \
+             {:.0} % of the peak (tolerance {:.0} %): the stage's wear is not converged in K",
+            100.0 * d,
+            100.0 * HALVES_TOLERANCE
+        )),
+        Some(_) => {}
+    }
+    for w in &warnings {
+        progress.note(w);
+    }
+    let joints_summary = history
+        .iter()
+        .filter_map(|h| h.stages.last().map(|j| (h, j)))
+        .map(|(h, j)| {
+            let (b, p) = (j.bearing().peak(), j.pin().peak());
+            let (bd, ba, pd, pa) = (b.depth, b.angle, p.depth, p.angle);
+            let ranges = |p: &wear::WornProfile| {
+                p.concentrated_ranges(0.5)
+                    .iter()
+                    .map(|r| r.degrees())
+                    .collect()
+            };
+            JointWearSummary {
+                name: h.name.clone(),
+                bearing_peak_depth_m: bd,
+                bearing_peak_angle_deg: ba.to_degrees(),
+                pin_peak_depth_m: pd,
+                pin_peak_angle_deg: pa.to_degrees(),
+                bearing_ranges_deg: ranges(j.bearing()),
+                pin_ranges_deg: ranges(j.pin()),
+            }
+        })
+        .collect();
+    let mut surfaces = vec![None; initial.len()];
+    for (slot, index) in slots.iter().enumerate() {
+        if let Some(i) = index {
+            surfaces[slot] = joints.get(*i).cloned();
+        }
+    }
+    let summary = WearSummary {
+        stages: r.wear_stages,
+        cycles_per_stage: k,
+        scene_cycles_per_stage: 0,
+        amplification: r.amplification,
+        cycles_represented_per_stage: f64::from(k) * r.amplification,
+        wear_start_s: wear_start,
+        extrapolation: if r.adaptive_extrapolation {
+            format!(
+                "adaptive (each sub-step changes a local clearance by at most {:.0} %, its slope \
+                 by at most {} c0/rad and its curvature by at most {} c0/rad²)",
+                100.0 * r.max_clearance_change,
+                r.max_slope_change,
+                r.max_curvature_change
+            )
+        } else {
+            "single-jump (the paper's)".into()
+        },
+        substeps_per_stage: substeps,
+        substeps: details,
+        max_halves_difference,
+        converged,
+        cycles_applied_at_limits: ended_at_limits,
+        warnings,
+        joints: joints_summary,
+        wall_time_s: started.elapsed().as_secs_f64(),
+    };
+    Ok((history, summary, surfaces))
+}

@@ -1,0 +1,91 @@
+//! Why a scene could not be loaded: the error type and the validation issues it lists.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// One problem found by validation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Issue {
+    /// Field path, e.g. `clearance_joints[0].clearance`.
+    pub path: String,
+    /// The offending value as written.
+    pub value: String,
+    /// Why it is rejected.
+    pub reason: String,
+}
+
+impl fmt::Display for Issue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} = {}: {}", self.path, self.value, self.reason)
+    }
+}
+
+/// Why a scene could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The file could not be read.
+    #[error("cannot read scene file {path}: {source}")]
+    Io {
+        /// File path.
+        path: PathBuf,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// TOML syntax or type error; the message carries line and column when known.
+    #[error("in scene {origin}: {source}")]
+    Toml {
+        /// File path or scene name.
+        origin: String,
+        /// Cause.
+        source: toml::de::Error,
+    },
+    /// The scene merged with its `extends` base has a value of the wrong type or a missing or
+    /// unknown key; `path` is the field (in the merged scene).
+    #[error("in scene {origin} (merged with its `extends` base): {path}{}: {source}", line.map_or(String::new(), |l| format!(" (line {l})")))]
+    Merged {
+        /// File path or scene name.
+        origin: String,
+        /// Field path, e.g. `bodies[2].mass`.
+        path: String,
+        /// Line in the extending file, when the field is given there.
+        line: Option<usize>,
+        /// Cause (boxed: keeps the error type small).
+        source: Box<toml::de::Error>,
+    },
+    /// `extends` names no built-in scene and no file, or nests too deep.
+    #[error("in scene {origin}: extends = {target:?}: {reason}")]
+    Extends {
+        /// File path or scene name.
+        origin: String,
+        /// The `extends` value.
+        target: String,
+        /// Why it could not be followed.
+        reason: String,
+    },
+    /// The scene parsed but its values are not acceptable.
+    #[error("in scene {origin}: {}", list_issues(.issues))]
+    Invalid {
+        /// File path or scene name.
+        origin: String,
+        /// Every problem found, in file order.
+        issues: Vec<Issue>,
+    },
+    /// No built-in scene of that name.
+    #[error("no built-in scene named {name:?} (known: {known})")]
+    UnknownBuiltin {
+        /// Requested name.
+        name: String,
+        /// Comma-separated list of built-in names.
+        known: String,
+    },
+}
+
+fn list_issues(issues: &[Issue]) -> String {
+    match issues {
+        [one] => one.to_string(),
+        many => {
+            let lines: Vec<String> = many.iter().map(|i| format!("\n  {i}")).collect();
+            format!("{} problems:{}", many.len(), lines.concat())
+        }
+    }
+}

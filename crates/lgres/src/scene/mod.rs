@@ -1,0 +1,156 @@
+//! The scene format: a planar mechanism with ideal and clearance revolute joints, as TOML.
+//!
+//! A scene is data only. Units are SI throughout (m, kg, s, N, Pa, rad) with one exception made
+//! for people who read and write files by hand: initial body angles are given in degrees
+//! (`theta_deg`) and stored in radians ([`Angle`]). Every struct rejects unknown keys, so a typo
+//! is an error rather than a silently ignored setting.
+//!
+//! Get a validated scene from [`crate::scenes::builtin`], [`load_path`] or [`load_str`]; all
+//! three resolve `extends` (see below) and run [`Scene::validate`], so a scene returned by them
+//! names only existing bodies, has finite numbers and physically meaningful parameters.
+//!
+//! # Variants (`extends`)
+//! A scene file may start with `extends = "<name>"` (a built-in scene, or a file path relative
+//! to the extending file) and give only what changes. The patch is merged into the base: tables
+//! merge key by key, and arrays of tables (`bodies`, `revolute_joints`, …) merge element by
+//! element matched on `name`, an unmatched name being appended (a name given twice in one patch
+//! is an error). Other values replace, and so do an empty array (`drivers = []` removes the
+//! base's) and a table whose `law` or `kind` differs from the base's. This keeps
+//! the study variants a few lines each and the reconstructed geometry in one file.
+//!
+//! # Layout and the lower crates' types
+//! The data types are in `types`, loading and `extends` in `extends`, the per-field checks in
+//! `validate` and the numeric limits in [`limits`]. Contact laws, materials, the sliding choice,
+//! the integrator and driven coordinates are `contact`'s and `multibody`'s own serde types,
+//! re-exported here; `contact` also reads the spellings of older scene files
+//! (`law = "hertz-lankarani-nikravesh"`, `impact_velocity_floor`, `v0`, `v1`) and checks their
+//! ranges, which validation reports under the parameter's field path.
+
+mod error;
+mod extends;
+pub mod limits;
+mod types;
+mod validate;
+
+pub use error::{Issue, SceneError};
+pub use extends::{load_path, load_str};
+pub use types::*;
+pub(crate) use validate::Validator;
+
+pub use contact::{FrictionLawParams, MaterialParams, NormalLawParams, SlidingVelocity};
+pub use multibody::{Coordinate, Integrator};
+
+/// Arm (m) converting the default position tolerance into the default angle tolerance.
+const REFERENCE_ARM: f64 = 1.0;
+
+/// A body reference resolved against a scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BodyRef {
+    /// The fixed frame.
+    Ground,
+    /// Index into [`Scene::bodies`].
+    Body(usize),
+}
+
+impl Scene {
+    /// Resolve a body name (`ground` included).
+    pub fn resolve(&self, name: &str) -> Option<BodyRef> {
+        if name == GROUND {
+            return Some(BodyRef::Ground);
+        }
+        self.bodies
+            .iter()
+            .position(|b| b.name == name)
+            .map(BodyRef::Body)
+    }
+
+    /// Initial global position of a point given in `body`'s frame (`ground`: the point itself).
+    /// `None` if the body does not exist.
+    pub fn initial_point(&self, body: &str, local: [f64; 2]) -> Option<[f64; 2]> {
+        match self.resolve(body)? {
+            BodyRef::Ground => Some(local),
+            BodyRef::Body(k) => {
+                let b = &self.bodies[k];
+                let (s, c) = b.theta.rad().sin_cos();
+                Some([
+                    b.x + c * local[0] - s * local[1],
+                    b.y + s * local[0] + c * local[1],
+                ])
+            }
+        }
+    }
+
+    /// Number of constraint equations: 2 per revolute, 1 or 2 per prismatic, 1 per driver, 2 per
+    /// clearance joint marked `ideal`, 0 per clearance joint.
+    pub fn constraint_count(&self) -> usize {
+        2 * self.revolute_joints.len()
+            + self
+                .prismatic_joints
+                .iter()
+                .map(|p| 1 + usize::from(p.lock_rotation))
+                .sum::<usize>()
+            + self.drivers.len()
+            + 2 * self.clearance_joints.iter().filter(|c| c.ideal).count()
+    }
+
+    /// Degrees of freedom `3·bodies − constraints` (a count, not a rank: redundant constraints
+    /// show up only in the assembly check).
+    pub fn degrees_of_freedom(&self) -> i64 {
+        3 * self.bodies.len() as i64 - self.constraint_count() as i64
+    }
+
+    /// Clearance joints that act as contact force elements (not marked `ideal`).
+    pub fn active_clearance_joints(&self) -> impl Iterator<Item = &ClearanceJoint> {
+        self.clearance_joints.iter().filter(|c| !c.ideal)
+    }
+
+    /// Duration of one drive cycle, s: `run.period`, else the first driver law with a period.
+    pub fn cycle_period(&self) -> Option<f64> {
+        self.run
+            .period
+            .or_else(|| self.drivers.iter().find_map(|d| d.law.period()))
+    }
+
+    /// Index of the body whose response is recorded (see [`RunSettings::response_body`]).
+    pub fn response_body(&self) -> Option<usize> {
+        match &self.run.response_body {
+            Some(name) => match self.resolve(name)? {
+                BodyRef::Body(k) => Some(k),
+                BodyRef::Ground => None,
+            },
+            None => self
+                .bodies
+                .iter()
+                .position(|b| b.name == "rod3")
+                .or(self.bodies.len().checked_sub(1)),
+        }
+    }
+
+    /// Absolute tolerances with defaults resolved (see [`Solver`]).
+    pub fn tolerances(&self) -> Tolerances {
+        let position = self.solver.atol_position.unwrap_or_else(|| {
+            self.active_clearance_joints()
+                .map(|c| c.clearance * DEFAULT_ATOL_POSITION_PER_CLEARANCE)
+                .reduce(f64::min)
+                .unwrap_or(1e-6)
+        });
+        Tolerances {
+            position,
+            angle: self.solver.atol_angle.unwrap_or(position / REFERENCE_ARM),
+            velocity: self.solver.atol_velocity,
+        }
+    }
+
+    /// The same mechanism with every clearance joint made ideal: the reference of the studies.
+    pub fn idealized(&self) -> Scene {
+        let mut s = self.clone();
+        s.clearance_joints.iter_mut().for_each(|c| c.ideal = true);
+        s
+    }
+
+    /// Serialize back to TOML (angles in degrees), e.g. to record the scene next to outputs.
+    pub fn to_toml(&self) -> String {
+        // Every field is a plain number, string, array or table, which TOML can always express.
+        toml::to_string_pretty(self).unwrap_or_else(|e| format!("# cannot serialize: {e}\n"))
+    }
+}

@@ -1,0 +1,359 @@
+//! Validation: every value of a parsed scene checked, each problem an [`Issue`] naming its
+//! field path; contact laws and materials are checked by `contact` itself.
+
+use std::collections::HashSet;
+use std::fmt;
+
+use contact::ContactError;
+
+use super::{
+    BodyRef, ClearanceJoint, DriverTarget, GROUND, Issue, MAX_WEAR_CELLS, Scene, SceneError,
+    Solver, TimeLaw,
+};
+
+impl Scene {
+    /// Check every value; `origin` names the scene in the error.
+    pub fn validate(&self, origin: &str) -> Result<(), SceneError> {
+        let mut v = Validator::default();
+        v.scene(self);
+        crate::scene::limits::check(&mut v, self);
+        if v.issues.is_empty() {
+            Ok(())
+        } else {
+            Err(SceneError::Invalid {
+                origin: origin.to_string(),
+                issues: v.issues,
+            })
+        }
+    }
+}
+
+/// Collects [`Issue`]s while walking a scene (here and in [`crate::scene::limits`]).
+#[derive(Default)]
+pub(crate) struct Validator {
+    issues: Vec<Issue>,
+}
+
+impl Validator {
+    pub(crate) fn push(
+        &mut self,
+        path: impl Into<String>,
+        value: impl fmt::Debug,
+        reason: impl Into<String>,
+    ) {
+        self.issues.push(Issue {
+            path: path.into(),
+            value: format!("{value:?}"),
+            reason: reason.into(),
+        });
+    }
+
+    /// Finite and, if `positive`, > 0; returns whether it passed.
+    fn number(&mut self, path: &str, x: f64, positive: bool) -> bool {
+        if !x.is_finite() {
+            self.push(path, x, "must be a finite number");
+            false
+        } else if positive && x <= 0.0 {
+            self.push(path, x, "must be positive");
+            false
+        } else {
+            true
+        }
+    }
+
+    fn vector(&mut self, path: &str, v: [f64; 2]) {
+        for (k, x) in v.iter().enumerate() {
+            self.number(&format!("{path}[{k}]"), *x, false);
+        }
+    }
+
+    fn body_name(&mut self, scene: &Scene, path: &str, name: &str) {
+        if scene.resolve(name).is_none() {
+            self.push(path, name, format!("no body of this name (nor `{GROUND}`)"));
+        }
+    }
+
+    fn unique<'a>(&mut self, seen: &mut HashSet<&'a str>, path: &str, name: &'a str) {
+        if name.trim().is_empty() {
+            self.push(path, name, "must not be empty");
+        } else if !seen.insert(name) {
+            self.push(path, name, "duplicate name");
+        }
+    }
+
+    fn scene(&mut self, s: &Scene) {
+        self.vector("gravity", s.gravity);
+        if s.bodies.is_empty() {
+            self.push("bodies", "[]", "a scene needs at least one body");
+        }
+        let mut seen = HashSet::new();
+        for (k, b) in s.bodies.iter().enumerate() {
+            let p = format!("bodies[{k}]");
+            if b.name == GROUND {
+                self.push(format!("{p}.name"), &b.name, "`ground` is reserved");
+            }
+            self.unique(&mut seen, &format!("{p}.name"), &b.name);
+            self.number(&format!("{p}.mass"), b.mass, true);
+            self.number(&format!("{p}.inertia"), b.inertia, true);
+            self.number(&format!("{p}.x"), b.x, false);
+            self.number(&format!("{p}.y"), b.y, false);
+            self.number(&format!("{p}.theta_deg"), b.theta.deg(), false);
+            self.vector(&format!("{p}.velocity"), b.velocity);
+            self.number(&format!("{p}.omega"), b.omega, false);
+        }
+        let mut joints = HashSet::new();
+        for (k, j) in s.revolute_joints.iter().enumerate() {
+            let p = format!("revolute_joints[{k}]");
+            self.unique(&mut joints, &format!("{p}.name"), &j.name);
+            self.pair(
+                s,
+                &p,
+                ("body", &j.body, j.point),
+                ("other", &j.other, j.other_point),
+            );
+        }
+        for (k, j) in s.prismatic_joints.iter().enumerate() {
+            let p = format!("prismatic_joints[{k}]");
+            self.unique(&mut joints, &format!("{p}.name"), &j.name);
+            self.pair(
+                s,
+                &p,
+                ("body", &j.body, j.point),
+                ("other", &j.other, j.other_point),
+            );
+            self.vector(&format!("{p}.direction"), j.direction);
+            if j.direction.iter().all(|x| *x == 0.0) {
+                self.push(format!("{p}.direction"), j.direction, "must not be zero");
+            }
+        }
+        for (k, c) in s.clearance_joints.iter().enumerate() {
+            let p = format!("clearance_joints[{k}]");
+            self.unique(&mut joints, &format!("{p}.name"), &c.name);
+            self.clearance_joint(s, &p, c);
+        }
+        let mut drivers = HashSet::new();
+        for (k, d) in s.drivers.iter().enumerate() {
+            let p = format!("drivers[{k}]");
+            self.unique(&mut drivers, &format!("{p}.name"), &d.name);
+            match &d.target {
+                DriverTarget::BodyCoordinate { body, .. } => {
+                    if !matches!(s.resolve(body), Some(BodyRef::Body(_))) {
+                        self.push(format!("{p}.target.body"), body, "no body of this name");
+                    }
+                }
+                DriverTarget::JointAngle { joint } => {
+                    if !s.revolute_joints.iter().any(|j| &j.name == joint) {
+                        self.push(
+                            format!("{p}.target.joint"),
+                            joint,
+                            "no revolute joint of this name",
+                        );
+                    }
+                }
+            }
+            self.law(&format!("{p}.law"), &d.law);
+        }
+        self.solver(&s.solver);
+        self.run(s);
+    }
+
+    fn pair(
+        &mut self,
+        s: &Scene,
+        p: &str,
+        (bkey, body, point): (&str, &str, [f64; 2]),
+        (okey, other, other_point): (&str, &str, [f64; 2]),
+    ) {
+        self.body_name(s, &format!("{p}.{bkey}"), body);
+        self.body_name(s, &format!("{p}.{okey}"), other);
+        if body == other {
+            self.push(
+                format!("{p}.{okey}"),
+                other,
+                format!("same body as `{bkey}`"),
+            );
+        }
+        self.vector(&format!("{p}.point"), point);
+        self.vector(&format!("{p}.other_point"), other_point);
+    }
+
+    fn law(&mut self, p: &str, law: &TimeLaw) {
+        match law {
+            TimeLaw::Constant { value } => {
+                self.number(&format!("{p}.value"), *value, false);
+            }
+            TimeLaw::Ramp { value, rate } => {
+                self.number(&format!("{p}.value"), *value, false);
+                self.number(&format!("{p}.rate"), *rate, false);
+            }
+            TimeLaw::Harmonic {
+                offset,
+                amplitude,
+                rpm,
+                omega,
+            } => {
+                self.number(&format!("{p}.offset"), *offset, false);
+                self.number(&format!("{p}.amplitude"), *amplitude, false);
+                match (rpm, omega) {
+                    (Some(r), None) => {
+                        self.number(&format!("{p}.rpm"), *r, true);
+                    }
+                    (None, Some(w)) => {
+                        self.number(&format!("{p}.omega"), *w, true);
+                    }
+                    (None, None) => self.push(p, "{}", "give `rpm` or `omega`"),
+                    (Some(r), Some(w)) => self.push(
+                        p,
+                        (r, w),
+                        "give `rpm` or `omega`, not both (rpm, omega shown)",
+                    ),
+                }
+            }
+        }
+    }
+
+    fn clearance_joint(&mut self, s: &Scene, p: &str, c: &ClearanceJoint) {
+        self.body_name(s, &format!("{p}.bearing_body"), &c.bearing_body);
+        self.body_name(s, &format!("{p}.pin_body"), &c.pin_body);
+        if c.bearing_body == c.pin_body {
+            self.push(
+                format!("{p}.pin_body"),
+                &c.pin_body,
+                "same body as the bearing",
+            );
+        }
+        self.vector(&format!("{p}.bearing_point"), c.bearing_point);
+        self.vector(&format!("{p}.pin_point"), c.pin_point);
+        let radius_ok = self.number(&format!("{p}.bearing_radius"), c.bearing_radius, true);
+        if self.number(&format!("{p}.clearance"), c.clearance, true)
+            && radius_ok
+            && c.clearance >= c.bearing_radius
+        {
+            self.push(
+                format!("{p}.clearance"),
+                c.clearance,
+                format!(
+                    "must be smaller than bearing_radius ({} m): the pin radius is their difference",
+                    c.bearing_radius
+                ),
+            );
+        }
+        for (side, m) in [("bearing", c.bearing_material), ("pin", c.pin_material)] {
+            self.contact(
+                &format!("{p}.{side}_material"),
+                contact::Material::try_from(m),
+            );
+        }
+        self.contact(
+            &format!("{p}.normal_law"),
+            contact::NormalLawKind::from_params(c.normal_law),
+        );
+        self.contact(
+            &format!("{p}.friction"),
+            contact::FrictionLawKind::from_params(c.friction),
+        );
+        if let Some(w) = &c.wear {
+            let q = format!("{p}.wear");
+            self.number(&format!("{q}.k_d"), w.k_d, true);
+            if let Some(h) = w.hardness {
+                self.number(&format!("{q}.hardness"), h, true);
+            }
+            self.number(&format!("{q}.width"), w.width, true);
+            if !(8..=MAX_WEAR_CELLS).contains(&w.cells) {
+                self.push(
+                    format!("{q}.cells"),
+                    w.cells,
+                    format!("must lie in 8..={MAX_WEAR_CELLS}"),
+                );
+            }
+        }
+    }
+
+    /// Records `contact`'s verdict on a law or material (its ranges are defined once, there)
+    /// under the field path of the parameter it names.
+    fn contact<T>(&mut self, q: &str, checked: Result<T, ContactError>) {
+        match checked {
+            Ok(_) => {}
+            Err(ContactError::NonFinite { parameter, value }) => {
+                self.push(format!("{q}.{parameter}"), value, "must be a finite number");
+            }
+            Err(ContactError::OutOfRange {
+                parameter,
+                value,
+                expected,
+            }) => self.push(
+                format!("{q}.{parameter}"),
+                value,
+                format!("must be {expected}"),
+            ),
+            Err(other) => self.push(q, "…", other.to_string()),
+        }
+    }
+
+    fn solver(&mut self, s: &Solver) {
+        if self.number("solver.rtol", s.rtol, true) && s.rtol >= 1.0 {
+            self.push("solver.rtol", s.rtol, "must be below 1");
+        }
+        if let Some(a) = s.atol_position {
+            self.number("solver.atol_position", a, true);
+        }
+        if let Some(a) = s.atol_angle {
+            self.number("solver.atol_angle", a, true);
+        }
+        self.number("solver.atol_velocity", s.atol_velocity, true);
+        self.number("solver.output_interval", s.output_interval, true);
+        self.number("solver.baumgarte_alpha", s.baumgarte_alpha, false);
+        self.number("solver.baumgarte_beta", s.baumgarte_beta, false);
+        if s.max_steps == Some(0) {
+            self.push("solver.max_steps", 0, "must be at least 1");
+        }
+        if let Some(t) = s.max_wall_time {
+            self.number("solver.max_wall_time", t, true);
+        }
+    }
+
+    fn run(&mut self, s: &Scene) {
+        let r = &s.run;
+        if let Some(t) = r.period {
+            self.number("run.period", t, true);
+        }
+        if (r.cycles > 0 || r.wear_stages > 0) && s.cycle_period().is_none() {
+            self.push(
+                "run.period",
+                "none",
+                "no driver has a periodic law (harmonic, or a ramp on an angle); give run.period",
+            );
+        }
+        if r.wear_stages > 0 && r.cycles_per_stage == 0 {
+            self.push(
+                "run.cycles_per_stage",
+                0,
+                "must be positive when wear_stages > 0",
+            );
+        }
+        self.number("run.amplification", r.amplification, true);
+        let f = r.max_clearance_change;
+        if self.number("run.max_clearance_change", f, true) && f > 1.0 {
+            self.push("run.max_clearance_change", f, "must lie in (0, 1]");
+        }
+        self.number("run.max_slope_change", r.max_slope_change, true);
+        self.number("run.max_curvature_change", r.max_curvature_change, true);
+        if r.max_substeps == 0 {
+            self.push("run.max_substeps", 0, "must be at least 1");
+        }
+        if let Some(name) = &r.response_body
+            && !matches!(s.resolve(name), Some(BodyRef::Body(_)))
+        {
+            self.push("run.response_body", name, "no body of this name");
+        }
+        if self.number("run.transient_window", r.transient_window, false)
+            && r.transient_window < 0.0
+        {
+            self.push(
+                "run.transient_window",
+                r.transient_window,
+                "must not be negative",
+            );
+        }
+    }
+}
