@@ -2,7 +2,7 @@
 //! [`ClearanceForce`] per active clearance joint.
 //!
 //! Clearance joints flagged `ideal` become ideal revolutes. An active joint is round
-//! ([`RoundClearanceForce`], no wear code at all) unless the caller hands it a [`WornJoint`];
+//! ([`RoundClearanceForce`](clearance::RoundClearanceForce), no wear code at all) unless the caller hands it a [`WornJoint`];
 //! then it samples that joint's surfaces, frozen for the run, and optionally accumulates a
 //! stage's wear. Errors name the scene field at fault.
 
@@ -70,7 +70,7 @@ pub struct JointHandle {
     pub scene_index: usize,
     /// The force element in the system.
     pub element: ElementId,
-    /// Whether it samples worn surfaces ([`WornClearanceForce`]) or round ones.
+    /// Whether it samples worn surfaces ([`WornClearanceForce`](clearance::WornClearanceForce)) or round ones.
     pub worn: bool,
     /// Nominal radial clearance `c0`, m.
     pub clearance: f64,
