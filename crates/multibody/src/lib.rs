@@ -135,7 +135,9 @@ pub mod drive;
 mod dynamics;
 mod error;
 mod force;
+mod formulation;
 mod iteration;
+pub mod joint_coordinates;
 mod linalg;
 mod model;
 mod system;
@@ -149,6 +151,7 @@ pub use dynamics::{
 };
 pub use error::{AssemblyError, EvaluationError, KinematicsError, ModelError, SimulationError};
 pub use force::{ElementId, ForceElement, ForcePartials, Gravity};
+pub use formulation::Formulation;
 pub use iteration::SecondOrderLu;
 pub use model::{
     Anchor, Body, BodyId, Coordinate, DriveTarget, Driver, DriverId, Joint, JointId, Model,
