@@ -688,6 +688,10 @@ pub fn simulation_options(
         scene::Integrator::Esdirk34 => Integrator::Esdirk34,
         scene::Integrator::Tsit45 => Integrator::Tsit45,
     };
+    o.formulation = match scene.solver.formulation {
+        scene::Formulation::Cartesian => multibody::Formulation::Cartesian,
+        scene::Formulation::Joint => multibody::Formulation::JointCoordinates,
+    };
     o.rtol = scene.solver.rtol;
     o.atol = AbsoluteTolerances {
         position: tol.position,

@@ -497,6 +497,24 @@ pub enum Integrator {
     Tsit45,
 }
 
+/// Coordinates the equations of motion are integrated in (`solver.formulation`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Formulation {
+    /// Body coordinates, every ideal joint and driver a constraint (the paper's).
+    #[default]
+    Cartesian,
+    /// Relative coordinates of the ideal joints' spanning tree; only loop-closing joints stay
+    /// constraints (none in the LGRES, whose loops are cut by its clearance joints).
+    Joint,
+}
+
+impl Formulation {
+    fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
 /// Integrator settings.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -504,6 +522,9 @@ pub struct Solver {
     /// Integration method.
     #[serde(default)]
     pub integrator: Integrator,
+    /// Coordinates to integrate in; both give the same motion within the tolerances.
+    #[serde(default, skip_serializing_if = "Formulation::is_default")]
+    pub formulation: Formulation,
     /// Relative tolerance, dimensionless.
     #[serde(default = "rtol")]
     pub rtol: f64,
@@ -564,6 +585,7 @@ impl Default for Solver {
     fn default() -> Self {
         Self {
             integrator: Integrator::default(),
+            formulation: Formulation::default(),
             rtol: rtol(),
             atol_position: None,
             atol_angle: None,

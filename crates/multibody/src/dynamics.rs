@@ -914,7 +914,12 @@ impl Run<'_, '_, '_> {
 
     fn track_drift(&mut self, t: f64, y: &[f64]) {
         let (q, qd) = y.split_at(self.system.coordinate_count());
-        let (position, velocity) = self.system.violation(t, q, qd);
+        let (position, velocity) = match self.equations.drifting() {
+            None => self.system.violation(t, q, qd),
+            Some(equations) => self
+                .system
+                .violation_of(equations.iter().copied(), t, q, qd),
+        };
         self.peak_kinetic = self.peak_kinetic.max(self.system.kinetic_energy(qd));
         self.drift.position = self.drift.position.max(position);
         self.drift.velocity = self.drift.velocity.max(velocity);

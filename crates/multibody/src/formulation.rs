@@ -57,6 +57,11 @@ pub(crate) trait Equations {
     ) -> Result<(), EvaluationError>;
     /// Right-hand sides and Jacobians evaluated so far.
     fn evaluations(&self) -> (usize, usize);
+    /// The constraint equations that can drift (`None`: all); the others hold by construction
+    /// up to round-off, so the drift report skips them.
+    fn drifting(&self) -> Option<&[usize]> {
+        None
+    }
 }
 
 impl Equations for Evaluator<'_> {
@@ -155,6 +160,9 @@ impl Equations for JointEvaluator<'_> {
     }
     fn evaluations(&self) -> (usize, usize) {
         (self.rhs_evaluations, self.jacobian_evaluations)
+    }
+    fn drifting(&self) -> Option<&[usize]> {
+        Some(self.drifting())
     }
 }
 

@@ -278,9 +278,20 @@ impl System {
     }
 
     pub(crate) fn violation(&self, t: f64, q: &[f64], qd: &[f64]) -> (f64, f64) {
+        self.violation_of(0..self.constraints.len(), t, q, qd)
+    }
+
+    /// [`System::violation`] over the given equations only.
+    pub(crate) fn violation_of(
+        &self,
+        equations: impl Iterator<Item = usize>,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+    ) -> (f64, f64) {
         let mut max_phi: f64 = 0.0;
         let mut max_phi_dot: f64 = 0.0;
-        for k in 0..self.constraints.len() {
+        for k in equations {
             let d = self.constraints.local(k, q, qd, t);
             max_phi = max_phi.max(d.value.abs());
             let rate = local_dot(&d, self.constraints.slots(k), qd) + d.time_rate;

@@ -37,6 +37,7 @@ struct DualWork {
     qd: Vec<Dual>,
     qdd: Vec<Dual>,
     axes: Vec<V2<Dual>>,
+    trig: Vec<V2<Dual>>,
     column: Vec<Dual>,
 }
 
@@ -58,6 +59,9 @@ pub(crate) struct JointEvaluator<'s> {
     /// `c` after the kinematics, `q̈` after a solve.
     qdd: Vec<f64>,
     axes: Vec<V2<f64>>,
+    trig: Vec<V2<f64>>,
+    /// Time of the prescribed coordinates in `z, ż, z̈`.
+    prescribed_at: f64,
     /// `J = ∂q/∂z_free`, `n × nf`, column-major.
     jac: Vec<f64>,
     forces: Vec<f64>,
@@ -102,6 +106,7 @@ impl<'s> JointEvaluator<'s> {
             qd: vec![Dual::default(); n],
             qdd: vec![Dual::default(); n],
             axes: vec![[Dual::default(); 2]; nz],
+            trig: vec![[Dual::default(); 2]; n / 3],
             column: vec![Dual::default(); n],
         };
         Self {
@@ -118,6 +123,8 @@ impl<'s> JointEvaluator<'s> {
             qd: vec![0.0; n],
             qdd: vec![0.0; n],
             axes: vec![[0.0; 2]; nz],
+            trig: vec![[0.0; 2]; n / 3],
+            prescribed_at: f64::NAN,
             jac: vec![0.0; n * nf],
             forces: vec![0.0; n],
             residual: vec![0.0; n],
@@ -141,6 +148,11 @@ impl<'s> JointEvaluator<'s> {
             rhs_evaluations: 0,
             jacobian_evaluations: 0,
         }
+    }
+
+    /// The equations that can drift: loop closures and unprescribed drivers.
+    pub fn drifting(&self) -> &'s [usize] {
+        &self.tree.kept
     }
 
     /// Length of the integrated state `(z_free, ż_free)`.
@@ -174,14 +186,19 @@ impl<'s> JointEvaluator<'s> {
             .collect()
     }
 
-    /// Fills all coordinates, rates and (with `zdd_free`, else zero) accelerations at `t`.
-    fn coordinates(&mut self, t: f64, x: &[f64], zdd_free: Option<&[f64]>) {
+    /// Fills all coordinates and rates at `t`, with zero free accelerations.
+    fn coordinates(&mut self, t: f64, x: &[f64]) {
         let nf = self.nf;
         for (k, &c) in self.tree.free.iter().enumerate() {
             self.z[c] = x[k];
             self.zd[c] = x[nf + k];
-            self.zdd[c] = zdd_free.map_or(0.0, |a| a[k]);
+            self.zdd[c] = 0.0;
         }
+        // The integrator asks for the same time many times (Newton iterations, roots).
+        if t == self.prescribed_at {
+            return;
+        }
+        self.prescribed_at = t;
         let constraints = self.system.constraints();
         for p in &self.tree.prescribed {
             let f = constraints.drive(p.driver);
@@ -193,7 +210,7 @@ impl<'s> JointEvaluator<'s> {
 
     /// The Cartesian `(q, q̇)` of the integrated state `x` at `t`, into `y` (length `2n`).
     pub fn cartesian(&mut self, t: f64, x: &[f64], y: &mut [f64]) {
-        self.coordinates(t, x, None);
+        self.coordinates(t, x);
         let (q, qd) = y.split_at_mut(self.n);
         self.tree.place(
             &self.z,
@@ -204,6 +221,7 @@ impl<'s> JointEvaluator<'s> {
                 qd,
                 qdd: &mut self.qdd,
                 axes: &mut self.axes,
+                trig: &mut self.trig,
             },
         );
     }
@@ -216,7 +234,7 @@ impl<'s> JointEvaluator<'s> {
         x: &[f64],
     ) -> Result<(), EvaluationError> {
         let (n, nf, ml) = (self.n, self.nf, self.ml);
-        self.coordinates(t, x, None);
+        self.coordinates(t, x);
         self.tree.place(
             &self.z,
             &self.zd,
@@ -226,6 +244,7 @@ impl<'s> JointEvaluator<'s> {
                 qd: &mut self.qd,
                 qdd: &mut self.qdd,
                 axes: &mut self.axes,
+                trig: &mut self.trig,
             },
         );
         for (k, &c) in self.tree.free.iter().enumerate() {
@@ -471,6 +490,7 @@ impl<'s> JointEvaluator<'s> {
                     qd: &mut dual.qd,
                     qdd: &mut dual.qdd,
                     axes: &mut dual.axes,
+                    trig: &mut dual.trig,
                 },
             );
             // top = dJᵀ r + Jᵀ(A dq + ∂G/∂q̇ dq̇ − M dq̈)

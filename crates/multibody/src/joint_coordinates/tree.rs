@@ -23,6 +23,19 @@ use crate::model::{Coordinate, DriveTarget, Joint, JointId, RotationLock};
 
 use super::scalar::{Scalar, V2, add, lift, perp, rotate, scale, sub};
 
+/// `(sin θ, cos θ)`.
+fn sin_cos<T: Scalar>(theta: T) -> V2<T> {
+    let (sin, cos) = theta.sin_cos();
+    [sin, cos]
+}
+
+/// `R(θ) s` from `(sin θ, cos θ)`.
+fn rotate_by<T: Scalar>(trig: V2<T>, s: [f64; 2]) -> V2<T> {
+    let [sin, cos] = trig;
+    let (x, y) = (T::constant(s[0]), T::constant(s[1]));
+    [cos * x - sin * y, sin * x + cos * y]
+}
+
 /// How a tree joint places its child relative to its parent (points in the parent's frame,
 /// or global when the parent is the ground).
 #[derive(Debug, Clone, Copy)]
@@ -103,6 +116,8 @@ pub(crate) struct Placement<'a, T> {
     pub qdd: &'a mut [T],
     /// Per coordinate: the pivot of a rotation or the direction of a translation.
     pub axes: &'a mut [V2<T>],
+    /// Per body: `(sin θ, cos θ)`, computed once and reused by its children.
+    pub trig: &'a mut [V2<T>],
 }
 
 fn zero<T: Scalar>() -> T {
@@ -340,10 +355,11 @@ impl Tree {
     /// rates, parents before children; also each coordinate's pivot or direction.
     pub fn place<T: Scalar>(&self, z: &[T], zd: &[T], zdd: &[T], out: &mut Placement<'_, T>) {
         for joint in &self.joints {
-            let (rp, thp, vp, wp, ap, alp) = match joint.parent {
+            let (rp, thp, trig_p, vp, wp, ap, alp) = match joint.parent {
                 Some(p) => (
                     [out.q[3 * p], out.q[3 * p + 1]],
                     out.q[3 * p + 2],
+                    out.trig[p],
                     [out.qd[3 * p], out.qd[3 * p + 1]],
                     out.qd[3 * p + 2],
                     [out.qdd[3 * p], out.qdd[3 * p + 1]],
@@ -352,6 +368,7 @@ impl Tree {
                 None => (
                     [zero(); 2],
                     zero(),
+                    [zero(), T::constant(1.0)],
                     [zero(); 2],
                     zero(),
                     [zero(); 2],
@@ -369,7 +386,7 @@ impl Tree {
             let two = T::constant(2.0);
             // Child: angle, its rates, the point it hangs from (with velocity and
             // acceleration), and the arm `d` from that point to its centroid.
-            let (th, w, al, r, v, a);
+            let (th, trig, w, al, r, v, a);
             match joint.link {
                 Link::Revolute {
                     parent_point,
@@ -377,12 +394,13 @@ impl Tree {
                     sign,
                 } => {
                     let s = T::constant(sign);
-                    let (p, vp_, ap_) = field(rotate(thp, parent_point));
+                    let (p, vp_, ap_) = field(rotate_by(trig_p, parent_point));
                     out.axes[k] = p;
                     th = thp + s * z[k];
                     w = wp + s * zd[k];
                     al = alp + s * zdd[k];
-                    let d = scale(T::constant(-1.0), rotate(th, child_point));
+                    trig = sin_cos(th);
+                    let d = scale(T::constant(-1.0), rotate_by(trig, child_point));
                     r = add(p, d);
                     v = add(vp_, scale(w, perp(d)));
                     a = add(ap_, sub(scale(al, perp(d)), scale(w * w, d)));
@@ -393,9 +411,9 @@ impl Tree {
                     axis,
                     lock,
                 } => {
-                    let u = rotate(thp, axis);
+                    let u = rotate_by(trig_p, axis);
                     out.axes[k] = u;
-                    let rel = add(rotate(thp, base_point), scale(z[k], u));
+                    let rel = add(rotate_by(trig_p, base_point), scale(z[k], u));
                     let (p, vp_, ap_) = field(rel);
                     let vs = add(vp_, scale(zd[k], u));
                     let as_ = add(ap_, add(scale(zdd[k], u), scale(two * wp * zd[k], perp(u))));
@@ -409,7 +427,8 @@ impl Tree {
                     th = thp + phi;
                     w = wp + phid;
                     al = alp + phidd;
-                    let d = scale(T::constant(-1.0), rotate(th, slider_point));
+                    trig = sin_cos(th);
+                    let d = scale(T::constant(-1.0), rotate_by(trig, slider_point));
                     r = add(p, d);
                     v = add(vs, scale(w, perp(d)));
                     a = add(as_, sub(scale(al, perp(d)), scale(w * w, d)));
@@ -420,7 +439,7 @@ impl Tree {
                     axis,
                     lock,
                 } => {
-                    let (p, vp_, ap_) = field(rotate(thp, slider_point));
+                    let (p, vp_, ap_) = field(rotate_by(trig_p, slider_point));
                     let (phi, phid, phidd) = match lock {
                         Some(angle) => (T::constant(angle), zero(), zero()),
                         None => {
@@ -432,11 +451,12 @@ impl Tree {
                     th = thp - phi;
                     w = wp - phid;
                     al = alp - phidd;
-                    let u = rotate(th, axis);
+                    trig = sin_cos(th);
+                    let u = rotate_by(trig, axis);
                     out.axes[ks] = scale(T::constant(-1.0), u);
                     let d = scale(
                         T::constant(-1.0),
-                        add(scale(z[ks], u), rotate(th, base_point)),
+                        add(scale(z[ks], u), rotate_by(trig, base_point)),
                     );
                     r = add(p, d);
                     v = sub(add(vp_, scale(w, perp(d))), scale(zd[ks], u));
@@ -452,11 +472,13 @@ impl Tree {
                     th = z[k + 2];
                     w = zd[k + 2];
                     al = zdd[k + 2];
+                    trig = sin_cos(th);
                     out.axes[k] = lift([1.0, 0.0]);
                     out.axes[k + 1] = lift([0.0, 1.0]);
                     out.axes[k + 2] = r;
                 }
             }
+            out.trig[joint.child] = trig;
             let c = 3 * joint.child;
             out.q[c..c + 3].copy_from_slice(&[r[0], r[1], th]);
             out.qd[c..c + 3].copy_from_slice(&[v[0], v[1], w]);
