@@ -513,6 +513,14 @@ impl Formulation {
     fn is_default(&self) -> bool {
         *self == Self::default()
     }
+
+    /// The scene-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Cartesian => "cartesian",
+            Self::Joint => "joint",
+        }
+    }
 }
 
 /// Integrator settings.
