@@ -355,6 +355,8 @@ struct Run<'s, 'o, 'c> {
     equations: Box<dyn Equations + 's>,
     /// Scratch of that mapping, length `2n`.
     mapped: Vec<f64>,
+    /// Scratch: the power of each driver at a quadrature node.
+    driver_power: Vec<f64>,
     observer: &'o mut dyn Observer,
     final_state: Option<State>,
     /// Copy of the state after the last accepted step.
@@ -493,6 +495,7 @@ impl System {
             evaluator: self.evaluator(options.baumgarte),
             equations: restart,
             mapped,
+            driver_power: vec![0.0; self.driver_names().len()],
             observer,
             final_state: None,
             current: y0.clone(),
@@ -838,7 +841,7 @@ impl Run<'_, '_, '_> {
                     y.inner().as_slice(),
                     &mut self.mapped,
                 ));
-                self.accumulate_power(t, &values, weight * (t_end - t_start));
+                self.accumulate_power(t, y.inner().as_slice(), &values, weight * (t_end - t_start));
                 self.frame_buffer = values;
             }
         }
@@ -853,7 +856,9 @@ impl Run<'_, '_, '_> {
             })
     }
 
-    fn accumulate_power(&mut self, t: f64, y: &[f64], weight: f64) {
+    /// Adds `weight ×` the power of the non-conservative elements and the drivers at the
+    /// integrated state `x` (Cartesian `y`).
+    fn accumulate_power(&mut self, t: f64, x: &[f64], y: &[f64], weight: f64) {
         let n = self.system.coordinate_count();
         let (q, qd) = y.split_at(n);
         let elements = self.elements.borrow();
@@ -865,11 +870,25 @@ impl Run<'_, '_, '_> {
             element.add_forces(t, q, qd, &mut self.scratch);
             *work += weight * self.scratch.iter().zip(qd).map(|(f, v)| f * v).sum::<f64>();
         }
-        if self.driver_work.is_empty()
-            || self
-                .evaluator
-                .solve_accelerations(&elements, t, q, qd)
-                .is_err()
+        if self.driver_work.is_empty() {
+            return;
+        }
+        let mut powers = std::mem::take(&mut self.driver_power);
+        let formulation_powers = self.equations.driver_powers(&elements, t, x, &mut powers);
+        if let Some(result) = formulation_powers {
+            if result.is_ok() {
+                for (work, power) in self.driver_work.iter_mut().zip(&powers) {
+                    *work += weight * power;
+                }
+            }
+            self.driver_power = powers;
+            return;
+        }
+        self.driver_power = powers;
+        if self
+            .evaluator
+            .solve_accelerations(&elements, t, q, qd)
+            .is_err()
         {
             return;
         }

@@ -62,6 +62,17 @@ pub(crate) trait Equations {
     fn drifting(&self) -> Option<&[usize]> {
         None
     }
+    /// The power of each driver at `(t, x)` into `powers` (driver order), when the
+    /// formulation has a cheaper way than the Cartesian multipliers (`None`: it has not).
+    fn driver_powers(
+        &mut self,
+        _elements: &[Box<dyn ForceElement>],
+        _t: f64,
+        _x: &[f64],
+        _powers: &mut [f64],
+    ) -> Option<Result<(), EvaluationError>> {
+        None
+    }
 }
 
 impl Equations for Evaluator<'_> {
@@ -163,6 +174,15 @@ impl Equations for JointEvaluator<'_> {
     }
     fn drifting(&self) -> Option<&[usize]> {
         Some(self.drifting())
+    }
+    fn driver_powers(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        powers: &mut [f64],
+    ) -> Option<Result<(), EvaluationError>> {
+        Some(JointEvaluator::driver_powers(self, elements, t, x, powers))
     }
 }
 

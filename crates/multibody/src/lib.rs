@@ -23,6 +23,11 @@
 //!   [`SolverStatistics`], [`ConstraintDrift`], the multipliers of every frame (joint reactions:
 //!   [`System::reaction`]) and an [`EnergyAudit`]. An [`Observer`] sees every output frame and
 //!   every accepted step.
+//! - [`SimulationOptions::formulation`]: the same dynamics integrated in body coordinates
+//!   ([`Formulation::Cartesian`], the paper's augmented system) or in the relative coordinates
+//!   of a spanning tree of the ideal joints ([`Formulation::JointCoordinates`]: no multipliers
+//!   or drift where the joints form a tree; [`joint_coordinates`]). Outputs are Cartesian
+//!   either way.
 //!
 //! # Force elements
 //! Anything that is not an ideal constraint is a [`ForceElement`]: it adds generalized forces

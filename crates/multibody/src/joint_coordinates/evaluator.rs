@@ -385,6 +385,40 @@ impl<'s> JointEvaluator<'s> {
         }
     }
 
+    /// The power of each driver (driver order) at `(t, x)`, for the energy audit: a driver
+    /// that prescribes coordinate `z_p` exerts `Q = J_pᵀ(Mq̈ − G + Φ_qᵀλ) = −J_pᵀ r` along
+    /// it (power `Q ż_p`); one that stays a constraint, `λ_k ∂Φ_k/∂t` as in the Cartesian
+    /// formulation. One reduced solve instead of the Cartesian one of `q̈` and all `λ`.
+    pub fn driver_powers(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        powers: &mut [f64],
+    ) -> Result<(), EvaluationError> {
+        check_len("x", x, 2 * self.nf)?;
+        self.solve(elements, t, x)?;
+        powers.fill(0.0);
+        for p in &self.tree.prescribed {
+            self.tree
+                .column(p.coordinate, &self.q, &self.axes, &mut self.work);
+            let force: f64 = -self
+                .work
+                .iter()
+                .zip(&self.residual)
+                .map(|(j, r)| j * r)
+                .sum::<f64>();
+            powers[p.driver] += force * self.zd[p.coordinate];
+        }
+        let owners = self.system.constraint_owners();
+        for (row, &k) in self.tree.kept.iter().enumerate() {
+            if let crate::constraints::ConstraintOwner::Driver(driver) = owners[k] {
+                powers[driver.0] += self.solution[self.nf + row] * self.locals[row].time_rate;
+            }
+        }
+        Ok(())
+    }
+
     /// `ẋ = (ż, z̈)`; NaN and an error on a singular system.
     pub fn rhs(
         &mut self,
