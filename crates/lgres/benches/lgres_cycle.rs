@@ -7,6 +7,9 @@
 //! - `cycle, wear, scene output`: output every `solver.output_interval` (1e-4 s: 10 001
 //!   frames) with the energy audit on, no trajectory recorded, a do-nothing observer.
 //!
+//! Each runs in both formulations (`solver.formulation`): `cartesian` (the paper's augmented
+//! system) and `joint` (relative coordinates of the ideal joints' tree).
+//!
 //! Building and assembling the system, and dropping it, are outside the timed region.
 
 #[path = "../../multibody/benches/common/mod.rs"]
@@ -16,7 +19,7 @@ use common::bench_median;
 use criterion::{Criterion, criterion_group, criterion_main};
 use lgres::build::{Built, Surfaces, build, unworn_joints};
 use lgres::run::simulation_options;
-use multibody::{OutputTimes, SimulationOptions, SolverStatistics, State};
+use multibody::{Formulation, OutputTimes, SimulationOptions, SolverStatistics, State};
 
 fn cycle(c: &mut Criterion) {
     let scene = lgres::scenes::builtin("lgres").expect("built-in scene");
@@ -46,36 +49,35 @@ fn cycle(c: &mut Criterion) {
         false,
     );
     dense.energy_audit = true;
-    for (label, options) in [("sparse output", &sparse), ("scene output", &dense)] {
-        let (statistics, _) = simulate(options, setup());
-        println!(
-            "{label}: {} steps ({} rejected), {} RHS, {} Jacobians, {} factorizations, {} events",
-            statistics.steps,
-            statistics.rejected_steps,
-            statistics.rhs_evaluations,
-            statistics.jacobian_evaluations,
-            statistics.factorizations,
-            statistics.events
-        );
-    }
-
     let mut group = c.benchmark_group("lgres");
-    bench_median(
-        &mut group,
-        "lgres",
-        "cycle, wear, sparse output",
-        10,
-        setup,
-        |input| simulate(&sparse, input),
-    );
-    bench_median(
-        &mut group,
-        "lgres",
-        "cycle, wear, scene output",
-        10,
-        setup,
-        |input| simulate(&dense, input),
-    );
+    for (formulation, name) in [
+        (Formulation::Cartesian, "cartesian"),
+        (Formulation::JointCoordinates, "joint"),
+    ] {
+        sparse.formulation = formulation;
+        dense.formulation = formulation;
+        for (label, options) in [("sparse output", &sparse), ("scene output", &dense)] {
+            let (statistics, _) = simulate(options, setup());
+            println!(
+                "{name}, {label}: {} steps ({} rejected), {} RHS, {} Jacobians, {} factorizations, \
+                 {} events",
+                statistics.steps,
+                statistics.rejected_steps,
+                statistics.rhs_evaluations,
+                statistics.jacobian_evaluations,
+                statistics.factorizations,
+                statistics.events
+            );
+            bench_median(
+                &mut group,
+                "lgres",
+                &format!("cycle, wear, {label}, {name}"),
+                10,
+                setup,
+                |input| simulate(options, input),
+            );
+        }
+    }
     group.finish();
 }
 

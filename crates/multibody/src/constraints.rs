@@ -75,12 +75,66 @@ pub(crate) struct LocalDerivatives {
     pub third_vv: [f64; 6],
 }
 
+impl LocalDerivatives {
+    /// `γ − 2αΦ̇ − β²Φ` of this equation at `q̇`: the right-hand side of its stabilised
+    /// acceleration equation `Φ_q q̈ = …` (same operations, in the same order, as the Cartesian
+    /// right-hand side).
+    // Local slots index several arrays at once (gradient, Hessian, global map).
+    #[allow(clippy::needless_range_loop)]
+    pub fn stabilised_gamma(&self, slots: &Slots, qd: &[f64], alpha: f64, beta: f64) -> f64 {
+        let mut phi_dot = self.time_rate;
+        let mut quadratic = 0.0;
+        for a in 0..6 {
+            let Some(ia) = slots[a] else { continue };
+            phi_dot += self.grad[a] * qd[ia];
+            for b in 0..6 {
+                if let Some(ib) = slots[b] {
+                    quadratic += self.hess[a][b] * qd[ia] * qd[ib];
+                }
+            }
+        }
+        let gamma = -quadratic - self.time_acceleration;
+        gamma - 2.0 * alpha * phi_dot - beta * beta * self.value
+    }
+
+    /// Partials of `γ − 2αΦ̇ − β²Φ − Φ_q q̈` with respect to `q` and `q̇` (local slots), given
+    /// `w = q̈ + 2αq̇`: `−T(q̇, q̇, ·) − Hw − β²∇Φ` and `−2Hq̇ − 2α∇Φ`.
+    #[allow(clippy::needless_range_loop)]
+    pub fn acceleration_partials(
+        &self,
+        slots: &Slots,
+        qd: &[f64],
+        w: &[f64],
+        alpha: f64,
+        beta: f64,
+    ) -> ([f64; 6], [f64; 6]) {
+        let (mut by_q, mut by_qd) = ([0.0; 6], [0.0; 6]);
+        for a in 0..6 {
+            if slots[a].is_none() {
+                continue;
+            }
+            let (mut h_w, mut h_qd) = (0.0, 0.0);
+            for b in 0..6 {
+                let Some(ib) = slots[b] else { continue };
+                h_w += self.hess[a][b] * w[ib];
+                h_qd += self.hess[a][b] * qd[ib];
+            }
+            by_q[a] = -self.third_vv[a] - h_w - beta * beta * self.grad[a];
+            by_qd[a] = -2.0 * h_qd - 2.0 * alpha * self.grad[a];
+        }
+        (by_q, by_qd)
+    }
+}
+
 /// The compiled constraint set `Φ(q, t) = 0`.
 pub(crate) struct Constraints {
     equations: Vec<ScalarEquation>,
     labels: Vec<String>,
     owners: Vec<ConstraintOwner>,
     drives: Vec<Box<dyn DriveFunction>>,
+    /// What each driver prescribes, in driver order (the joint-coordinate formulation
+    /// prescribes a tree coordinate instead of adding the equation where it can).
+    drive_targets: Vec<DriveTarget>,
 }
 
 fn rotate(theta: f64, s: [f64; 2]) -> [f64; 2] {
@@ -178,6 +232,7 @@ impl Constraints {
                 }
             }
         }
+        let drive_targets = model.drivers.iter().map(|d| d.target).collect();
         let drives: Vec<Box<dyn DriveFunction>> = std::mem::take(&mut model.drivers)
             .into_iter()
             .enumerate()
@@ -233,7 +288,18 @@ impl Constraints {
             labels,
             owners,
             drives,
+            drive_targets,
         }
+    }
+
+    /// The function of driver `driver` (index in driver order).
+    pub fn drive(&self, driver: usize) -> &dyn DriveFunction {
+        self.drives[driver].as_ref()
+    }
+
+    /// What driver `driver` prescribes.
+    pub fn drive_target(&self, driver: usize) -> DriveTarget {
+        self.drive_targets[driver]
     }
 
     pub fn len(&self) -> usize {

@@ -20,7 +20,9 @@ use nalgebra::DMatrix;
 use crate::constraints::ConstraintOwner;
 use crate::error::{EvaluationError, SimulationError};
 use crate::force::ForceElement;
+use crate::formulation::{Equations, Formulation};
 use crate::iteration::SecondOrderLu;
+use crate::joint_coordinates::{JointEvaluator, Tree};
 use crate::system::{Baumgarte, Evaluator, State, System};
 use crate::trajectory::Trajectory;
 
@@ -157,6 +159,8 @@ pub struct SimulationOptions {
     /// step that would start past it, default none. Where it stops depends on the machine, so
     /// it guards against runs that cannot finish; `max_steps` is the deterministic budget.
     pub max_wall_time: Option<Duration>,
+    /// Coordinates to integrate in, default [`Formulation::Cartesian`].
+    pub formulation: Formulation,
 }
 
 impl SimulationOptions {
@@ -178,6 +182,7 @@ impl SimulationOptions {
             max_step: None,
             max_steps: None,
             max_wall_time: None,
+            formulation: Formulation::default(),
         }
     }
 
@@ -428,7 +433,7 @@ pub struct SimulationResult {
 
 /// The dense Jacobian of the last `(t, y)` diffsol asked about.
 struct JacobianCache<'s> {
-    evaluator: Evaluator<'s>,
+    evaluator: Box<dyn Equations + 's>,
     method: JacobianMethod,
     t: f64,
     y: Vec<f64>,
@@ -438,13 +443,20 @@ struct JacobianCache<'s> {
 }
 
 /// Shared state of one run: what the closures read and the loop updates.
-struct Run<'s, 'o> {
+struct Run<'s, 'o, 'c> {
     system: &'s System,
     options: &'s SimulationOptions,
     elements: &'s RefCell<Vec<Box<dyn ForceElement>>>,
-    jacobian_cache: &'s RefCell<JacobianCache<'s>>,
-    /// Evaluator for outputs, energy quadrature and restarts (not the integrator's).
+    jacobian_cache: &'c RefCell<JacobianCache<'s>>,
+    /// Cartesian evaluator for outputs and energy quadrature.
     evaluator: Evaluator<'s>,
+    /// The integrated formulation's equations, for restarts and for mapping its states to
+    /// Cartesian ones (not the integrator's instance).
+    equations: Box<dyn Equations + 's>,
+    /// Scratch of that mapping, length `2n`.
+    mapped: Vec<f64>,
+    /// Scratch: the power of each driver at a quadrature node.
+    driver_power: Vec<f64>,
     observer: &'o mut dyn Observer,
     final_state: Option<State>,
     /// Copy of the state after the last accepted step.
@@ -508,25 +520,30 @@ impl System {
             .enumerate()
             .flat_map(|(e, element)| (0..element.event_count()).map(move |i| (e, i)))
             .collect();
-        let y0: Vec<f64> = initial.q.iter().chain(&initial.qd).copied().collect();
-        let atol: Vec<f64> = (0..2 * n)
-            .map(|i| match (i >= n, i % 3 == 2) {
-                (false, false) => options.atol.position,
-                (false, true) => options.atol.angle,
-                (true, false) => options.atol.velocity,
-                (true, true) => options.atol.angular_velocity,
-            })
-            .collect();
+        let tree = (options.formulation == Formulation::JointCoordinates)
+            .then(|| Tree::new(self.bodies().len(), self.joints(), self.constraints()));
+        let equations = || -> Box<dyn Equations + '_> {
+            match &tree {
+                None => Box::new(self.evaluator(options.baumgarte)),
+                Some(tree) => Box::new(JointEvaluator::new(self, tree, options.baumgarte)),
+            }
+        };
+        let mut restart = equations();
+        let size = restart.size();
+        let x0 = restart.initial_state(initial);
+        let atol = restart.tolerances(&options.atol);
+        let mut mapped = vec![0.0; 2 * n];
+        let y0: Vec<f64> = restart.cartesian(initial.t, &x0, &mut mapped).to_vec();
 
         let singular = RefCell::new(None);
-        let rhs_evaluator = RefCell::new(self.evaluator(options.baumgarte));
+        let rhs_evaluator = RefCell::new(equations());
         let cache = RefCell::new(JacobianCache {
-            evaluator: self.evaluator(options.baumgarte),
+            evaluator: equations(),
             method: options.jacobian,
             t: f64::NAN,
-            y: vec![0.0; 2 * n],
+            y: vec![0.0; size],
             valid: false,
-            matrix: DMatrix::zeros(2 * n, 2 * n),
+            matrix: DMatrix::zeros(size, size),
             products: 0,
         });
         let rhs = |y: &[f64], _p: &[f64], t: f64, dy: &mut [f64]| {
@@ -562,13 +579,13 @@ impl System {
                 *out = (0..v.len()).map(|c| cache.matrix[(r, c)] * v[c]).sum();
             }
         };
-        let init = |_p: &[f64], _t: f64, y: &mut [f64]| y.copy_from_slice(&y0);
+        let init = |_p: &[f64], _t: f64, x: &mut [f64]| x.copy_from_slice(&x0);
         let builder = OdeBuilder::<NalgebraMat<f64>>::new()
             .t0(initial.t)
             .rtol(options.rtol)
             .atol(atol)
             .rhs_implicit(&rhs, &jacobian_vector)
-            .init(&init, 2 * n);
+            .init(&init, size);
 
         let mut run = Run {
             system: self,
@@ -576,6 +593,9 @@ impl System {
             elements,
             jacobian_cache: &cache,
             evaluator: self.evaluator(options.baumgarte),
+            equations: restart,
+            mapped,
+            driver_power: vec![0.0; self.driver_names().len()],
             observer,
             final_state: None,
             current: y0.clone(),
@@ -616,8 +636,11 @@ impl System {
             let problem = configure(problem, options);
             run.integrate(&problem)?;
         } else {
-            let roots = |y: &[f64], _p: &[f64], t: f64, g: &mut [f64]| {
-                let (q, qd) = y.split_at(n);
+            let root_map = RefCell::new((equations(), vec![0.0; 2 * n]));
+            let roots = |x: &[f64], _p: &[f64], t: f64, g: &mut [f64]| {
+                let mut map = root_map.borrow_mut();
+                let (map, scratch) = &mut *map;
+                let (q, qd) = map.cartesian(t, x, scratch).split_at(n);
                 let mut offset = 0;
                 for element in elements.borrow().iter() {
                     let count = element.event_count();
@@ -645,8 +668,8 @@ impl System {
         let cache = cache.borrow();
         let rhs_evaluator = rhs_evaluator.borrow();
         statistics.rhs_evaluations =
-            rhs_evaluator.rhs_evaluations + cache.evaluator.rhs_evaluations;
-        statistics.jacobian_evaluations = cache.evaluator.jacobian_evaluations;
+            rhs_evaluator.evaluations().0 + cache.evaluator.evaluations().0;
+        statistics.jacobian_evaluations = cache.evaluator.evaluations().1;
         statistics.jacobian_vector_products = cache.products;
         statistics.events = events.len();
         statistics.wall_time = started.elapsed();
@@ -688,7 +711,7 @@ const GAUSS_NODES: [(f64, f64); 3] = [
     (0.887_298_334_620_741_7, 5.0 / 18.0),
 ];
 
-impl Run<'_, '_> {
+impl Run<'_, '_, '_> {
     fn integrate<Eqn>(&mut self, problem: &OdeSolverProblem<Eqn>) -> Result<(), SimulationError>
     where
         Eqn: OdeEquationsImplicit<
@@ -783,8 +806,12 @@ impl Run<'_, '_> {
             {
                 break Err(integrator_error(t_now, e));
             }
-            self.current
-                .copy_from_slice(solver.state().y.inner().as_slice());
+            let y = self.equations.cartesian(
+                t_now,
+                solver.state().y.inner().as_slice(),
+                &mut self.mapped,
+            );
+            self.current.copy_from_slice(y);
             let step = t_now - t_previous;
             if step > 0.0 {
                 self.statistics.smallest_step = self.statistics.smallest_step.min(step);
@@ -857,7 +884,7 @@ impl Run<'_, '_> {
         let state = solver.state_mut();
         let elements = self.elements.borrow();
         // A singular system shows up as NaN here and fails the next step with a clear error.
-        if let Err(error) = self.evaluator.rhs(
+        if let Err(error) = self.equations.rhs(
             &elements,
             t,
             state.y.inner().as_slice(),
@@ -893,7 +920,11 @@ impl Run<'_, '_> {
                 .interpolate_inplace(t, y)
                 .map_err(|e| integrator_error(t, e))?;
             let mut values = std::mem::take(&mut self.frame_buffer);
-            values.copy_from_slice(y.inner().as_slice());
+            values.copy_from_slice(self.equations.cartesian(
+                t,
+                y.inner().as_slice(),
+                &mut self.mapped,
+            ));
             let emitted = self.emit_frame(t, &values);
             self.frame_buffer = values;
             emitted?;
@@ -905,8 +936,12 @@ impl Run<'_, '_> {
                     .interpolate_inplace(t, y)
                     .map_err(|e| integrator_error(t, e))?;
                 let mut values = std::mem::take(&mut self.frame_buffer);
-                values.copy_from_slice(y.inner().as_slice());
-                self.accumulate_power(t, &values, weight * (t_end - t_start));
+                values.copy_from_slice(self.equations.cartesian(
+                    t,
+                    y.inner().as_slice(),
+                    &mut self.mapped,
+                ));
+                self.accumulate_power(t, y.inner().as_slice(), &values, weight * (t_end - t_start));
                 self.frame_buffer = values;
             }
         }
@@ -921,7 +956,9 @@ impl Run<'_, '_> {
             })
     }
 
-    fn accumulate_power(&mut self, t: f64, y: &[f64], weight: f64) {
+    /// Adds `weight ×` the power of the non-conservative elements and the drivers at the
+    /// integrated state `x` (Cartesian `y`).
+    fn accumulate_power(&mut self, t: f64, x: &[f64], y: &[f64], weight: f64) {
         let n = self.system.coordinate_count();
         let (q, qd) = y.split_at(n);
         let elements = self.elements.borrow();
@@ -933,11 +970,25 @@ impl Run<'_, '_> {
             element.add_forces(t, q, qd, &mut self.scratch);
             *work += weight * self.scratch.iter().zip(qd).map(|(f, v)| f * v).sum::<f64>();
         }
-        if self.driver_work.is_empty()
-            || self
-                .evaluator
-                .solve_accelerations(&elements, t, q, qd)
-                .is_err()
+        if self.driver_work.is_empty() {
+            return;
+        }
+        let mut powers = std::mem::take(&mut self.driver_power);
+        let formulation_powers = self.equations.driver_powers(&elements, t, x, &mut powers);
+        if let Some(result) = formulation_powers {
+            if result.is_ok() {
+                for (work, power) in self.driver_work.iter_mut().zip(&powers) {
+                    *work += weight * power;
+                }
+            }
+            self.driver_power = powers;
+            return;
+        }
+        self.driver_power = powers;
+        if self
+            .evaluator
+            .solve_accelerations(&elements, t, q, qd)
+            .is_err()
         {
             return;
         }
@@ -982,7 +1033,12 @@ impl Run<'_, '_> {
 
     fn track_drift(&mut self, t: f64, y: &[f64]) {
         let (q, qd) = y.split_at(self.system.coordinate_count());
-        let (position, velocity) = self.system.violation(t, q, qd);
+        let (position, velocity) = match self.equations.drifting() {
+            None => self.system.violation(t, q, qd),
+            Some(equations) => self
+                .system
+                .violation_of(equations.iter().copied(), t, q, qd),
+        };
         self.peak_kinetic = self.peak_kinetic.max(self.system.kinetic_energy(qd));
         self.drift.position = self.drift.position.max(position);
         self.drift.velocity = self.drift.velocity.max(velocity);

@@ -24,6 +24,11 @@
 //!   [`SolverStatistics`], [`ConstraintDrift`], the multipliers of every frame (joint reactions:
 //!   [`System::reaction`]) and an [`EnergyAudit`]. An [`Observer`] sees every output frame and
 //!   every accepted step.
+//! - [`SimulationOptions::formulation`]: the same dynamics integrated in body coordinates
+//!   ([`Formulation::Cartesian`], the paper's augmented system) or in the relative coordinates
+//!   of a spanning tree of the ideal joints ([`Formulation::JointCoordinates`]: no multipliers
+//!   or drift where the joints form a tree; [`joint_coordinates`]). Outputs are Cartesian
+//!   either way.
 //!
 //! # Force elements
 //! Anything that is not an ideal constraint is a [`ForceElement`]: it adds generalized forces
@@ -131,7 +136,9 @@ pub mod drive;
 mod dynamics;
 mod error;
 mod force;
+mod formulation;
 mod iteration;
+pub mod joint_coordinates;
 mod linalg;
 mod model;
 mod system;
@@ -145,6 +152,7 @@ pub use dynamics::{
 };
 pub use error::{AssemblyError, EvaluationError, KinematicsError, ModelError, SimulationError};
 pub use force::{ElementId, ForceElement, ForcePartials, Gravity};
+pub use formulation::Formulation;
 pub use iteration::SecondOrderLu;
 pub use model::{
     Anchor, Body, BodyId, Coordinate, DriveTarget, Driver, DriverId, Joint, JointId, Model,

@@ -287,9 +287,20 @@ impl System {
     }
 
     pub(crate) fn violation(&self, t: f64, q: &[f64], qd: &[f64]) -> (f64, f64) {
+        self.violation_of(0..self.constraints.len(), t, q, qd)
+    }
+
+    /// [`System::violation`] over the given equations only.
+    pub(crate) fn violation_of(
+        &self,
+        equations: impl Iterator<Item = usize>,
+        t: f64,
+        q: &[f64],
+        qd: &[f64],
+    ) -> (f64, f64) {
         let mut max_phi: f64 = 0.0;
         let mut max_phi_dot: f64 = 0.0;
-        for k in 0..self.constraints.len() {
+        for k in equations {
             let d = self.constraints.local(k, q, qd, t);
             max_phi = max_phi.max(d.value.abs());
             let rate = local_dot(&d, self.constraints.slots(k), qd) + d.time_rate;
@@ -879,24 +890,17 @@ impl<'s> Evaluator<'s> {
         self.jacobian_evaluations += 1;
         check_len("y", y, 2 * self.n)?;
         check_len("Jacobian rows", jacobian.as_slice(), 4 * self.n * self.n)?;
-        let size = y.len();
         let mut base = std::mem::take(&mut self.fd_base);
         let mut shifted = std::mem::take(&mut self.fd_shifted);
         let mut y_work = std::mem::take(&mut self.fd_y);
-        y_work.copy_from_slice(y);
-        let mut result = self.rhs(elements, t, y, &mut base);
-        for c in 0..size {
-            if result.is_err() {
-                break;
-            }
-            let step = f64::EPSILON.sqrt() * y[c].abs().max(1.0);
-            y_work[c] = y[c] + step;
-            result = self.rhs(elements, t, &y_work, &mut shifted);
-            y_work[c] = y[c];
-            for r in 0..size {
-                jacobian[(r, c)] = (shifted[r] - base[r]) / step;
-            }
-        }
+        let result = crate::formulation::forward_differences(
+            |y, dy| self.rhs(elements, t, y, dy),
+            y,
+            jacobian,
+            &mut base,
+            &mut shifted,
+            &mut y_work,
+        );
         self.fd_base = base;
         self.fd_shifted = shifted;
         self.fd_y = y_work;

@@ -6,7 +6,7 @@
 mod common;
 
 use common::lgres_scene::Lgres;
-use multibody::{AbsoluteTolerances, Gravity, OutputTimes, SimulationOptions, System};
+use multibody::{AbsoluteTolerances, Formulation, Gravity, OutputTimes, SimulationOptions, System};
 
 /// The scene's mechanism with the clearance joints A and B made ideal revolutes, driven at
 /// `rpm`; also the scene's body names and poses (x, y in m, θ in degrees).
@@ -159,4 +159,39 @@ fn driven_dynamics_follows_the_kinematics() {
         result.statistics
     );
     assert!(energy.relative_residual() < 1e-6, "{energy:?}");
+}
+
+#[test]
+fn both_formulations_follow_the_kinematics_to_a_nanometre() {
+    let (mut system, ..) = lgres(60.0);
+    let (q, qd) = system.initial_guess();
+    let start = system.assemble(0.0, &q, &qd).expect("assembles");
+    let mut options = SimulationOptions::until(1.0);
+    options.rtol = 1e-10;
+    options.atol = AbsoluteTolerances::uniform(1e-12);
+    options.output = OutputTimes::Every(0.01);
+    for formulation in [Formulation::Cartesian, Formulation::JointCoordinates] {
+        options.formulation = formulation;
+        let result = system
+            .simulate(&start, &options, &mut ())
+            .expect("integrates");
+        let solution = system
+            .kinematics(&result.trajectory.times, &start.q)
+            .expect("kinematics");
+        let dq = (0..result.trajectory.len())
+            .flat_map(|f| {
+                solution
+                    .q(f)
+                    .iter()
+                    .zip(result.trajectory.q(f))
+                    .map(|(a, b)| (a - b).abs())
+                    .collect::<Vec<_>>()
+            })
+            .fold(0.0, f64::max);
+        println!(
+            "{formulation:?}: ideal LGRES vs kinematics over one period, max |Δq| {dq:e} ({} steps)",
+            result.statistics.steps
+        );
+        assert!(dq < 1e-9, "{formulation:?}: {dq:e}");
+    }
 }

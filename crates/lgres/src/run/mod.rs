@@ -363,6 +363,7 @@ pub fn simulation_options(
     let tol = scene.tolerances();
     let mut o = SimulationOptions::until(t_end);
     o.integrator = scene.solver.integrator;
+    o.formulation = scene.solver.formulation;
     o.rtol = scene.solver.rtol;
     o.atol = AbsoluteTolerances {
         position: tol.position,

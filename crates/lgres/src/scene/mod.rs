@@ -38,7 +38,7 @@ pub use types::*;
 pub(crate) use validate::Validator;
 
 pub use contact::{FrictionLawParams, MaterialParams, NormalLawParams, SlidingVelocity};
-pub use multibody::{Coordinate, Integrator};
+pub use multibody::{Coordinate, Formulation, Integrator};
 
 /// Arm (m) converting the default position tolerance into the default angle tolerance.
 const REFERENCE_ARM: f64 = 1.0;

@@ -6,7 +6,8 @@ use std::f64::consts::TAU;
 use serde::{Deserialize, Serialize};
 
 use super::{
-    Coordinate, FrictionLawParams, Integrator, MaterialParams, NormalLawParams, SlidingVelocity,
+    Coordinate, Formulation, FrictionLawParams, Integrator, MaterialParams, NormalLawParams,
+    SlidingVelocity,
 };
 
 /// Reserved body name for the fixed frame.
@@ -380,6 +381,16 @@ pub struct Solver {
     /// Integration method.
     #[serde(default)]
     pub integrator: Integrator,
+    /// Coordinates to integrate in (`cartesian` or `joint`); both give the same motion within
+    /// the tolerances (tests/formulations.rs). Default `joint`: relative coordinates of the
+    /// ideal joints' spanning tree, with constraints only where ideal joints close a loop (none
+    /// in the LGRES, whose loops are cut by its clearance joints); about half the work per
+    /// drive cycle (docs/performance.md).
+    #[serde(
+        default = "joint_formulation",
+        skip_serializing_if = "is_joint_formulation"
+    )]
+    pub formulation: Formulation,
     /// Relative tolerance, dimensionless.
     #[serde(default = "rtol")]
     pub rtol: f64,
@@ -426,6 +437,12 @@ pub const DEFAULT_ATOL_POSITION_PER_CLEARANCE: f64 = 2e-4;
 fn rtol() -> f64 {
     1e-6
 }
+fn joint_formulation() -> Formulation {
+    Formulation::JointCoordinates
+}
+fn is_joint_formulation(formulation: &Formulation) -> bool {
+    *formulation == joint_formulation()
+}
 fn atol_velocity() -> f64 {
     1e-5
 }
@@ -440,6 +457,7 @@ impl Default for Solver {
     fn default() -> Self {
         Self {
             integrator: Integrator::default(),
+            formulation: joint_formulation(),
             rtol: rtol(),
             atol_position: None,
             atol_angle: None,

@@ -504,6 +504,7 @@ pub fn run_sweep(
     }
     Ok(PrecisionReport {
         scene: name.to_string(),
+        formulation: scene.solver.formulation,
         duration_s: t_end,
         start_up_s: options.start_up,
         separation_fraction: options.separation_fraction,

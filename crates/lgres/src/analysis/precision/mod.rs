@@ -314,6 +314,8 @@ pub struct ReferenceRun {
 pub struct PrecisionReport {
     /// Scene name.
     pub scene: String,
+    /// The scene's `solver.formulation`, which every run uses.
+    pub formulation: multibody::Formulation,
     /// Simulated time, s.
     pub duration_s: f64,
     /// Start-up window of error (a), s.

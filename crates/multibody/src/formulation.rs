@@ -1,0 +1,229 @@
+//! The choice of coordinates the equations of motion are integrated in, and the interface the
+//! integration loop drives either formulation through.
+
+use nalgebra::DMatrix;
+
+use crate::dynamics::AbsoluteTolerances;
+use crate::error::EvaluationError;
+use crate::force::ForceElement;
+use crate::joint_coordinates::JointEvaluator;
+use crate::system::{Evaluator, State};
+
+/// Which coordinates [`crate::System::simulate`] integrates. Either way the trajectory,
+/// observers, force elements and the energy audit see Cartesian body coordinates `q, q̇, q̈`
+/// and the multipliers of every constraint equation. Named `cartesian` and `joint` in scene
+/// files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Formulation {
+    /// Body coordinates `(x, y, θ)` with every ideal joint and driver a constraint with a
+    /// multiplier and Baumgarte stabilisation (the augmented formulation of the paper).
+    #[default]
+    Cartesian,
+    /// Relative coordinates of a spanning tree of the ideal joints; drivers prescribe their
+    /// coordinate; only joints that close loops (and drivers that prescribe no tree coordinate)
+    /// remain constraints ([`crate::joint_coordinates`] docs).
+    #[serde(rename = "joint", alias = "joint-coordinates")]
+    JointCoordinates,
+}
+
+impl Formulation {
+    /// The scene-file spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Cartesian => "cartesian",
+            Self::JointCoordinates => "joint",
+        }
+    }
+}
+
+/// One formulation's equations `ẋ = f(t, x)` as the integration loop needs them.
+pub(crate) trait Equations {
+    /// Length of the integrated state `x`.
+    fn size(&self) -> usize;
+    /// `x` of an assembled Cartesian state.
+    fn initial_state(&mut self, state: &State) -> Vec<f64>;
+    /// Absolute tolerances of `x`.
+    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64>;
+    /// The Cartesian `(q, q̇)` of `x` at `t`: `x` itself, or `scratch` (length `2n`) filled.
+    fn cartesian<'a>(&mut self, t: f64, x: &'a [f64], scratch: &'a mut [f64]) -> &'a [f64];
+    fn rhs(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        dx: &mut [f64],
+    ) -> Result<(), EvaluationError>;
+    fn jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), EvaluationError>;
+    fn finite_difference_jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), EvaluationError>;
+    /// Right-hand sides and Jacobians evaluated so far.
+    fn evaluations(&self) -> (usize, usize);
+    /// The constraint equations that can drift (`None`: all); the others hold by construction
+    /// up to round-off, so the drift report skips them.
+    fn drifting(&self) -> Option<&[usize]> {
+        None
+    }
+    /// The power of each driver at `(t, x)` into `powers` (driver order), when the
+    /// formulation has a cheaper way than the Cartesian multipliers (`None`: it has not).
+    fn driver_powers(
+        &mut self,
+        _elements: &[Box<dyn ForceElement>],
+        _t: f64,
+        _x: &[f64],
+        _powers: &mut [f64],
+    ) -> Option<Result<(), EvaluationError>> {
+        None
+    }
+}
+
+impl Equations for Evaluator<'_> {
+    fn size(&self) -> usize {
+        2 * self.accelerations().len()
+    }
+    fn initial_state(&mut self, state: &State) -> Vec<f64> {
+        state.q.iter().chain(&state.qd).copied().collect()
+    }
+    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64> {
+        let n = self.accelerations().len();
+        (0..2 * n)
+            .map(|i| match (i >= n, i % 3 == 2) {
+                (false, false) => atol.position,
+                (false, true) => atol.angle,
+                (true, false) => atol.velocity,
+                (true, true) => atol.angular_velocity,
+            })
+            .collect()
+    }
+    fn cartesian<'a>(&mut self, _t: f64, x: &'a [f64], _scratch: &'a mut [f64]) -> &'a [f64] {
+        x
+    }
+    fn rhs(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        dx: &mut [f64],
+    ) -> Result<(), EvaluationError> {
+        Evaluator::rhs(self, elements, t, x, dx)
+    }
+    fn jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), EvaluationError> {
+        Evaluator::jacobian(self, elements, t, x, jacobian)
+    }
+    fn finite_difference_jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), EvaluationError> {
+        Evaluator::finite_difference_jacobian(self, elements, t, x, jacobian)
+    }
+    fn evaluations(&self) -> (usize, usize) {
+        (self.rhs_evaluations, self.jacobian_evaluations)
+    }
+}
+
+impl Equations for JointEvaluator<'_> {
+    fn size(&self) -> usize {
+        JointEvaluator::size(self)
+    }
+    fn initial_state(&mut self, state: &State) -> Vec<f64> {
+        JointEvaluator::initial_state(self, state)
+    }
+    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64> {
+        JointEvaluator::tolerances(self, atol)
+    }
+    fn cartesian<'a>(&mut self, t: f64, x: &'a [f64], scratch: &'a mut [f64]) -> &'a [f64] {
+        JointEvaluator::cartesian(self, t, x, scratch);
+        scratch
+    }
+    fn rhs(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        dx: &mut [f64],
+    ) -> Result<(), EvaluationError> {
+        JointEvaluator::rhs(self, elements, t, x, dx)
+    }
+    fn jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), EvaluationError> {
+        JointEvaluator::jacobian(self, elements, t, x, jacobian)
+    }
+    fn finite_difference_jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), EvaluationError> {
+        JointEvaluator::finite_difference_jacobian(self, elements, t, x, jacobian)
+    }
+    fn evaluations(&self) -> (usize, usize) {
+        (self.rhs_evaluations, self.jacobian_evaluations)
+    }
+    fn drifting(&self) -> Option<&[usize]> {
+        Some(self.drifting())
+    }
+    fn driver_powers(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        powers: &mut [f64],
+    ) -> Option<Result<(), EvaluationError>> {
+        Some(JointEvaluator::driver_powers(self, elements, t, x, powers))
+    }
+}
+
+/// Forward-difference Jacobian of `rhs` at `x` (`size + 1` evaluations, steps
+/// `√ε · max(|x_c|, 1)`), in the caller's scratch (each of length `x.len()`). Stops at the
+/// first failed evaluation and returns its error.
+pub(crate) fn forward_differences(
+    mut rhs: impl FnMut(&[f64], &mut [f64]) -> Result<(), EvaluationError>,
+    x: &[f64],
+    jacobian: &mut DMatrix<f64>,
+    base: &mut [f64],
+    shifted: &mut [f64],
+    work: &mut [f64],
+) -> Result<(), EvaluationError> {
+    let size = x.len();
+    work.copy_from_slice(x);
+    let mut result = rhs(x, base);
+    for c in 0..size {
+        if result.is_err() {
+            break;
+        }
+        let step = f64::EPSILON.sqrt() * x[c].abs().max(1.0);
+        work[c] = x[c] + step;
+        result = rhs(work, shifted);
+        work[c] = x[c];
+        for r in 0..size {
+            jacobian[(r, c)] = (shifted[r] - base[r]) / step;
+        }
+    }
+    result
+}
