@@ -140,6 +140,7 @@ mod iteration;
 pub mod joint_coordinates;
 mod linalg;
 mod model;
+mod sparse_iteration;
 mod system;
 mod trajectory;
 
@@ -147,7 +148,8 @@ pub use constraints::ConstraintOwner;
 pub use drive::{Constant, DriveFunction, Harmonic, Ramp};
 pub use dynamics::{
     AbsoluteTolerances, ConstraintDrift, EnergyAudit, EventRecord, Frame, Integrator,
-    JacobianMethod, Observer, OutputTimes, SimulationOptions, SimulationResult, SolverStatistics,
+    JacobianMethod, LinearSolverKind, Observer, OutputTimes, SimulationOptions, SimulationResult,
+    SolverStatistics,
 };
 pub use error::{AssemblyError, EvaluationError, KinematicsError, ModelError, SimulationError};
 pub use force::{ElementId, ForceElement, ForcePartials, Gravity};
@@ -157,5 +159,6 @@ pub use model::{
     Anchor, Body, BodyId, Coordinate, DriveTarget, Driver, DriverId, Joint, JointId, Model,
     RotationLock,
 };
+pub use sparse_iteration::SparseSecondOrderLu;
 pub use system::{Baumgarte, Evaluator, PartialEntry, PartialsCheck, State, System};
 pub use trajectory::Trajectory;
