@@ -28,6 +28,7 @@
 pub mod artifacts;
 pub mod build;
 pub mod clearance;
+pub mod family;
 pub mod limits;
 pub mod output;
 pub mod plot;
