@@ -77,6 +77,8 @@ impl LocalDerivatives {
     /// `γ − 2αΦ̇ − β²Φ` of this equation at `q̇`: the right-hand side of its stabilised
     /// acceleration equation `Φ_q q̈ = …` (same operations, in the same order, as the Cartesian
     /// right-hand side).
+    // Local slots index several arrays at once (gradient, Hessian, global map).
+    #[allow(clippy::needless_range_loop)]
     pub fn stabilised_gamma(&self, slots: &Slots, qd: &[f64], alpha: f64, beta: f64) -> f64 {
         let mut phi_dot = self.time_rate;
         let mut quadratic = 0.0;
@@ -95,6 +97,7 @@ impl LocalDerivatives {
 
     /// Partials of `γ − 2αΦ̇ − β²Φ − Φ_q q̈` with respect to `q` and `q̇` (local slots), given
     /// `w = q̈ + 2αq̇`: `−T(q̇, q̇, ·) − Hw − β²∇Φ` and `−2Hq̇ − 2α∇Φ`.
+    #[allow(clippy::needless_range_loop)]
     pub fn acceleration_partials(
         &self,
         slots: &Slots,

@@ -407,6 +407,8 @@ impl<'s> JointEvaluator<'s> {
     }
 
     /// Exact `∂ẋ/∂x` (`2nf × 2nf`): see the module docs.
+    // Local slots index several arrays at once (Hessian, global map).
+    #[allow(clippy::needless_range_loop)]
     pub fn jacobian(
         &mut self,
         elements: &[Box<dyn ForceElement>],
