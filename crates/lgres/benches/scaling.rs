@@ -6,14 +6,14 @@
 //! dense LU of the reduced iteration matrix (default), the same with faer's sparse LU, and
 //! joint coordinates — it times [`multibody::System::simulate`] over a fixed interval from the
 //! assembled start (the pins fall into their bearings and the impacts begin after ~5 ms), with
-//! output at the end only and no energy audit, and reports medians over the repeats of the cost
+//! output at the end only and no energy audit, and reports medians over the repeats (interleaved across the paths) of the cost
 //! per accepted step and per simulated second. One extra run per case with the energy audit on
 //! (not timed) reports the physics checks: constraint drift and the energy residual.
 //!
 //! Prints a markdown table, the fitted slopes `cost ∝ N^p` and the crossovers, writes
 //! `docs/figures/scaling.csv` and the log–log figure `docs/figures/scaling.png`.
 //! Environment: `SCALING_SIZES` (comma-separated `N`, default 5,10,20,50,100,200),
-//! `SCALING_REPEATS` (default 3), `SCALING_INTERVAL` (simulated seconds, default 0.03).
+//! `SCALING_REPEATS` (default 5), `SCALING_INTERVAL` (simulated seconds, default 0.03).
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -137,7 +137,7 @@ fn crossover(sizes: &[usize], a: &[f64], b: &[f64]) -> String {
 fn main() {
     // `cargo bench` passes `--bench`; nothing else is expected.
     let sizes = env_list("SCALING_SIZES", &[5, 10, 20, 50, 100, 200]);
-    let repeats = env_list("SCALING_REPEATS", &[3])[0].max(1);
+    let repeats = env_list("SCALING_REPEATS", &[5])[0].max(1);
     let interval: f64 = std::env::var("SCALING_INTERVAL")
         .ok()
         .and_then(|s| s.parse().ok())
@@ -151,23 +151,32 @@ fn main() {
     );
     println!("|---:|---:|---|---:|---:|---:|---:|---:|---:|");
     for (k, &bodies) in sizes.iter().enumerate() {
-        for (p, path) in PATHS.iter().enumerate() {
-            let (_, _, drift, energy) = run(bodies, path, interval, true);
-            let mut walls = Vec::new();
-            let mut steps = 0;
-            for _ in 0..repeats {
+        let checks: Vec<(f64, f64)> = PATHS
+            .iter()
+            .map(|path| {
+                let (_, _, drift, energy) = run(bodies, path, interval, true);
+                (drift, energy)
+            })
+            .collect();
+        // Repeats interleave the paths, so a change in the machine's load affects all alike.
+        let mut walls = vec![Vec::new(); PATHS.len()];
+        let mut steps = vec![0; PATHS.len()];
+        for _ in 0..repeats {
+            for (p, path) in PATHS.iter().enumerate() {
                 let (wall, s, _, _) = run(bodies, path, interval, false);
-                walls.push(wall);
-                steps = s;
+                walls[p].push(wall);
+                steps[p] = s;
             }
-            let wall = median(&mut walls);
+        }
+        for (p, path) in PATHS.iter().enumerate() {
+            let wall = median(&mut walls[p]);
             let m = Measured {
-                steps,
+                steps: steps[p],
                 wall,
-                per_step: wall / steps.max(1) as f64,
+                per_step: wall / steps[p].max(1) as f64,
                 per_simulated_second: wall / interval,
-                drift,
-                energy,
+                drift: checks[p].0,
+                energy: checks[p].1,
             };
             println!(
                 "| {bodies} | {} | {} | {} | {:.3} | {:.3} | {:.2} | {:.1e} | {:.1e} |",

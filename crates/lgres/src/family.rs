@@ -76,6 +76,10 @@ pub struct Chain {
     pub clearances: usize,
 }
 
+/// A joint of the chain: name, bearing body (`None`: ground) and its anchor, pin body and its
+/// anchor.
+type JointSpec = (String, Option<BodyId>, [f64; 2], BodyId, [f64; 2]);
+
 /// The chain of `bodies` bodies with a clearance at every `period`-th joint (module docs).
 pub fn chain(bodies: usize, period: usize, params: &ChainParams) -> Result<Chain, FamilyError> {
     if bodies < 2 || period < 2 {
@@ -117,7 +121,7 @@ pub fn chain(bodies: usize, period: usize, params: &ChainParams) -> Result<Chain
         ids.push(model.add_body(body)?);
     }
     // Joints in chain order: (name, bearing anchor on the earlier body or ground, pin anchor).
-    let mut joints: Vec<(String, Option<BodyId>, [f64; 2], BodyId, [f64; 2])> = Vec::new();
+    let mut joints: Vec<JointSpec> = Vec::new();
     for j in 0..bodies {
         let id = ids[j];
         if j % 2 == 0 {

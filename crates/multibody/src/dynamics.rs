@@ -494,9 +494,7 @@ impl System {
             // instead of the O(n²) strided sum, which made assembly O(n³) (docs/performance.md).
             let mut nonzeros = v.iter().enumerate().filter(|(_, x)| **x != 0.0);
             match (nonzeros.next(), nonzeros.next()) {
-                (Some((c, &x)), None) if x == 1.0 => {
-                    jv.copy_from_slice(cache.matrix.column(c).as_slice())
-                }
+                (Some((c, 1.0)), None) => jv.copy_from_slice(cache.matrix.column(c).as_slice()),
                 _ => {
                     for (r, out) in jv.iter_mut().enumerate() {
                         *out = (0..v.len()).map(|c| cache.matrix[(r, c)] * v[c]).sum();

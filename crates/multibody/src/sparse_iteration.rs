@@ -367,13 +367,7 @@ mod tests {
         let near = |i: usize, j: usize| (i / 3).abs_diff(j / 3) <= 1;
         DMatrix::from_fn(2 * n, 2 * n, |i, j| match (i < n, j < n) {
             (true, true) => f64::from(u8::from(i == j)),
-            (true, false) => {
-                if j == i + n {
-                    -c
-                } else {
-                    0.0
-                }
-            }
+            (true, false) if j == i + n => -c,
             (false, true) if near(i - n, j) => -c * 1e6 * entry(i, j, 0.37),
             (false, false) if near(i - n, j - n) => {
                 f64::from(u8::from(i == j)) - c * 50.0 * entry(i, j, 1.91)
