@@ -121,6 +121,9 @@
 //! the LU's work). It checks that form on every factorization and falls back to the full LU
 //! without it. On one LGRES drive cycle it cut the instructions per step by 9 %
 //! (docs/performance.md).
+//! [`SimulationOptions::linear_solver`] can put faer's sparse LU on that `n × n` matrix
+//! ([`SparseSecondOrderLu`], symbolic analysis reused): faster for long mechanisms cut by
+//! clearance joints (from ~80 bodies in docs/performance.md's scaling family), slower below.
 //!
 //! # Tolerances
 //! `rtol` 1e-6 and [`AbsoluteTolerances`] per kind of variable (positions, angles, velocities,
