@@ -40,6 +40,7 @@
 
 pub mod analysis;
 pub mod build;
+pub mod family;
 pub mod io;
 pub mod run;
 pub mod scene;

@@ -23,6 +23,7 @@ use crate::force::ForceElement;
 use crate::formulation::{Equations, Formulation};
 use crate::iteration::SecondOrderLu;
 use crate::joint_coordinates::{JointEvaluator, Tree};
+use crate::sparse_iteration::SparseSecondOrderLu;
 use crate::system::{Baumgarte, Evaluator, State, System};
 use crate::trajectory::Trajectory;
 
@@ -49,6 +50,18 @@ pub enum JacobianMethod {
     Exact,
     /// Forward differences of the right-hand side: the reference for measuring the savings.
     FiniteDifference,
+}
+
+/// Which linear solver the implicit integrators' Newton iterations use. Both eliminate the
+/// `q` block of the iteration matrix and factor the `n × n` remainder.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LinearSolverKind {
+    /// [`SecondOrderLu`]: dense LU (default; fastest for small mechanisms).
+    #[default]
+    Dense,
+    /// [`crate::SparseSecondOrderLu`]: faer's sparse LU with its symbolic analysis reused, for
+    /// long mechanisms cut into loosely coupled parts (docs/performance.md, scaling).
+    SparseFaer,
 }
 
 /// Absolute tolerances per kind of state variable. Positions should be scaled to the
@@ -161,6 +174,8 @@ pub struct SimulationOptions {
     pub max_wall_time: Option<Duration>,
     /// Coordinates to integrate in, default [`Formulation::Cartesian`].
     pub formulation: Formulation,
+    /// Linear solver of the Newton iterations, default [`LinearSolverKind::Dense`].
+    pub linear_solver: LinearSolverKind,
 }
 
 impl SimulationOptions {
@@ -183,6 +198,7 @@ impl SimulationOptions {
             max_steps: None,
             max_wall_time: None,
             formulation: Formulation::default(),
+            linear_solver: LinearSolverKind::default(),
         }
     }
 
@@ -575,8 +591,17 @@ impl System {
                 cache.y.copy_from_slice(y);
                 cache.valid = true;
             }
-            for (r, out) in jv.iter_mut().enumerate() {
-                *out = (0..v.len()).map(|c| cache.matrix[(r, c)] * v[c]).sum();
+            // diffsol assembles its matrix from products with unit vectors: those are columns
+            // (the same numbers as the sum below, whose other terms are zeros), copied in O(n)
+            // instead of the O(n²) strided sum, which made assembly O(n³) (docs/performance.md).
+            let mut nonzeros = v.iter().enumerate().filter(|(_, x)| **x != 0.0);
+            match (nonzeros.next(), nonzeros.next()) {
+                (Some((c, 1.0)), None) => jv.copy_from_slice(cache.matrix.column(c).as_slice()),
+                _ => {
+                    for (r, out) in jv.iter_mut().enumerate() {
+                        *out = (0..v.len()).map(|c| cache.matrix[(r, c)] * v[c]).sum();
+                    }
+                }
             }
         };
         let init = |_p: &[f64], _t: f64, x: &mut [f64]| x.copy_from_slice(&x0);
@@ -723,15 +748,26 @@ impl Run<'_, '_, '_> {
     {
         let t0 = problem.t0;
         let error = |e| integrator_error(t0, e);
-        match self.options.integrator {
-            Integrator::Bdf => self.step_loop(problem.bdf::<SecondOrderLu>().map_err(error)?),
-            Integrator::TrBdf2 => {
+        match (self.options.integrator, self.options.linear_solver) {
+            (Integrator::Bdf, LinearSolverKind::Dense) => {
+                self.step_loop(problem.bdf::<SecondOrderLu>().map_err(error)?)
+            }
+            (Integrator::TrBdf2, LinearSolverKind::Dense) => {
                 self.step_loop(problem.tr_bdf2::<SecondOrderLu>().map_err(error)?)
             }
-            Integrator::Esdirk34 => {
+            (Integrator::Esdirk34, LinearSolverKind::Dense) => {
                 self.step_loop(problem.esdirk34::<SecondOrderLu>().map_err(error)?)
             }
-            Integrator::Tsit45 => self.step_loop(problem.tsit45().map_err(error)?),
+            (Integrator::Bdf, LinearSolverKind::SparseFaer) => {
+                self.step_loop(problem.bdf::<SparseSecondOrderLu>().map_err(error)?)
+            }
+            (Integrator::TrBdf2, LinearSolverKind::SparseFaer) => {
+                self.step_loop(problem.tr_bdf2::<SparseSecondOrderLu>().map_err(error)?)
+            }
+            (Integrator::Esdirk34, LinearSolverKind::SparseFaer) => {
+                self.step_loop(problem.esdirk34::<SparseSecondOrderLu>().map_err(error)?)
+            }
+            (Integrator::Tsit45, _) => self.step_loop(problem.tsit45().map_err(error)?),
         }
     }
 

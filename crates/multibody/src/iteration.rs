@@ -66,7 +66,7 @@ impl Default for SecondOrderLu {
 
 /// `(a, b)` when `matrix` (`2n × 2n`, column-major) is `[[a I, b I], [·, ·]]` exactly, with
 /// `a` finite and nonzero.
-fn block_identity_top(matrix: &DMatrix<f64>) -> Option<(f64, f64)> {
+pub(crate) fn block_identity_top(matrix: &DMatrix<f64>) -> Option<(f64, f64)> {
     let size = matrix.nrows();
     if size == 0 || !size.is_multiple_of(2) || matrix.ncols() != size {
         return None;

@@ -120,6 +120,9 @@
 //! eliminates it and factors only the `n × n` matrix `I − c ∂q̈/∂q̇ − c² ∂q̈/∂q` (an eighth of
 //! the LU's work). It checks that form on every factorization and falls back to the full LU
 //! without it (its effect on an LGRES drive cycle: docs/performance.md).
+//! [`SimulationOptions::linear_solver`] can put faer's sparse LU on that `n × n` matrix
+//! ([`SparseSecondOrderLu`], symbolic analysis reused): faster for long mechanisms cut by
+//! clearance joints (from ~80 bodies in docs/performance.md's scaling family), slower below.
 //!
 //! # Tolerances
 //! `rtol` 1e-6 and [`AbsoluteTolerances`] per kind of variable (positions, angles, velocities,
@@ -141,6 +144,7 @@ mod iteration;
 pub mod joint_coordinates;
 mod linalg;
 mod model;
+mod sparse_iteration;
 mod system;
 mod trajectory;
 
@@ -148,7 +152,8 @@ pub use constraints::ConstraintOwner;
 pub use drive::{Constant, DriveFunction, Harmonic, Ramp};
 pub use dynamics::{
     AbsoluteTolerances, ConstraintDrift, EnergyAudit, EventRecord, Frame, Integrator,
-    JacobianMethod, Observer, OutputTimes, SimulationOptions, SimulationResult, SolverStatistics,
+    JacobianMethod, LinearSolverKind, Observer, OutputTimes, SimulationOptions, SimulationResult,
+    SolverStatistics,
 };
 pub use error::{AssemblyError, EvaluationError, KinematicsError, ModelError, SimulationError};
 pub use force::{ElementId, ForceElement, ForcePartials, Gravity};
@@ -158,5 +163,6 @@ pub use model::{
     Anchor, Body, BodyId, Coordinate, DriveTarget, Driver, DriverId, Joint, JointId, Model,
     RotationLock,
 };
+pub use sparse_iteration::SparseSecondOrderLu;
 pub use system::{Baumgarte, Evaluator, PartialEntry, PartialsCheck, State, System};
 pub use trajectory::Trajectory;

@@ -124,15 +124,24 @@ impl DenseLu {
 
 /// Cholesky factors `S = L Lᵀ` of a symmetric positive (semi)definite matrix, kept in
 /// preallocated storage (the lower triangle of `factors`, column-major).
+///
+/// The solves skip the zeros below each column's last nonzero (its envelope): the Schur
+/// complement of a mechanism cut into parts by force elements is block diagonal and so is `L`,
+/// which makes a solve linear instead of quadratic in the number of constraints, the dominant
+/// cost of a long mechanism's Jacobian (docs/performance.md, scaling). Only zero terms are
+/// skipped, so results are unchanged.
 #[derive(Debug, Clone)]
 pub(crate) struct DenseCholesky {
     factors: DMatrix<f64>,
+    /// Per column `c`, one past the last row with a nonzero `L[r, c]` (at least `c + 1`).
+    envelope: Vec<usize>,
 }
 
 impl DenseCholesky {
     pub fn new(size: usize) -> Self {
         Self {
             factors: DMatrix::zeros(size, size),
+            envelope: (1..=size).collect(),
         }
     }
 
@@ -175,6 +184,12 @@ impl DenseCholesky {
             for value in &mut column_k[k + 1..] {
                 *value *= inverse;
             }
+            self.envelope[k] = k
+                + 1
+                + column_k[k + 1..]
+                    .iter()
+                    .rposition(|v| *v != 0.0)
+                    .map_or(0, |r| r + 1);
         }
         Ok(())
     }
@@ -186,19 +201,21 @@ impl DenseCholesky {
         let b = &mut b[..size];
         // L y = b (column oriented).
         for c in 0..size {
-            let column = &a[c * size..(c + 1) * size];
+            let end = self.envelope[c];
+            let column = &a[c * size..c * size + end];
             b[c] /= column[c];
             let value = b[c];
             if value != 0.0 {
-                for (target, l) in b[c + 1..].iter_mut().zip(&column[c + 1..]) {
+                for (target, l) in b[c + 1..end].iter_mut().zip(&column[c + 1..]) {
                     *target -= l * value;
                 }
             }
         }
         // Lᵀ x = y (row k of Lᵀ is column k of L).
         for c in (0..size).rev() {
-            let column = &a[c * size..(c + 1) * size];
-            let dot: f64 = b[c + 1..]
+            let end = self.envelope[c];
+            let column = &a[c * size..c * size + end];
+            let dot: f64 = b[c + 1..end]
                 .iter()
                 .zip(&column[c + 1..])
                 .map(|(x, l)| x * l)
