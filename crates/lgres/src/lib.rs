@@ -30,6 +30,7 @@ pub mod build;
 pub mod clearance;
 pub mod limits;
 pub mod output;
+pub mod overrides;
 pub mod plot;
 pub mod precision;
 pub mod report;

@@ -764,6 +764,17 @@ pub enum SceneError {
         /// Every problem found, in file order.
         issues: Vec<Issue>,
     },
+    /// A scene given as a table (see [`from_table`]) has a value of the wrong type or a missing
+    /// or unknown key; `path` is the field.
+    #[error("in scene {origin}: {path}: {source}")]
+    Field {
+        /// Scene name.
+        origin: String,
+        /// Field path, e.g. `clearance_joints[0].clearance`.
+        path: String,
+        /// Cause (boxed: keeps the error type small).
+        source: Box<toml::de::Error>,
+    },
     /// No built-in scene of that name.
     #[error("no built-in scene named {name:?} (known: {known})")]
     UnknownBuiltin {
@@ -1479,4 +1490,31 @@ fn all_named(items: &[toml::Value]) -> bool {
         v.as_table()
             .is_some_and(|t| t.get("name").is_some_and(|n| n.is_str()))
     })
+}
+
+/// Scene text with its `extends` chain merged in, as a TOML table, neither deserialized nor
+/// validated: the form sweeps and the Python bindings edit before [`from_table`]. `dir` is the
+/// folder file `extends` are relative to (`None`: built-in scenes only).
+pub fn merged_table(
+    text: &str,
+    origin: &str,
+    dir: Option<&Path>,
+) -> Result<toml::Table, SceneError> {
+    let table: toml::Table = toml::from_str(text).map_err(toml_err(origin))?;
+    resolve_extends(table, origin, dir, 0)
+}
+
+/// Deserialize and validate a scene table (e.g. from [`merged_table`], edited); a type error
+/// or unknown key names its field path.
+pub fn from_table(table: toml::Table, origin: &str) -> Result<Scene, SceneError> {
+    let scene: Scene =
+        serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+            SceneError::Field {
+                origin: origin.to_string(),
+                path: e.path().to_string(),
+                source: Box::new(e.into_inner()),
+            }
+        })?;
+    scene.validate(origin)?;
+    Ok(scene)
 }
