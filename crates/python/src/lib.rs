@@ -6,6 +6,16 @@
 //! command line's bit for bit; runs release the GIL. Bad input raises `SceneError` (a
 //! `ValueError`) naming the field, a failed run `RunError`, a bad sweep file `SweepError` (a
 //! `ValueError`); an internal panic is caught and raised as `RunError`, never a crash.
+//!
+//! Built by `pip install ./crates/python` (maturin); used through the package:
+//!
+//! ```python
+//! import wornjoint
+//! scene = wornjoint.load("lgres")
+//! scene["clearance_joints"][0]["clearance"] = 3e-4
+//! r = wornjoint.run(scene, cycles=1, stages=0)
+//! print(r.summary["response"]["dissipated_per_cycle_j"], r.contact["A_Fn"].max())
+//! ```
 
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
