@@ -7,6 +7,7 @@
 
 mod progress;
 mod study;
+mod sweep;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -15,7 +16,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use lgres::io::output::OutputError;
 use lgres::scene;
 use lgres::scenes;
-use lgres::{RunError, RunOptions, RunOutcome, Scene, SceneError};
+use lgres::{RunError, RunOutcome, Scene, SceneError};
 
 #[derive(Parser)]
 #[command(
@@ -70,8 +71,20 @@ struct Overrides {
     surfaces: Option<PathBuf>,
 }
 
-/// K used by `run` when `--cycles-per-stage` is not given: quick, see [`Overrides`].
-const QUICK_CYCLES_PER_STAGE: u32 = 1;
+impl Overrides {
+    /// The run-setting overrides, as every front end applies them.
+    fn run_overrides(&self) -> lgres::overrides::RunOverrides {
+        lgres::overrides::RunOverrides {
+            cycles: self.cycles,
+            stages: self.stages,
+            rtol: self.rtol,
+            max_steps: self.max_steps,
+            max_wall_time: self.max_wall_time,
+            cycles_per_stage: self.cycles_per_stage,
+            surfaces: self.surfaces.clone(),
+        }
+    }
+}
 
 #[derive(Subcommand)]
 enum Command {
@@ -83,6 +96,16 @@ enum Command {
     Check { scene: String },
     /// List the built-in scenes and studies.
     Scenes,
+    /// Run a sweep file: scene fields over a grid or random distributions, one CSV row per
+    /// sample (inputs, metrics, status, wall time) and figures (default folder
+    /// out/sweep/<file stem>).
+    Sweep {
+        /// The sweep file (TOML).
+        file: PathBuf,
+        /// Keep the rows already in samples.csv and run only the missing samples.
+        #[arg(long)]
+        resume: bool,
+    },
     /// Stress battery: the default scene under stiff and extreme overrides (short runs).
     Stress {
         /// Leave out the 1000-cycle case.
@@ -165,6 +188,9 @@ enum CliError {
     /// A study failed or was given bad settings.
     #[error(transparent)]
     Study(#[from] lgres::analysis::study::StudyError),
+    /// A sweep could not be set up or written (a failed sample is a row, not an error).
+    #[error(transparent)]
+    Sweep(#[from] ::sweep::SweepError),
     /// A work–precision sweep could not run.
     #[error(transparent)]
     Precision(#[from] lgres::analysis::precision::PrecisionError),
@@ -181,7 +207,9 @@ impl CliError {
                 | lgres::analysis::precision::PrecisionError::Scene(_)
                 | lgres::analysis::precision::PrecisionError::Unsuitable(_),
             ) => 2,
+            CliError::Sweep(e) if e.is_bad_input() => 2,
             CliError::Run(_)
+            | CliError::Sweep(_)
             | CliError::Output(_)
             | CliError::Study(_)
             | CliError::Precision(_) => 1,
@@ -208,22 +236,7 @@ fn load(spec: &str, o: &Overrides) -> Result<Loaded, CliError> {
     } else {
         return Err(CliError::NoSuchScene(spec.to_string()));
     };
-    if let Some(c) = o.cycles {
-        scene.run.cycles = c;
-    }
-    if let Some(s) = o.stages {
-        scene.run.wear_stages = s;
-    }
-    if let Some(r) = o.rtol {
-        scene.solver.rtol = r;
-    }
-    if let Some(n) = o.max_steps {
-        scene.solver.max_steps = Some(n);
-    }
-    if let Some(t) = o.max_wall_time {
-        scene.solver.max_wall_time = Some(t);
-    }
-    scene.validate(&format!("{spec} with command-line overrides"))?;
+    o.run_overrides().apply(&mut scene, spec)?;
     Ok(Loaded { name, scene })
 }
 
@@ -315,11 +328,7 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
 fn run(spec: &str, o: &Overrides) -> Result<(), CliError> {
     let Loaded { name, scene } = load(spec, o)?;
     let out = out_dir(o, &name);
-    let options = RunOptions {
-        cycles_per_stage: Some(o.cycles_per_stage.unwrap_or(QUICK_CYCLES_PER_STAGE)),
-        surfaces: o.surfaces.clone(),
-        ..RunOptions::default()
-    };
+    let options = o.run_overrides().run_options();
     // Lock the folder before simulating, so a second run is refused at once; files go to a
     // staging folder that replaces `out` whole only when every file is written.
     let staged = lgres::io::output::StagedDir::begin(&out)?;
@@ -598,6 +607,7 @@ fn main() -> ExitCode {
             Ok(())
         }
         Command::Stress { quick } => stress(*quick, o),
+        Command::Sweep { file, resume } => sweep::run(file, *resume, o).map_err(CliError::from),
         Command::Precision {
             scene,
             methods,

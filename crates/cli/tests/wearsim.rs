@@ -319,3 +319,57 @@ fn check_fails_like_run_on_a_mechanism_missing_a_clearance_joint() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn sweep_writes_rows_and_names_bad_fields() {
+    let dir = std::env::temp_dir().join(format!("wearsim-sweep-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("grid.toml");
+    let text = r#"
+scene = "slider-crank"
+metrics = ["response.joints.rod-slider.max_penetration_m"]
+[run]
+cycles = 1
+[[vary]]
+path = "clearance_joints.rod-slider.clearance"
+values = [5e-4, -1e-4]
+"#;
+    std::fs::write(&file, text).unwrap();
+    let out = dir.join("out");
+    let o = wearsim(&[
+        "sweep",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let rows = std::fs::read_to_string(out.join("samples.csv")).unwrap();
+    let lines: Vec<&str> = rows.lines().collect();
+    assert_eq!(lines.len(), 3, "{rows}");
+    assert!(
+        lines[1].starts_with("0,5e-4,") && lines[1].contains(",ok,"),
+        "{rows}"
+    );
+    assert!(lines[2].contains(",failed,") && lines[2].contains("clearance_joints[0].clearance"));
+    std::fs::write(
+        &file,
+        text.replace(
+            "values = [5e-4, -1e-4]",
+            "distribution = \"normal\"\nmean = 5e-4",
+        ),
+    )
+    .unwrap();
+    let o = wearsim(&[
+        "sweep",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("vary[0].sd"), "{}", stderr(&o));
+    let o = wearsim(&["sweep", file.to_str().unwrap(), "--cycles", "2"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--cycles"), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -42,6 +42,7 @@ pub mod analysis;
 pub mod build;
 pub mod family;
 pub mod io;
+pub mod overrides;
 pub mod run;
 pub mod scene;
 pub mod scenes;

@@ -70,6 +70,17 @@ pub enum SceneError {
         /// Every problem found, in file order.
         issues: Vec<Issue>,
     },
+    /// A scene given as a table (see [`super::from_table`]) has a value of the wrong type or
+    /// a missing or unknown key; `path` is the field.
+    #[error("in scene {origin}: {path}: {source}")]
+    Field {
+        /// Scene name.
+        origin: String,
+        /// Field path, e.g. `clearance_joints[0].clearance`.
+        path: String,
+        /// Cause (boxed: keeps the error type small).
+        source: Box<toml::de::Error>,
+    },
     /// No built-in scene of that name.
     #[error("no built-in scene named {name:?} (known: {known})")]
     UnknownBuiltin {

@@ -242,3 +242,30 @@ fn all_named(items: &[toml::Value]) -> bool {
             .is_some_and(|t| t.get("name").is_some_and(|n| n.is_str()))
     })
 }
+
+/// Scene text with its `extends` chain merged in, as a TOML table, neither deserialized nor
+/// validated: the form sweeps and the Python bindings edit before [`from_table`]. `dir` is the
+/// folder file `extends` are relative to (`None`: built-in scenes only).
+pub fn merged_table(
+    text: &str,
+    origin: &str,
+    dir: Option<&Path>,
+) -> Result<toml::Table, SceneError> {
+    let table: toml::Table = toml::from_str(text).map_err(toml_err(origin))?;
+    resolve_extends(table, origin, dir, 0)
+}
+
+/// Deserialize and validate a scene table (e.g. from [`merged_table`], edited); a type error
+/// or unknown key names its field path.
+pub fn from_table(table: toml::Table, origin: &str) -> Result<Scene, SceneError> {
+    let scene: Scene =
+        serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+            SceneError::Field {
+                origin: origin.to_string(),
+                path: e.path().to_string(),
+                source: Box::new(e.into_inner()),
+            }
+        })?;
+    scene.validate(origin)?;
+    Ok(scene)
+}

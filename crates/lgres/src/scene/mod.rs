@@ -33,7 +33,7 @@ mod types;
 mod validate;
 
 pub use error::{Issue, SceneError};
-pub use extends::{load_path, load_str};
+pub use extends::{from_table, load_path, load_str, merged_table};
 pub use types::*;
 pub(crate) use validate::Validator;
 

@@ -1,0 +1,83 @@
+//! `wearsim sweep FILE`: runs a sweep file through [`sweep::run_local`] with a progress bar;
+//! rows go to `<out>/samples.csv` as they finish, the figures at the end.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use sweep::{LocalOptions, Status, Sweep, SweepError};
+
+use crate::Overrides;
+
+/// Runs the sweep in `file`; `resume` keeps the rows already written.
+pub fn run(file: &Path, resume: bool, o: &Overrides) -> Result<(), SweepError> {
+    let given = [
+        ("--cycles", o.cycles.is_some()),
+        ("--stages", o.stages.is_some()),
+        ("--rtol", o.rtol.is_some()),
+        ("--cycles-per-stage", o.cycles_per_stage.is_some()),
+        ("--max-steps", o.max_steps.is_some()),
+        ("--max-wall-time", o.max_wall_time.is_some()),
+        ("--surfaces", o.surfaces.is_some()),
+    ];
+    if let Some((flag, _)) = given.iter().find(|(_, g)| *g) {
+        return Err(SweepError::Field {
+            field: (*flag).to_string(),
+            value: "given".into(),
+            reason: "does not apply to a sweep: set it in the sweep file's [run] table".into(),
+        });
+    }
+    let sweep = Sweep::from_path(file)?;
+    let out = o
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out/sweep").join(&sweep.name));
+    let mut options = LocalOptions {
+        resume,
+        ..LocalOptions::default()
+    };
+    if let Some(j) = o.jobs {
+        options.jobs = j.get();
+    }
+    let (todo, _) = sweep::pending(&sweep, &out, resume)?;
+    println!(
+        "sweep {}: {} samples of scene {} ({} to run, {} thread(s)), {} metric(s)",
+        sweep.name,
+        sweep.samples(),
+        sweep.scene_name,
+        todo.len(),
+        options.jobs,
+        sweep.metrics.len()
+    );
+    let bar = ProgressBar::with_draw_target(
+        Some((sweep.samples() - todo.len()) as u64),
+        if std::io::stdout().is_terminal() {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        },
+    );
+    bar.set_length(sweep.samples() as u64);
+    bar.set_position((sweep.samples() - todo.len()) as u64);
+    if let Ok(style) = ProgressStyle::with_template("{bar:40} {pos}/{len} samples, {elapsed} {msg}")
+    {
+        bar.set_style(style);
+    }
+    let started = std::time::Instant::now();
+    let rows = sweep::run_local(&sweep, &out, &options, None, &mut |row, _, _| {
+        bar.inc(1);
+        if row.status == Status::Failed {
+            bar.println(format!("sample {} failed: {}", row.sample, row.error));
+        }
+    })?;
+    bar.finish_and_clear();
+    let failed = rows.iter().filter(|r| r.status == Status::Failed).count();
+    println!(
+        "{} rows ({} ok, {failed} failed) in {} in {:.1} s",
+        rows.len(),
+        rows.len() - failed,
+        sweep::rows_path(&out).display(),
+        started.elapsed().as_secs_f64()
+    );
+    Ok(())
+}

@@ -1,0 +1,72 @@
+//! Run settings given outside the scene file (the command line's `--cycles`, `--stages`, …,
+//! or the Python bindings' keyword arguments), applied the same way by every front end.
+//!
+//! ```
+//! use lgres::overrides::RunOverrides;
+//!
+//! let mut scene = lgres::scenes::builtin("lgres")?;
+//! let o = RunOverrides { cycles: Some(1), stages: Some(0), ..Default::default() };
+//! o.apply(&mut scene, "lgres")?;
+//! assert_eq!((scene.run.cycles, scene.run.wear_stages), (1, 0));
+//! assert_eq!(o.run_options().cycles_per_stage, Some(lgres::overrides::QUICK_CYCLES_PER_STAGE));
+//! # Ok::<(), lgres::scene::SceneError>(())
+//! ```
+
+use std::path::PathBuf;
+
+use crate::run::RunOptions;
+use crate::scene::{Scene, SceneError};
+
+/// Simulated cycles per wear stage `K` when none is given: quick (the amplification is
+/// rescaled so a stage still stands for as many cycles, see [`RunOptions::cycles_per_stage`]).
+pub const QUICK_CYCLES_PER_STAGE: u32 = 1;
+
+/// Overrides of a scene's run settings; `None` keeps the scene's value.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunOverrides {
+    /// Drive cycles of the response run (`run.cycles`).
+    pub cycles: Option<u32>,
+    /// Wear stages (`run.wear_stages`).
+    pub stages: Option<u32>,
+    /// Relative tolerance (`solver.rtol`).
+    pub rtol: Option<f64>,
+    /// Accepted-step budget of each simulation (`solver.max_steps`).
+    pub max_steps: Option<usize>,
+    /// Wall-time budget of each simulation, s (`solver.max_wall_time`).
+    pub max_wall_time: Option<f64>,
+    /// Simulated cycles per wear stage (default [`QUICK_CYCLES_PER_STAGE`]).
+    pub cycles_per_stage: Option<u32>,
+    /// Folder of an earlier run's worn surfaces to start from.
+    pub surfaces: Option<PathBuf>,
+}
+
+impl RunOverrides {
+    /// Set the overridden fields of `scene` and validate it again (`origin` names the scene).
+    pub fn apply(&self, scene: &mut Scene, origin: &str) -> Result<(), SceneError> {
+        if let Some(c) = self.cycles {
+            scene.run.cycles = c;
+        }
+        if let Some(s) = self.stages {
+            scene.run.wear_stages = s;
+        }
+        if let Some(r) = self.rtol {
+            scene.solver.rtol = r;
+        }
+        if let Some(n) = self.max_steps {
+            scene.solver.max_steps = Some(n);
+        }
+        if let Some(t) = self.max_wall_time {
+            scene.solver.max_wall_time = Some(t);
+        }
+        scene.validate(&format!("{origin} with command-line overrides"))
+    }
+
+    /// The options of [`crate::run::run_scene`]: `K` defaults to [`QUICK_CYCLES_PER_STAGE`].
+    pub fn run_options(&self) -> RunOptions {
+        RunOptions {
+            cycles_per_stage: Some(self.cycles_per_stage.unwrap_or(QUICK_CYCLES_PER_STAGE)),
+            surfaces: self.surfaces.clone(),
+            ..RunOptions::default()
+        }
+    }
+}

@@ -1,0 +1,679 @@
+//! Parameter sweeps of scenes: vary scene fields over a grid or random distributions, run each
+//! sample like `wearsim run`, and keep one row per sample (inputs, chosen `summary.json`
+//! numbers, status, wall time).
+//!
+//! A sweep file (TOML) names a base scene, the fields to vary as dotted paths into the scene
+//! (arrays of tables addressed by `name`: `clearance_joints.A.clearance`,
+//! `drivers.drive.law.rpm`), and the metrics as paths into `summary.json`:
+//!
+//! ```toml
+//! scene = "lgres"            # a built-in scene, or a file relative to the sweep file
+//! samples = 16               # random sweeps: the sample count and the seed
+//! seed = 7
+//! metrics = ["wear.joints.A.bearing_peak_depth_m", "wear.joints.B.bearing_peak_depth_m"]
+//!
+//! [run]                      # as wearsim run's flags: cycles, stages, rtol, cycles_per_stage, …
+//! cycles = 1
+//! stages = 1
+//!
+//! [[vary]]
+//! path = ["clearance_joints.A.clearance", "clearance_joints.B.clearance"]  # one value, both
+//! name = "clearance"
+//! distribution = "uniform"   # low, high | normal: mean, sd | log-normal: median, sigma (of ln)
+//! low = 2e-4
+//! high = 5e-4
+//! ```
+//!
+//! A grid gives every input `values = [...]` and runs every combination (the last input
+//! varies fastest). A random sample's values depend on the seed and the sample's index only
+//! (a ChaCha stream per sample), so any engine, thread or worker count gives the same rows.
+//! [`Sweep::run_sample`] runs one sample (what a Dask task calls); [`run_local`] runs all on
+//! local threads and writes `samples.csv` after every finished sample (atomically), so an
+//! interrupted sweep resumes ([`LocalOptions::resume`]) where it stopped; [`write_outputs`]
+//! writes the rows of any engine the one same way, with the figures.
+//!
+//! ```
+//! let text = r#"
+//!     scene = "slider-crank"
+//!     metrics = ["response.joints.rod-slider.max_penetration_m"]
+//!     [run]
+//!     cycles = 1
+//!     [[vary]]
+//!     path = "clearance_joints.rod-slider.clearance"
+//!     values = [4e-4, 5e-4]
+//! "#;
+//! let sweep = sweep::Sweep::from_str(text, "doc")?;
+//! assert_eq!(sweep.samples(), 2);
+//! assert_eq!(sweep.input_values(1), vec![5e-4]);
+//! # Ok::<(), sweep::SweepError>(())
+//! ```
+
+pub mod figures;
+pub mod path;
+mod spec;
+pub mod table;
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use lgres::io::output::OutputError;
+use lgres::overrides::RunOverrides;
+use lgres::run::RunError;
+use lgres::scene::SceneError;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha20Rng;
+use serde::{Deserialize, Serialize};
+
+pub use spec::MAX_SAMPLES;
+pub use table::{Row, Status};
+
+/// Why a sweep could not be set up or its outputs written (a failed sample is a [`Row`]).
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError {
+    /// The sweep file could not be read.
+    #[error("cannot read sweep file {path}: {source}")]
+    Io {
+        /// File path.
+        path: PathBuf,
+        /// Cause.
+        source: std::io::Error,
+    },
+    /// TOML syntax error.
+    #[error("in sweep {origin}: {source}")]
+    Toml {
+        /// File path.
+        origin: String,
+        /// Cause.
+        source: Box<toml::de::Error>,
+    },
+    /// A value of the wrong type or an unknown key.
+    #[error("in sweep {origin}: {field}: {source}")]
+    Type {
+        /// File path.
+        origin: String,
+        /// Field path, e.g. `vary[0].low`.
+        field: String,
+        /// Cause.
+        source: Box<toml::de::Error>,
+    },
+    /// A value is not acceptable.
+    #[error("in sweep file: {field} = {value}: {reason}")]
+    Field {
+        /// Field path, e.g. `vary[1].sigma`.
+        field: String,
+        /// The value as given.
+        value: String,
+        /// Why it is rejected.
+        reason: String,
+    },
+    /// The base scene could not be loaded.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// An output could not be written.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// `--resume` found a file it cannot continue.
+    #[error("cannot resume from {path}: {reason}")]
+    Resume {
+        /// The rows file.
+        path: PathBuf,
+        /// Why.
+        reason: String,
+    },
+    /// A plan or row passed between processes is not what [`Sweep::plan`] or [`Row`] wrote.
+    #[error("malformed sweep plan or row: {0}")]
+    Json(#[from] serde_json::Error),
+    /// A sample index beyond the sweep.
+    #[error("sample {index} does not exist: the sweep has {samples} samples")]
+    NoSuchSample {
+        /// Requested index.
+        index: usize,
+        /// Samples in the sweep.
+        samples: usize,
+    },
+}
+
+impl SweepError {
+    /// Whether the sweep file is at fault (exit code 2) rather than the machine (1).
+    pub fn is_bad_input(&self) -> bool {
+        !matches!(self, SweepError::Output(_) | SweepError::Io { .. })
+    }
+}
+
+/// Why one sample failed; its message goes into the row's `error` cell.
+#[derive(Debug, thiserror::Error)]
+pub enum SampleError {
+    /// A varied path could not be set.
+    #[error("{path}: {reason}")]
+    Edit {
+        /// The field path.
+        path: String,
+        /// Why.
+        reason: String,
+    },
+    /// The edited scene is invalid (field named).
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// The run failed.
+    #[error(transparent)]
+    Run(#[from] RunError),
+    /// A metric is not in the summary.
+    #[error("metric {path}: {reason}")]
+    Metric {
+        /// The metric path.
+        path: String,
+        /// Why.
+        reason: String,
+    },
+    /// The summary could not be turned into JSON.
+    #[error("summary: {0}")]
+    Json(#[from] serde_json::Error),
+}
+
+/// How an input's values are chosen.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Sampler {
+    /// Grid values.
+    Grid(Vec<f64>),
+    /// Uniform on `[low, high)`.
+    Uniform {
+        /// Lower bound.
+        low: f64,
+        /// Upper bound.
+        high: f64,
+    },
+    /// Normal.
+    Normal {
+        /// Mean.
+        mean: f64,
+        /// Standard deviation.
+        sd: f64,
+    },
+    /// Log-normal: `median · exp(sigma · z)`, `z` standard normal.
+    LogNormal {
+        /// Median (`exp μ`).
+        median: f64,
+        /// Standard deviation of `ln x`.
+        sigma: f64,
+    },
+}
+
+impl Sampler {
+    /// A value typical of the input: for checking that its paths exist.
+    fn typical(&self) -> f64 {
+        match self {
+            Sampler::Grid(v) => v.first().copied().unwrap_or(0.0),
+            Sampler::Uniform { low, high } => 0.5 * (low + high),
+            Sampler::Normal { mean, .. } => *mean,
+            Sampler::LogNormal { median, .. } => *median,
+        }
+    }
+
+    /// Draw a value from `rng` (one standard normal from two uniforms: Box–Muller).
+    fn draw(&self, rng: &mut ChaCha20Rng) -> f64 {
+        let mut normal = || {
+            let u1 = 1.0 - rng.random::<f64>(); // (0, 1]: ln is finite
+            let u2 = rng.random::<f64>();
+            (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+        };
+        match self {
+            Sampler::Grid(v) => v.first().copied().unwrap_or(0.0),
+            Sampler::Uniform { low, high } => low + (high - low) * rng.random::<f64>(),
+            Sampler::Normal { mean, sd } => mean + sd * normal(),
+            Sampler::LogNormal { median, sigma } => median * (sigma * normal()).exp(),
+        }
+    }
+}
+
+/// One varied input: a column of the rows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Input {
+    /// Column name (`name`, else the paths joined by `+`).
+    pub name: String,
+    /// Scene field paths set to the value.
+    pub paths: Vec<String>,
+    /// How values are chosen.
+    pub sampler: Sampler,
+}
+
+/// Grid or random.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Mode {
+    /// Every combination of the inputs' values.
+    Grid {
+        /// Product of the value counts.
+        samples: usize,
+    },
+    /// Independent draws.
+    Random {
+        /// Sample count.
+        samples: usize,
+        /// Seed.
+        seed: u64,
+    },
+}
+
+/// What a sweep's tasks need, with nothing read from disk: the file's text and the base scene
+/// as a merged table in TOML, so a worker on another machine rebuilds the same [`Sweep`].
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct Plan {
+    name: String,
+    text: String,
+    scene_name: String,
+    base: String,
+}
+
+/// A validated sweep.
+#[derive(Debug, Clone)]
+pub struct Sweep {
+    /// Name (the file's stem): the default output folder `out/sweep/<name>`.
+    pub name: String,
+    /// Name the runs are filed under (the base scene's).
+    pub scene_name: String,
+    /// Varied inputs, in file order.
+    pub inputs: Vec<Input>,
+    /// Metric paths into `summary.json`.
+    pub metrics: Vec<String>,
+    /// Grid or random.
+    pub mode: Mode,
+    /// Run settings applied to every sample.
+    pub overrides: RunOverrides,
+    base: toml::Table,
+    text: String,
+}
+
+/// Top-level keys of `summary.json`: a metric must start with one.
+const SUMMARY_KEYS: [&str; 9] = [
+    "scene",
+    "description",
+    "response_body",
+    "period_s",
+    "transient_window_s",
+    "reference",
+    "response",
+    "wear",
+    "worn_response",
+];
+
+impl Sweep {
+    /// Read and validate a sweep file; its base scene may be a file relative to it.
+    pub fn from_path(path: &Path) -> Result<Sweep, SweepError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SweepError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let name = path
+            .file_stem()
+            .map_or_else(|| "sweep".to_string(), |s| s.to_string_lossy().into_owned());
+        let file = spec::parse(&text, &path.display().to_string())?;
+        let (scene_name, base) = spec::base_scene(&file.scene, path.parent())?;
+        Self::build(name, text, file, scene_name, base)
+    }
+
+    /// Parse and validate sweep text; its base scene must be built in.
+    pub fn from_str(text: &str, name: &str) -> Result<Sweep, SweepError> {
+        let file = spec::parse(text, name)?;
+        let (scene_name, base) = spec::base_scene(&file.scene, None)?;
+        Self::build(name.to_string(), text.to_string(), file, scene_name, base)
+    }
+
+    /// Rebuild a sweep from [`Sweep::plan`]'s text (on a worker: reads no file).
+    pub fn from_plan(plan: &str) -> Result<Sweep, SweepError> {
+        let plan: Plan = serde_json::from_str(plan)?;
+        let file = spec::parse(&plan.text, &plan.name)?;
+        let base: toml::Table = toml::from_str(&plan.base).map_err(|source| SweepError::Toml {
+            origin: format!("{} (plan's base scene)", plan.name),
+            source: Box::new(source),
+        })?;
+        Self::build(plan.name, plan.text, file, plan.scene_name, base)
+    }
+
+    /// Everything a task needs to rebuild this sweep, as text (see [`Sweep::from_plan`]).
+    pub fn plan(&self) -> String {
+        let plan = Plan {
+            name: self.name.clone(),
+            text: self.text.clone(),
+            scene_name: self.scene_name.clone(),
+            // A table of strings, numbers, booleans, arrays and tables always serializes.
+            base: toml::to_string(&self.base).unwrap_or_default(),
+        };
+        serde_json::to_string(&plan).unwrap_or_default()
+    }
+
+    fn build(
+        name: String,
+        text: String,
+        file: spec::File,
+        scene_name: String,
+        base: toml::Table,
+    ) -> Result<Sweep, SweepError> {
+        let overrides = file.run.overrides()?;
+        let inputs = file
+            .vary
+            .iter()
+            .enumerate()
+            .map(|(k, v)| v.input(k))
+            .collect::<Result<Vec<_>, _>>()?;
+        let mode = spec::mode(&file, &inputs)?;
+        if file.metrics.is_empty() {
+            return Err(SweepError::Field {
+                field: "metrics".into(),
+                value: "[]".into(),
+                reason: "give at least one summary.json path".into(),
+            });
+        }
+        for (k, m) in file.metrics.iter().enumerate() {
+            let first = path::segments(m).and_then(|s| s.into_iter().next());
+            if !first.is_some_and(|f| SUMMARY_KEYS.contains(&f.as_str())) {
+                return Err(SweepError::Field {
+                    field: format!("metrics[{k}]"),
+                    value: format!("{m:?}"),
+                    reason: format!(
+                        "not a summary.json path (it starts with one of {})",
+                        SUMMARY_KEYS.join(", ")
+                    ),
+                });
+            }
+        }
+        let mut names: Vec<&str> = inputs.iter().map(|i| i.name.as_str()).collect();
+        names.extend(file.metrics.iter().map(String::as_str));
+        names.extend(table::FIXED_COLUMNS);
+        for (k, n) in names.iter().enumerate() {
+            if names[..k].contains(n) {
+                return Err(SweepError::Field {
+                    field: "vary.name / metrics".into(),
+                    value: format!("{n:?}"),
+                    reason: "two columns of the same name".into(),
+                });
+            }
+        }
+        let sweep = Sweep {
+            name,
+            scene_name,
+            inputs,
+            metrics: file.metrics,
+            mode,
+            overrides,
+            base,
+            text,
+        };
+        // Every varied path must exist in the scene: set typical values and deserialize.
+        for (k, input) in sweep.inputs.iter().enumerate() {
+            let mut table = sweep.base.clone();
+            sweep
+                .edit(&mut table, input, input.sampler.typical())
+                .map_err(|e| SweepError::Field {
+                    field: format!("vary[{k}].path"),
+                    value: format!("{:?}", input.paths),
+                    reason: e.to_string(),
+                })?;
+            let checked: Result<lgres::scene::Scene, _> =
+                serde_path_to_error::deserialize(toml::Value::Table(table));
+            if let Err(e) = checked {
+                let at = e.path().to_string();
+                return Err(SweepError::Field {
+                    field: format!("vary[{k}].path"),
+                    value: format!("{:?}", input.paths),
+                    reason: format!("in the scene, {at}: {}", e.into_inner()),
+                });
+            }
+        }
+        Ok(sweep)
+    }
+
+    /// Number of samples.
+    pub fn samples(&self) -> usize {
+        match self.mode {
+            Mode::Grid { samples } | Mode::Random { samples, .. } => samples,
+        }
+    }
+
+    /// Input values of sample `index`, in input order; they depend on the file and `index`
+    /// only. A value written into an integer field is rounded (see [`Sweep::run_sample`]).
+    pub fn input_values(&self, index: usize) -> Vec<f64> {
+        let raw: Vec<f64> = match self.mode {
+            Mode::Grid { .. } => {
+                let mut rest = index;
+                let mut values = vec![0.0; self.inputs.len()];
+                for (slot, input) in values.iter_mut().zip(&self.inputs).rev() {
+                    if let Sampler::Grid(v) = &input.sampler {
+                        *slot = v[rest % v.len()];
+                        rest /= v.len();
+                    }
+                }
+                values
+            }
+            Mode::Random { seed, .. } => {
+                let mut rng = ChaCha20Rng::seed_from_u64(seed);
+                rng.set_stream(index as u64);
+                self.inputs
+                    .iter()
+                    .map(|i| i.sampler.draw(&mut rng))
+                    .collect()
+            }
+        };
+        raw.iter()
+            .zip(&self.inputs)
+            .map(|(v, input)| {
+                let integer = input
+                    .paths
+                    .first()
+                    .and_then(|p| path::get(&self.base, p))
+                    .is_some_and(toml::Value::is_integer);
+                if integer { v.round() } else { *v }
+            })
+            .collect()
+    }
+
+    fn edit(&self, table: &mut toml::Table, input: &Input, value: f64) -> Result<(), SampleError> {
+        for p in &input.paths {
+            let integer = path::get(&self.base, p).is_some_and(toml::Value::is_integer);
+            let v = if integer {
+                // Saturating: a value beyond i64 fails the scene's range checks, named.
+                toml::Value::Integer(value.round() as i64)
+            } else {
+                toml::Value::Float(value)
+            };
+            path::set(table, p, v).map_err(|reason| SampleError::Edit {
+                path: p.clone(),
+                reason,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// The scene of sample `index`, with the run settings applied and validated.
+    pub fn scene(&self, index: usize) -> Result<lgres::scene::Scene, SampleError> {
+        let mut table = self.base.clone();
+        for (input, v) in self.inputs.iter().zip(self.input_values(index)) {
+            self.edit(&mut table, input, v)?;
+        }
+        let origin = format!("{} sample {index}", self.name);
+        let mut scene = lgres::scene::from_table(table, &origin)?;
+        self.overrides.apply(&mut scene, &origin)?;
+        Ok(scene)
+    }
+
+    /// Run sample `index` (the whole of a Dask task): never panics, never fails; a sample
+    /// that cannot run is a row with status `failed` and the error.
+    pub fn run_sample(&self, index: usize) -> Row {
+        let started = Instant::now();
+        let inputs = self.input_values(index);
+        let result = catch_unwind(AssertUnwindSafe(|| self.metrics_of(index)));
+        let (metrics, status, error) = match result {
+            Ok(Ok(m)) => (m, Status::Ok, String::new()),
+            Ok(Err(e)) => (
+                vec![None; self.metrics.len()],
+                Status::Failed,
+                e.to_string(),
+            ),
+            Err(panic) => {
+                let what = panic
+                    .downcast_ref::<&str>()
+                    .map(ToString::to_string)
+                    .or_else(|| panic.downcast_ref::<String>().cloned())
+                    .unwrap_or_else(|| "unknown".into());
+                (
+                    vec![None; self.metrics.len()],
+                    Status::Failed,
+                    format!("internal error (panic): {what}"),
+                )
+            }
+        };
+        Row {
+            sample: index,
+            inputs,
+            metrics,
+            status,
+            error,
+            wall_time_s: started.elapsed().as_secs_f64(),
+        }
+    }
+
+    fn metrics_of(&self, index: usize) -> Result<Vec<Option<f64>>, SampleError> {
+        let scene = self.scene(index)?;
+        let outcome = lgres::run::run_scene(
+            &self.scene_name,
+            &scene,
+            &self.overrides.run_options(),
+            &mut (),
+        )?;
+        let summary = serde_json::to_value(&outcome.summary)?;
+        self.metrics
+            .iter()
+            .map(|m| {
+                path::number(&summary, m).map_err(|reason| SampleError::Metric {
+                    path: m.clone(),
+                    reason,
+                })
+            })
+            .collect()
+    }
+
+    /// Run sample `index`, checking it exists.
+    pub fn try_run_sample(&self, index: usize) -> Result<Row, SweepError> {
+        if index >= self.samples() {
+            return Err(SweepError::NoSuchSample {
+                index,
+                samples: self.samples(),
+            });
+        }
+        Ok(self.run_sample(index))
+    }
+}
+
+/// Settings of [`run_local`].
+#[derive(Debug, Clone)]
+pub struct LocalOptions {
+    /// Samples run at once, one thread each (results do not depend on it).
+    pub jobs: usize,
+    /// Keep the rows already in `samples.csv` and run only the missing samples.
+    pub resume: bool,
+}
+
+impl Default for LocalOptions {
+    fn default() -> Self {
+        LocalOptions {
+            jobs: std::thread::available_parallelism().map_or(1, usize::from),
+            resume: false,
+        }
+    }
+}
+
+/// The rows file in an output folder.
+pub fn rows_path(out: &Path) -> PathBuf {
+    out.join(table::ROWS_FILE)
+}
+
+/// Samples still to run: all, or with `resume` those without a row in `out`'s rows file
+/// (which must have this sweep's columns). Also returns the rows kept.
+pub fn pending(
+    sweep: &Sweep,
+    out: &Path,
+    resume: bool,
+) -> Result<(Vec<usize>, Vec<Row>), SweepError> {
+    let path = rows_path(out);
+    let kept = if resume && path.is_file() {
+        table::read_rows(sweep, &path)?
+    } else {
+        Vec::new()
+    };
+    let mut done = vec![false; sweep.samples()];
+    for r in &kept {
+        if let Some(d) = done.get_mut(r.sample) {
+            *d = true;
+        }
+    }
+    let todo = (0..sweep.samples()).filter(|k| !done[*k]).collect();
+    Ok((todo, kept))
+}
+
+/// Run every sample (or, resuming, the missing ones) on `options.jobs` threads. `samples.csv`
+/// in `out` is rewritten (atomically) as rows finish, at most once a second, and once at the
+/// end with the figures. `on_row` sees each row as it finishes, with the count done and the
+/// total. `stop` set by another thread ends the sweep after the samples under way.
+pub fn run_local(
+    sweep: &Sweep,
+    out: &Path,
+    options: &LocalOptions,
+    stop: Option<&AtomicBool>,
+    on_row: &mut dyn FnMut(&Row, usize, usize),
+) -> Result<Vec<Row>, SweepError> {
+    let (todo, mut rows) = pending(sweep, out, options.resume)?;
+    let total = sweep.samples();
+    let next = AtomicUsize::new(0);
+    let jobs = options.jobs.max(1).min(todo.len().max(1));
+    let mut written = Instant::now();
+    let mut write_error = None;
+    std::thread::scope(|scope| {
+        let (tx, rx) = mpsc::channel::<Row>();
+        for _ in 0..jobs {
+            let tx = tx.clone();
+            let (todo, next) = (&todo, &next);
+            scope.spawn(move || {
+                loop {
+                    if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+                        break;
+                    }
+                    let Some(&index) = todo.get(next.fetch_add(1, Ordering::Relaxed)) else {
+                        break;
+                    };
+                    if tx.send(sweep.run_sample(index)).is_err() {
+                        break;
+                    }
+                }
+            });
+        }
+        drop(tx);
+        for row in rx {
+            on_row(&row, rows.len() + 1, total);
+            rows.push(row);
+            if write_error.is_none() && written.elapsed() >= Duration::from_secs(1) {
+                written = Instant::now();
+                if let Err(e) = table::write_rows(sweep, &rows, &rows_path(out)) {
+                    write_error = Some(e);
+                }
+            }
+        }
+    });
+    if let Some(e) = write_error {
+        return Err(e.into());
+    }
+    rows.sort_by_key(|r| r.sample);
+    write_outputs(sweep, &rows, out)?;
+    Ok(rows)
+}
+
+/// Write the rows (of any engine) and the figures into `out`; returns the files written. The
+/// one writer of every engine, so the same rows give the same bytes.
+pub fn write_outputs(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, SweepError> {
+    let mut rows = rows.to_vec();
+    rows.sort_by_key(|r| r.sample);
+    rows.dedup_by_key(|r| r.sample);
+    let mut files = vec![table::write_rows(sweep, &rows, &rows_path(out))?];
+    files.extend(figures::draw(sweep, &rows, out)?);
+    Ok(files)
+}

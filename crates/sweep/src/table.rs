@@ -1,0 +1,185 @@
+//! The rows of a sweep and their CSV file: `sample`, one column per input, one per metric,
+//! `status`, `error`, `wall_time_s`. Numbers are written in the shorter of plain and
+//! scientific notation, both exact (they read back to the same bits); an empty cell is a
+//! metric the sample has no value for.
+
+use std::path::{Path, PathBuf};
+
+use lgres::io::output::{AtomicFile, OutputError};
+use serde::{Deserialize, Serialize};
+
+use crate::{Sweep, SweepError};
+
+/// The rows file's name in a sweep's output folder.
+pub const ROWS_FILE: &str = "samples.csv";
+
+/// Columns every rows file has besides the inputs and metrics.
+pub const FIXED_COLUMNS: [&str; 4] = ["sample", "status", "error", "wall_time_s"];
+
+/// Whether a sample ran.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Status {
+    /// Ran; the metrics are its summary's.
+    Ok,
+    /// Could not run; `error` says why.
+    Failed,
+}
+
+impl Status {
+    /// As written in the file.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Status::Ok => "ok",
+            Status::Failed => "failed",
+        }
+    }
+}
+
+/// One sample's result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Row {
+    /// Sample index.
+    pub sample: usize,
+    /// Input values, in input order.
+    pub inputs: Vec<f64>,
+    /// Metric values, in metric order (`None`: not a number in this sample's summary).
+    pub metrics: Vec<Option<f64>>,
+    /// Whether it ran.
+    pub status: Status,
+    /// Why it failed (empty when it ran).
+    pub error: String,
+    /// Wall time of the sample, s (the one cell that differs between engines).
+    pub wall_time_s: f64,
+}
+
+impl Row {
+    /// As JSON (how rows travel between processes; numbers come back bit-exact).
+    pub fn to_json(&self) -> String {
+        serde_json::to_string(self).unwrap_or_default()
+    }
+
+    /// From [`Row::to_json`].
+    pub fn from_json(text: &str) -> Result<Row, SweepError> {
+        Ok(serde_json::from_str(text)?)
+    }
+}
+
+/// A number in the shorter of `{}` and `{:e}` (both round-trip exactly).
+pub fn number(v: f64) -> String {
+    let (plain, sci) = (format!("{v}"), format!("{v:e}"));
+    if sci.len() < plain.len() { sci } else { plain }
+}
+
+/// The header of `sweep`'s rows file.
+pub fn header(sweep: &Sweep) -> Vec<String> {
+    let mut h = vec![FIXED_COLUMNS[0].to_string()];
+    h.extend(sweep.inputs.iter().map(|i| i.name.clone()));
+    h.extend(sweep.metrics.iter().cloned());
+    h.extend(FIXED_COLUMNS[1..].iter().map(ToString::to_string));
+    h
+}
+
+/// Write `rows` (in the order given) to `path`, atomically.
+pub fn write_rows(sweep: &Sweep, rows: &[Row], path: &Path) -> Result<PathBuf, OutputError> {
+    let csv_err = |source| OutputError::Csv {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut w = csv::Writer::from_writer(AtomicFile::create(path)?);
+    w.write_record(header(sweep)).map_err(csv_err)?;
+    for r in rows {
+        let mut cells = vec![r.sample.to_string()];
+        cells.extend(r.inputs.iter().map(|v| number(*v)));
+        cells.extend(r.metrics.iter().map(|m| m.map(number).unwrap_or_default()));
+        cells.push(r.status.as_str().to_string());
+        cells.push(r.error.clone());
+        cells.push(format!("{:.3}", r.wall_time_s));
+        w.write_record(&cells).map_err(csv_err)?;
+    }
+    let file = w.into_inner().map_err(|e| OutputError::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(e.to_string()),
+    })?;
+    file.commit()
+}
+
+/// Read the rows of `sweep` back from `path` (for `--resume`): the header must be this
+/// sweep's, and each row's inputs those of its sample (the same file and seed).
+pub fn read_rows(sweep: &Sweep, path: &Path) -> Result<Vec<Row>, SweepError> {
+    let fail = |reason: String| SweepError::Resume {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let mut r = csv::Reader::from_path(path).map_err(|e| fail(e.to_string()))?;
+    let found: Vec<String> = r
+        .headers()
+        .map_err(|e| fail(e.to_string()))?
+        .iter()
+        .map(ToString::to_string)
+        .collect();
+    let expected = header(sweep);
+    if found != expected {
+        return Err(fail(format!(
+            "its columns {found:?} are not this sweep's {expected:?} (another sweep's file?)"
+        )));
+    }
+    let (ni, nm) = (sweep.inputs.len(), sweep.metrics.len());
+    let mut rows = Vec::new();
+    for (line, record) in r.records().enumerate() {
+        let record = record.map_err(|e| fail(e.to_string()))?;
+        let at = |k: usize| record.get(k).unwrap_or_default();
+        let bad = |k: usize| {
+            fail(format!(
+                "row {}: column {:?}: {:?} is not a number",
+                line + 1,
+                expected[k],
+                at(k)
+            ))
+        };
+        let num = |k: usize| at(k).parse::<f64>().map_err(|_| bad(k));
+        let sample = at(0).parse::<usize>().map_err(|_| bad(0))?;
+        if sample >= sweep.samples() {
+            return Err(fail(format!(
+                "row {}: sample {sample} is beyond the sweep's {}",
+                line + 1,
+                sweep.samples()
+            )));
+        }
+        let inputs = (1..=ni).map(num).collect::<Result<Vec<_>, _>>()?;
+        if inputs != sweep.input_values(sample) {
+            return Err(fail(format!(
+                "row {}: sample {sample}'s inputs are not this sweep's (the file or seed changed?)",
+                line + 1
+            )));
+        }
+        let metrics = (ni + 1..=ni + nm)
+            .map(|k| {
+                if at(k).is_empty() {
+                    Ok(None)
+                } else {
+                    num(k).map(Some)
+                }
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        let status = match at(ni + nm + 1) {
+            "ok" => crate::Status::Ok,
+            "failed" => crate::Status::Failed,
+            other => {
+                return Err(fail(format!(
+                    "row {}: status {other:?} is neither ok nor failed",
+                    line + 1
+                )));
+            }
+        };
+        rows.push(Row {
+            sample,
+            inputs,
+            metrics,
+            status,
+            error: at(ni + nm + 2).to_string(),
+            wall_time_s: num(ni + nm + 3)?,
+        });
+    }
+    Ok(rows)
+}
