@@ -2,69 +2,17 @@
 //! each), and for random sweeps the histograms of inputs and metrics (`histograms.png`).
 //! Failed samples and missing metrics are left out of the panels.
 
-use std::error::Error;
-use std::ops::Range;
 use std::path::{Path, PathBuf};
-use std::sync::Once;
 
-use lgres::io::output::{OutputError, write_via_temp};
+use lgres::io::output::OutputError;
+use lgres::io::plot::{DrawResult, FONT, padded_range, render};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use plotters::style::{FontStyle, register_font};
 
 use crate::{Mode, Row, Status, Sweep};
 
-const FONT: &str = "sans-serif";
 const BLUE: RGBColor = RGBColor(0, 114, 178);
 const PANEL: (u32, u32) = (520, 400);
-
-type DrawResult = Result<(), Box<dyn Error>>;
-
-fn register_fonts() {
-    static ONCE: Once = Once::new();
-    ONCE.call_once(|| {
-        // Compiled-in fonts; a failure shows as a drawing error, handled there.
-        let _ = register_font(FONT, FontStyle::Normal, dejavu::sans::regular());
-        let _ = register_font(FONT, FontStyle::Bold, dejavu::sans::bold());
-    });
-}
-
-fn render(
-    path: &Path,
-    size: (u32, u32),
-    draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> DrawResult,
-) -> Result<(), OutputError> {
-    register_fonts();
-    write_via_temp(path, |tmp| {
-        let root = BitMapBackend::new(tmp, size).into_drawing_area();
-        root.fill(&WHITE)
-            .map_err(Box::<dyn Error>::from)
-            .and_then(|()| draw(&root))
-            .and_then(|()| root.present().map_err(Box::<dyn Error>::from))
-            .map_err(|e| OutputError::Plot {
-                path: path.to_path_buf(),
-                reason: e.to_string(),
-            })
-    })
-}
-
-/// Range of the finite values padded by 5 % (around a constant: ±50 % of it, or ±0.5).
-fn padded(values: impl Iterator<Item = f64>) -> Range<f64> {
-    let (lo, hi) = values
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-            (a.min(v), b.max(v))
-        });
-    if lo > hi {
-        return 0.0..1.0;
-    }
-    let pad = if hi > lo {
-        0.05 * (hi - lo)
-    } else {
-        0.5 * lo.abs().max(1e-300)
-    };
-    (lo - pad)..(hi + pad)
-}
 
 /// Grid of `n` panels: columns, rows.
 fn grid(n: usize, columns: usize) -> (usize, usize) {
@@ -107,8 +55,8 @@ pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, Out
                 .x_label_area_size(45)
                 .y_label_area_size(75)
                 .build_cartesian_2d(
-                    padded(points.iter().map(|p| p.0)),
-                    padded(points.iter().map(|p| p.1)),
+                    padded_range(points.iter().map(|p| p.0)),
+                    padded_range(points.iter().map(|p| p.1)),
                 )?;
             chart
                 .configure_mesh()

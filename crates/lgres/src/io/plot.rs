@@ -33,7 +33,8 @@ fn colour(k: usize) -> RGBColor {
     COLOURS[k % COLOURS.len()]
 }
 
-const FONT: &str = "sans-serif";
+/// The compiled-in font family every figure uses (registered by [`render`]).
+pub const FONT: &str = "sans-serif";
 
 fn register_fonts() {
     static ONCE: Once = Once::new();
@@ -69,10 +70,12 @@ pub struct Series<'a> {
     pub y: &'a [f64],
 }
 
-type DrawResult = Result<(), Box<dyn Error>>;
+/// What a drawing closure returns: plotters' errors, boxed.
+pub type DrawResult = Result<(), Box<dyn Error>>;
 
-/// Render with plotters into a temporary file next to `path`, then move it into place.
-fn render(
+/// Render with plotters into a temporary file next to `path`, then move it into place: a
+/// failed drawing leaves no half-written figure.
+pub fn render(
     path: &Path,
     size: (u32, u32),
     draw: impl FnOnce(&DrawingArea<BitMapBackend<'_>, Shift>) -> DrawResult,
@@ -91,8 +94,9 @@ fn render(
     })
 }
 
-/// Range of the finite values, padded by 5 % (a unit range around a constant, 0..1 if none).
-fn padded_range(values: impl Iterator<Item = f64>) -> Range<f64> {
+/// Range of the finite values, padded by 5 % (around a constant: ±50 % of it, or ±0.5 around
+/// 0; 0..1 if there is no finite value). Tiny constants (a wear depth) keep their scale.
+pub fn padded_range(values: impl Iterator<Item = f64>) -> Range<f64> {
     let (lo, hi) = values
         .filter(|v| v.is_finite())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
@@ -103,8 +107,10 @@ fn padded_range(values: impl Iterator<Item = f64>) -> Range<f64> {
     }
     let pad = if hi > lo {
         0.05 * (hi - lo)
+    } else if lo != 0.0 {
+        0.5 * lo.abs()
     } else {
-        0.5 * lo.abs().max(1.0)
+        0.5
     };
     (lo - pad)..(hi + pad)
 }
