@@ -64,6 +64,21 @@ impl Default for SecondOrderLu {
     }
 }
 
+/// `b`'s entries, checked to fit a `size × size` iteration matrix (both solvers' check).
+pub(crate) fn right_hand_side(
+    b: &mut NalgebraVec<f64>,
+    size: usize,
+) -> Result<&mut [f64], LaError> {
+    let data = b.inner_mut().as_mut_slice();
+    if data.len() != size {
+        return Err(LaError::Other(format!(
+            "right-hand side of length {} for a {size}×{size} iteration matrix",
+            data.len()
+        )));
+    }
+    Ok(data)
+}
+
 /// `(a, b)` when `matrix` (`2n × 2n`, column-major) is `[[a I, b I], [·, ·]]` exactly, with
 /// `a` finite and nonzero.
 pub(crate) fn block_identity_top(matrix: &DMatrix<f64>) -> Option<(f64, f64)> {
@@ -213,14 +228,7 @@ impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SecondOrderLu {
 
     fn solve_in_place(&self, b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
         let size = self.matrix.as_ref().map_or(0, |m| m.nrows());
-        let data = b.inner_mut().as_mut_slice();
-        if data.len() != size {
-            return Err(LaError::Other(format!(
-                "right-hand side of length {} for a {size}×{size} iteration matrix",
-                data.len()
-            )));
-        }
-        self.solve_slice(data)
+        self.solve_slice(right_hand_side(b, size)?)
     }
 
     fn solve_transpose_in_place(&self, _b: &mut NalgebraVec<f64>) -> Result<(), LaError> {

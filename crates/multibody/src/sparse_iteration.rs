@@ -12,14 +12,14 @@
 //! pattern; a matrix with a nonzero outside it widens the pattern (union) and is analysed again.
 //! diffsol hands over the dense matrix, so each factorization still scans `4n²` entries.
 
-use diffsol::{LaError, LaLinearOp, Matrix, MatrixCommon, NalgebraMat, NalgebraVec, Vector};
+use diffsol::{LaError, LaLinearOp, Matrix, MatrixCommon, NalgebraMat, NalgebraVec};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::lu::{LuRef, NumericLu, SymbolicLu, factorize_symbolic_lu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par};
 use nalgebra::DMatrix;
 
-use crate::iteration::block_identity_top;
+use crate::iteration::{block_identity_top, right_hand_side};
 use crate::linalg::DenseLu;
 
 /// A column-compressed sparsity pattern (rows sorted within each column).
@@ -337,14 +337,7 @@ impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SparseSecondOrderLu {
 
     fn solve_in_place(&self, b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
         let size = self.matrix.as_ref().map_or(0, |m| m.nrows());
-        let data = b.inner_mut().as_mut_slice();
-        if data.len() != size {
-            return Err(LaError::Other(format!(
-                "right-hand side of length {} for a {size}×{size} iteration matrix",
-                data.len()
-            )));
-        }
-        self.solve_slice(data)
+        self.solve_slice(right_hand_side(b, size)?)
     }
 
     fn solve_transpose_in_place(&self, _b: &mut NalgebraVec<f64>) -> Result<(), LaError> {

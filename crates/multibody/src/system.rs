@@ -783,11 +783,7 @@ impl<'s> Evaluator<'s> {
         check_len("ẏ", dy, 2 * n)?;
         let (q, qd) = y.split_at(n);
         let result = self.solve_accelerations(elements, t, q, qd);
-        dy[..n].copy_from_slice(qd);
-        match result {
-            Ok(()) => dy[n..].copy_from_slice(&self.solution[..n]),
-            Err(_) => dy[n..].fill(f64::NAN),
-        }
+        first_order(dy, qd, &result, &self.solution[..n]);
         result
     }
 
@@ -934,4 +930,20 @@ pub struct PartialEntry {
     pub exact: f64,
     /// The central difference.
     pub numeric: f64,
+}
+
+/// `ẏ = (v, a)` of a second-order system from its velocities and the accelerations of a
+/// solve; a failed solve gives NaN accelerations, which the integrator rejects.
+pub(crate) fn first_order<E>(
+    derivative: &mut [f64],
+    velocities: &[f64],
+    solve: &Result<(), E>,
+    accelerations: &[f64],
+) {
+    let (dq, dv) = derivative.split_at_mut(velocities.len());
+    dq.copy_from_slice(velocities);
+    match solve {
+        Ok(()) => dv.copy_from_slice(accelerations),
+        Err(_) => dv.fill(f64::NAN),
+    }
 }

@@ -432,11 +432,7 @@ impl<'s> JointEvaluator<'s> {
         check_len("x", x, 2 * nf)?;
         check_len("ẋ", dx, 2 * nf)?;
         let result = self.solve(elements, t, x);
-        dx[..nf].copy_from_slice(&x[nf..]);
-        match result {
-            Ok(()) => dx[nf..].copy_from_slice(&self.solution[..nf]),
-            Err(_) => dx[nf..].fill(f64::NAN),
-        }
+        crate::system::first_order(dx, &x[nf..], &result, &self.solution[..nf]);
         result
     }
 
