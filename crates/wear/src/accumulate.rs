@@ -4,7 +4,7 @@ use contact::{ContactDiagnostics, SlidingVelocity};
 
 use crate::error::{WearError, finite, non_negative, positive};
 use crate::joint::{ContactArc, WornJoint};
-use crate::profile::{check_increment, deposit_arc, layer_volume};
+use crate::profile::{ArcDeposit, check_increment, layer_volume};
 
 /// The wear depth a joint gathers during one stage, kept apart from its surfaces.
 ///
@@ -22,6 +22,9 @@ pub struct StageWear {
     bearing: Vec<f64>,
     pin: Vec<f64>,
     archard_volume: f64,
+    /// Cell weights of the last arc on each surface (see [`ArcDeposit`]).
+    bearing_arc: ArcDeposit,
+    pin_arc: ArcDeposit,
 }
 
 impl StageWear {
@@ -36,6 +39,8 @@ impl StageWear {
             bearing: vec![0.0; joint.bearing().cells()],
             pin: vec![0.0; joint.pin().cells()],
             archard_volume: 0.0,
+            bearing_arc: ArcDeposit::default(),
+            pin_arc: ArcDeposit::default(),
         }
     }
 
@@ -86,8 +91,9 @@ impl StageWear {
         for (d, loaded) in [(start, a), (end, b)] {
             if let Some((arc, rate, archard_rate)) = loaded {
                 let amount = rate * 0.5 * dt;
-                deposit_arc(&mut self.pin, d.pin_angle, arc.pin_half_angle, amount);
-                deposit_arc(
+                self.pin_arc
+                    .deposit(&mut self.pin, d.pin_angle, arc.pin_half_angle, amount);
+                self.bearing_arc.deposit(
                     &mut self.bearing,
                     d.bearing_angle,
                     arc.bearing_half_angle,

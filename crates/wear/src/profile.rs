@@ -375,33 +375,76 @@ pub(crate) fn layer_volume(depths: &[f64], radius: f64, width: f64) -> f64 {
 /// a cell gets `amount ×` the integral of the weight over the part of it under the arc, so
 /// the deposited volume is exactly `amount · 2·half / Δθ` cells' worth (as a flat box would
 /// give) but the deposit has no sharp edges, which keeps amplified profiles smooth.
-pub(crate) fn deposit_arc(buf: &mut [f64], center: f64, half: f64, amount: f64) {
-    let n = buf.len();
-    let cells_per_rad = n as f64 / TAU;
-    let half_cells = half * cells_per_rad;
-    if 2.0 * half_cells >= n as f64 {
-        buf.iter_mut().for_each(|h| *h += amount);
-        return;
+///
+/// The cell weights (an `asin` per cell edge) depend only on the arc, and the trapezoid
+/// deposits every step end twice (as the end of one step and the start of the next), so the
+/// weights of the last arc are kept: depositing on the same arc again only scales them, with
+/// the same products as a fresh computation (bit for bit).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ArcDeposit {
+    /// `(cells, center, half)` the weights belong to.
+    arc: Option<(usize, f64, f64)>,
+    /// Index (shifted by the cell count) of the first cell the weights cover.
+    first: usize,
+    /// Integral of the weight over each covered cell; `None` when the arc covers the whole
+    /// surface and every cell gets `amount`.
+    weights: Option<Vec<f64>>,
+}
+
+impl PartialEq for ArcDeposit {
+    /// A cache, not part of the value of whatever holds it.
+    fn eq(&self, _other: &Self) -> bool {
+        true
     }
-    let mid = center.rem_euclid(TAU) * cells_per_rad;
-    let (lo, hi) = (mid - half_cells, mid + half_cells);
-    // ∫ (4/π)√(1 − u²) du in cell units, as an antiderivative of the position x.
-    let scale = 4.0 / std::f64::consts::PI * half_cells;
-    let antiderivative = |x: f64| {
-        let u = ((x - mid) / half_cells).clamp(-1.0, 1.0);
-        0.5 * scale * (u * (1.0 - u * u).sqrt() + u.asin())
-    };
-    // lo > −N/2 − 1 and hi < 3N/2 + 1: shifting by N keeps indices unsigned.
-    let first = (lo.floor() + n as f64) as usize;
-    let last = (hi.ceil() + n as f64) as usize;
-    let mut below = antiderivative(lo);
-    for k in first..last {
-        let edge = k as f64 - n as f64 + 1.0;
-        let above = antiderivative(edge.min(hi));
-        if above > below {
-            buf[k % n] += amount * (above - below);
+}
+
+impl ArcDeposit {
+    /// Adds `amount ×` the arc's cell weights to `buf`.
+    pub(crate) fn deposit(&mut self, buf: &mut [f64], center: f64, half: f64, amount: f64) {
+        let n = buf.len();
+        if self.arc != Some((n, center, half)) {
+            self.compute(n, center, half);
         }
-        below = above;
+        match &self.weights {
+            None => buf.iter_mut().for_each(|h| *h += amount),
+            Some(weights) => {
+                for (k, &weight) in (self.first..).zip(weights) {
+                    if weight > 0.0 {
+                        buf[k % n] += amount * weight;
+                    }
+                }
+            }
+        }
+    }
+
+    fn compute(&mut self, n: usize, center: f64, half: f64) {
+        self.arc = Some((n, center, half));
+        let cells_per_rad = n as f64 / TAU;
+        let half_cells = half * cells_per_rad;
+        if 2.0 * half_cells >= n as f64 {
+            self.weights = None;
+            return;
+        }
+        let mid = center.rem_euclid(TAU) * cells_per_rad;
+        let (lo, hi) = (mid - half_cells, mid + half_cells);
+        // ∫ (4/π)√(1 − u²) du in cell units, as an antiderivative of the position x.
+        let scale = 4.0 / std::f64::consts::PI * half_cells;
+        let antiderivative = |x: f64| {
+            let u = ((x - mid) / half_cells).clamp(-1.0, 1.0);
+            0.5 * scale * (u * (1.0 - u * u).sqrt() + u.asin())
+        };
+        // lo > −N/2 − 1 and hi < 3N/2 + 1: shifting by N keeps indices unsigned.
+        self.first = (lo.floor() + n as f64) as usize;
+        let last = (hi.ceil() + n as f64) as usize;
+        let weights = self.weights.get_or_insert_with(Vec::new);
+        weights.clear();
+        let mut below = antiderivative(lo);
+        for k in self.first..last {
+            let edge = k as f64 - n as f64 + 1.0;
+            let above = antiderivative(edge.min(hi));
+            weights.push(above - below);
+            below = above;
+        }
     }
 }
 
