@@ -463,3 +463,39 @@ pub(crate) fn check_increment(
     }
     check_depths(name, increment)
 }
+
+#[cfg(test)]
+mod arc_deposit_tests {
+    use super::*;
+
+    /// A kept cache must give exactly what a fresh computation gives, whatever the order of
+    /// arcs, and each deposit must carry `amount · 2·half/Δθ` cells' worth of depth.
+    #[test]
+    fn cached_weights_match_fresh_ones_and_conserve_depth() {
+        let n = 1000;
+        let arcs = [
+            (0.3, 0.05),
+            (0.3, 0.05),
+            (6.25, 0.08),
+            (0.3, 0.05),
+            (1.0, 4.0),
+        ];
+        let mut cached = ArcDeposit::default();
+        let mut kept = vec![0.0; n];
+        let mut fresh_buf = vec![0.0; n];
+        for (step, &(center, half)) in arcs.iter().enumerate() {
+            let amount = 1e-9 * (step + 1) as f64;
+            let before: f64 = kept.iter().sum();
+            cached.deposit(&mut kept, center, half, amount);
+            ArcDeposit::default().deposit(&mut fresh_buf, center, half, amount);
+            assert_eq!(kept, fresh_buf, "arc {step}");
+            let cells = (2.0 * half * n as f64 / TAU).min(n as f64);
+            let added: f64 = kept.iter().sum::<f64>() - before;
+            assert!(
+                (added - amount * cells).abs() <= 1e-12 * amount * cells,
+                "arc {step}: added {added}, expected {}",
+                amount * cells
+            );
+        }
+    }
+}
