@@ -473,6 +473,8 @@ struct Run<'s, 'o, 'c> {
     mapped: Vec<f64>,
     /// Scratch: the power of each driver at a quadrature node.
     driver_power: Vec<f64>,
+    /// Scratch of the elements' powers at one quadrature node.
+    element_power: Vec<f64>,
     observer: &'o mut dyn Observer,
     final_state: Option<State>,
     /// Copy of the state after the last accepted step.
@@ -621,6 +623,7 @@ impl System {
             equations: restart,
             mapped,
             driver_power: vec![0.0; self.driver_names().len()],
+            element_power: vec![0.0; elements.borrow().len()],
             observer,
             final_state: None,
             current: y0.clone(),
@@ -971,14 +974,7 @@ impl Run<'_, '_, '_> {
                 solver
                     .interpolate_inplace(t, y)
                     .map_err(|e| integrator_error(t, e))?;
-                let mut values = std::mem::take(&mut self.frame_buffer);
-                values.copy_from_slice(self.equations.cartesian(
-                    t,
-                    y.inner().as_slice(),
-                    &mut self.mapped,
-                ));
-                self.accumulate_power(t, y.inner().as_slice(), &values, weight * (t_end - t_start));
-                self.frame_buffer = values;
+                self.accumulate_power(t, y.inner().as_slice(), weight * (t_end - t_start));
             }
         }
         Ok(())
@@ -993,11 +989,33 @@ impl Run<'_, '_, '_> {
     }
 
     /// Adds `weight ×` the power of the non-conservative elements and the drivers at the
-    /// integrated state `x` (Cartesian `y`).
-    fn accumulate_power(&mut self, t: f64, x: &[f64], y: &[f64], weight: f64) {
-        let n = self.system.coordinate_count();
-        let (q, qd) = y.split_at(n);
+    /// integrated state `x`: in one pass of the formulation when it offers one and there are
+    /// drivers (whose power needs a solve anyway), else from the Cartesian state.
+    fn accumulate_power(&mut self, t: f64, x: &[f64], weight: f64) {
         let elements = self.elements.borrow();
+        if !self.driver_work.is_empty() {
+            let mut element_powers = std::mem::take(&mut self.element_power);
+            let mut driver_powers = std::mem::take(&mut self.driver_power);
+            let result =
+                self.equations
+                    .powers(&elements, t, x, &mut element_powers, &mut driver_powers);
+            if let Some(result) = &result
+                && result.is_ok()
+            {
+                let works = self.element_work.iter_mut().chain(&mut self.driver_work);
+                for (work, power) in works.zip(element_powers.iter().chain(&driver_powers)) {
+                    *work += weight * power;
+                }
+            }
+            self.element_power = element_powers;
+            self.driver_power = driver_powers;
+            if result.is_some() {
+                return;
+            }
+        }
+        let n = self.system.coordinate_count();
+        let y = self.equations.cartesian(t, x, &mut self.mapped);
+        let (q, qd) = y.split_at(n);
         for (work, element) in self.element_work.iter_mut().zip(elements.iter()) {
             if element.potential_energy(t, q).is_some() {
                 continue;
@@ -1006,25 +1024,11 @@ impl Run<'_, '_, '_> {
             element.add_forces(t, q, qd, &mut self.scratch);
             *work += weight * self.scratch.iter().zip(qd).map(|(f, v)| f * v).sum::<f64>();
         }
-        if self.driver_work.is_empty() {
-            return;
-        }
-        let mut powers = std::mem::take(&mut self.driver_power);
-        let formulation_powers = self.equations.driver_powers(&elements, t, x, &mut powers);
-        if let Some(result) = formulation_powers {
-            if result.is_ok() {
-                for (work, power) in self.driver_work.iter_mut().zip(&powers) {
-                    *work += weight * power;
-                }
-            }
-            self.driver_power = powers;
-            return;
-        }
-        self.driver_power = powers;
-        if self
-            .evaluator
-            .solve_accelerations(&elements, t, q, qd)
-            .is_err()
+        if self.driver_work.is_empty()
+            || self
+                .evaluator
+                .solve_accelerations(&elements, t, q, qd)
+                .is_err()
         {
             return;
         }

@@ -75,14 +75,17 @@ pub(crate) trait Equations {
     fn drifting(&self) -> Option<&[usize]> {
         None
     }
-    /// The power of each driver at `(t, x)` into `powers` (driver order), when the
-    /// formulation has a cheaper way than the Cartesian multipliers (`None`: it has not).
-    fn driver_powers(
+    /// The power of each element (`F·q̇`, 0 for elements with a potential energy) into
+    /// `element_powers` and of each driver into `driver_powers` (driver order) at `(t, x)`,
+    /// when the formulation has a cheaper way than mapping to Cartesian coordinates and
+    /// solving for the multipliers (`None`: it has not).
+    fn powers(
         &mut self,
         _elements: &[Box<dyn ForceElement>],
         _t: f64,
         _x: &[f64],
-        _powers: &mut [f64],
+        _element_powers: &mut [f64],
+        _driver_powers: &mut [f64],
     ) -> Option<Result<(), EvaluationError>> {
         None
     }
@@ -188,14 +191,22 @@ impl Equations for JointEvaluator<'_> {
     fn drifting(&self) -> Option<&[usize]> {
         Some(self.drifting())
     }
-    fn driver_powers(
+    fn powers(
         &mut self,
         elements: &[Box<dyn ForceElement>],
         t: f64,
         x: &[f64],
-        powers: &mut [f64],
+        element_powers: &mut [f64],
+        driver_powers: &mut [f64],
     ) -> Option<Result<(), EvaluationError>> {
-        Some(JointEvaluator::driver_powers(self, elements, t, x, powers))
+        Some(JointEvaluator::powers(
+            self,
+            elements,
+            t,
+            x,
+            element_powers,
+            driver_powers,
+        ))
     }
 }
 

@@ -65,6 +65,8 @@ pub(crate) struct JointEvaluator<'s> {
     /// `J = ∂q/∂z_free`, `n × nf`, column-major.
     jac: Vec<f64>,
     forces: Vec<f64>,
+    /// One element's forces, when its power is wanted apart.
+    element_forces: Vec<f64>,
     /// `r = G − M q̈ − Φ_qᵀλ` after a solve.
     residual: Vec<f64>,
     reduced_mass: DMatrix<f64>,
@@ -127,6 +129,7 @@ impl<'s> JointEvaluator<'s> {
             prescribed_at: f64::NAN,
             jac: vec![0.0; n * nf],
             forces: vec![0.0; n],
+            element_forces: vec![0.0; n],
             residual: vec![0.0; n],
             reduced_mass: DMatrix::zeros(nf, nf),
             mass_factor: DenseCholesky::new(nf),
@@ -233,6 +236,18 @@ impl<'s> JointEvaluator<'s> {
         t: f64,
         x: &[f64],
     ) -> Result<(), EvaluationError> {
+        self.solve_with_powers(elements, t, x, None)
+    }
+
+    /// [`solve`](Self::solve), also writing each non-conservative element's power `F·q̇`
+    /// into `element_powers` (0 for elements with a potential energy) when given.
+    fn solve_with_powers(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        element_powers: Option<&mut [f64]>,
+    ) -> Result<(), EvaluationError> {
         let (n, nf, ml) = (self.n, self.nf, self.ml);
         self.coordinates(t, x);
         self.tree.place(
@@ -252,8 +267,30 @@ impl<'s> JointEvaluator<'s> {
                 .column(c, &self.q, &self.axes, &mut self.jac[k * n..(k + 1) * n]);
         }
         self.forces.fill(0.0);
-        for element in elements {
-            element.add_forces(t, &self.q, &self.qd, &mut self.forces);
+        match element_powers {
+            None => {
+                for element in elements {
+                    element.add_forces(t, &self.q, &self.qd, &mut self.forces);
+                }
+            }
+            Some(powers) => {
+                for (element, power) in elements.iter().zip(powers) {
+                    self.element_forces.fill(0.0);
+                    element.add_forces(t, &self.q, &self.qd, &mut self.element_forces);
+                    *power = if element.potential_energy(t, &self.q).is_some() {
+                        0.0
+                    } else {
+                        self.element_forces
+                            .iter()
+                            .zip(&self.qd)
+                            .map(|(f, v)| f * v)
+                            .sum()
+                    };
+                    for (total, f) in self.forces.iter_mut().zip(&self.element_forces) {
+                        *total += f;
+                    }
+                }
+            }
         }
         let mass = self.system.mass_diagonal();
         // Reduced mass JᵀMJ (lower triangle) and forces Jᵀ(G − Mc).
@@ -388,16 +425,20 @@ impl<'s> JointEvaluator<'s> {
     /// The power of each driver (driver order) at `(t, x)`, for the energy audit: a driver
     /// that prescribes coordinate `z_p` exerts `Q = J_pᵀ(Mq̈ − G + Φ_qᵀλ) = −J_pᵀ r` along
     /// it (power `Q ż_p`); one that stays a constraint, `λ_k ∂Φ_k/∂t` as in the Cartesian
-    /// formulation. One reduced solve instead of the Cartesian one of `q̈` and all `λ`.
-    pub fn driver_powers(
+    /// formulation. One reduced solve instead of the Cartesian one of `q̈` and all `λ`; the
+    /// same pass writes each element's power `F·q̇` into `element_powers` (0 for elements
+    /// with a potential energy), so the audit evaluates the forces once per node.
+    pub fn powers(
         &mut self,
         elements: &[Box<dyn ForceElement>],
         t: f64,
         x: &[f64],
+        element_powers: &mut [f64],
         powers: &mut [f64],
     ) -> Result<(), EvaluationError> {
         check_len("x", x, 2 * self.nf)?;
-        self.solve(elements, t, x)?;
+        check_len("element powers", element_powers, elements.len())?;
+        self.solve_with_powers(elements, t, x, Some(element_powers))?;
         powers.fill(0.0);
         for p in &self.tree.prescribed {
             self.tree
