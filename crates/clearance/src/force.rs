@@ -32,7 +32,7 @@ pub struct ClearanceForce<
     /// rest, it tells whether the stage's cycles give a converged wear estimate.
     first_half: Option<(f64, StageWear)>,
     /// Steps that start before this time add no wear: lets a stage skip the start-up transient
-    /// of its concentric initial state (MODEL §8) while still covering whole drive cycles.
+    /// of its concentric initial state (docs/model.md §8) while still covering whole drive cycles.
     wear_start: f64,
     /// Energy friction dissipated on the material sliding over accepted steps (J).
     friction_dissipation: f64,

@@ -25,7 +25,7 @@ fn simulate(scene: &Scene, surfaces: Surfaces<'_>, t_end: f64) -> SimulationResu
 /// The all-ideal LGRES has 15 equations for 15 coordinates, so integrating its equations of
 /// motion must reproduce the kinematic analysis. The difference is integration error plus
 /// Baumgarte-controlled drift, amplified by the conditioning of the 15×15 Jacobian (smallest
-/// singular value 0.031, MODEL §6); with a 1e-9 m position tolerance it measured 3.2e-7 m and
+/// singular value 0.031, docs/model.md §6); with a 1e-9 m position tolerance it measured 3.2e-7 m and
 /// 8.5e-6 m/s over 0.3 s, so the bounds 1e-6 m and 1e-4 m/s hold with a 3–10× margin, while a
 /// wrong driver, anchor or sign would be off by millimetres.
 #[test]

@@ -10,10 +10,10 @@
 //!   same times. A scene without active clearance joints runs this kinematic path only.
 //! - **Wear stages** ([`wear::run_stage`]): each sub-step rebuilds the system on the current
 //!   (frozen) worn surfaces and integrates `run.transient_window + K` periods, gathering wear
-//!   over the last `K` only: the concentric start-up impact (MODEL §8) is not amplified, and a
+//!   over the last `K` only: the concentric start-up impact (docs/model.md §8) is not amplified, and a
 //!   periodic drive makes any `K` consecutive periods `K` full cycles. After the stages the
 //!   response is simulated once more on the worn surfaces.
-//! - **Peaks** are statistics over cycles, with and without the start-up window (MODEL §8:
+//! - **Peaks** are statistics over cycles, with and without the start-up window (docs/model.md §8:
 //!   the clearance dynamics are chaotic, single peaks are not reproducible).
 //!
 //! Here: the options, errors and the driver; `outcome` holds the result types, `record` the

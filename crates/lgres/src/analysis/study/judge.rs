@@ -1,4 +1,4 @@
-//! Verdicts on the paper's trends, judged on quantities that do not swing with chaos (MODEL §8).
+//! Verdicts on the paper's trends, judged on quantities that do not swing with chaos (docs/model.md §8).
 //!
 //! Chaos-robust quantities used by the judge: per-cycle **medians** of the peak normal force
 //! after the start-up window (with their interquartile range as the noise level), the largest

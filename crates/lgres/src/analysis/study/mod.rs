@@ -10,7 +10,7 @@
 //!   2 million cycles. Each adaptive sub-step re-simulates `transient_window + K` periods, so
 //!   the cost of a stage is proportional to K.
 //! - **[`DEFAULT_RESPONSE_CYCLES`] response cycles** instead of the scene's 3, so that the
-//!   per-cycle peak statistics the report judges on (MODEL §8: chaos) have enough cycles.
+//!   per-cycle peak statistics the report judges on (docs/model.md §8: chaos) have enough cycles.
 //!
 //! A scene used by several studies (the default `lgres` is in all of them) is run once.
 

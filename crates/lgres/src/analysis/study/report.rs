@@ -365,7 +365,7 @@ fn extrapolation_section(
          The default LGRES after one stage (2 million cycles). The single jump multiplies the \
          wear of K simulated cycles by the whole amplification at once (the paper's scheme); \
          the adaptive scheme splits the stage into sub-steps, each changing any local clearance \
-         by at most {:.0} %, re-simulating K cycles on the worn surfaces in between (MODEL §8).\n",
+         by at most {:.0} %, re-simulating K cycles on the worn surfaces in between (docs/model.md §8).\n",
         100.0 * adaptive.outcome.scene.run.max_clearance_change
     );
     let _ = writeln!(
@@ -456,7 +456,7 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
          model's slope limit (docs/model.md §9.3; the cycles it applied are listed with the \
          validity). Paper's formulation (`*-paper` studies, wear on δφ̇): the paper's own \
          staging, K = 100 and one jump ×20 000. Wear is gathered after the start-up window.\n\
-         - Judging (MODEL §8, the dynamics are chaotic): per-cycle medians of peak force after \
+         - Judging (docs/model.md §8, the dynamics are chaotic): per-cycle medians of peak force after \
          the start-up window (noise: mean IQR), rod-3 maximum deviation after the window, \
          energy dissipated per cycle, worn volume and worn arc (depth ≥ {ARC_FRACTION}·peak). A \
          quantity changes when it moves by more than its noise and {:.0} %; a trend HOLDS when \
@@ -555,7 +555,7 @@ const WHY_DIFFERENT: &str = "## Why our numbers differ from the paper's\n\n\
 inferred from the paper's figures, so forces and deviations are comparable in order of \
 magnitude, not digit for digit.\n\
 - **Wear magnitude**: with `K_d = 1.8e-13 m²/N` as printed, one cycle wears ~1e-10–1e-9 m, so \
-a stage of 2 million cycles is tenths of a millimetre to millimetres (MODEL §8), far above the \
+a stage of 2 million cycles is tenths of a millimetre to millimetres (docs/model.md §8), far above the \
 paper's figures, which themselves differ 10× between §4.2.1 and §4.2.2 for the same case. Our \
 worn response therefore runs in much larger clearances than the paper's.\n\
 - **Chaos**: the journal paths separate within a fraction of a cycle; single peak forces move \
