@@ -24,8 +24,11 @@ pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
         .into());
     }
     let studies = study::resolve(name)?;
-    let mut options =
-        StudyOptions::new(o.out.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_OUT)));
+    let out = o.out.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_OUT));
+    // Lock the folder at once; the scene runs and the report go to a staging folder that
+    // replaces `out` whole at the end, so an interrupted study leaves the previous one intact.
+    let staged = lgres::io::output::StagedDir::begin_study(&out)?;
+    let mut options = StudyOptions::new(staged.path().to_path_buf());
     if let Some(k) = o.cycles_per_stage {
         options.cycles_per_stage = k;
     }
@@ -42,8 +45,12 @@ pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
         options.response_cycles, options.cycles_per_stage, options.jobs
     );
     let bars = StudyBars::new();
-    let (results, path) = study::run_studies(&studies, &options, &bars)?;
+    let (results, staged_report) = study::run_studies(&studies, &options, &bars)?;
     drop(bars);
+    let out = staged.commit()?;
+    let path = staged_report
+        .strip_prefix(&options.out)
+        .map_or(staged_report.clone(), |relative| out.join(relative));
     for r in &results.runs {
         let s = &r.outcome.summary;
         let forces: Vec<String> = s

@@ -261,6 +261,58 @@ fn signals_leave_the_previous_folder_and_no_temporary_files() {
 }
 
 #[test]
+fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
+    let dir = scratch("study-staged");
+    let out = dir.join("out");
+    // A previous study: a report and one scene's run folder.
+    std::fs::create_dir_all(out.join("lgres")).unwrap();
+    std::fs::write(out.join("report.md"), "previous report").unwrap();
+    std::fs::write(out.join("lgres").join("summary.json"), "{}").unwrap();
+    let study = |out: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_wearsim"))
+            .args(["study", "wear-stages", "--out", out.to_str().unwrap()])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    let unchanged = |what: &str| {
+        assert_eq!(listing(&out), ["lgres", "report.md"], "{what}");
+        assert_eq!(
+            std::fs::read_to_string(out.join("report.md")).unwrap(),
+            "previous report",
+            "{what}"
+        );
+    };
+    // Held by a live process (this test): refused at once.
+    std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
+    let o = study(&out).wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
+    unchanged("locked");
+    std::fs::remove_file(dir.join(".out.lock")).unwrap();
+    // Interrupted while its scenes run: the previous study stays, nothing hidden is left.
+    let child = study(&out);
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    unchanged("interrupted");
+    assert_eq!(listing(&dir), ["out"], "staging or lock left");
+    // A file the study does not write, inside a scene folder: refused, folder kept.
+    std::fs::write(out.join("lgres").join("notes.txt"), "mine").unwrap();
+    let o = study(&out).wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("lgres/notes.txt"), "{}", stderr(&o));
+    assert_eq!(listing(&out.join("lgres")), ["notes.txt", "summary.json"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn budgets_and_penetration_end_runs_with_exit_1_naming_the_cause() {
     let dir = scratch("budget");
     let out = dir.join("out");

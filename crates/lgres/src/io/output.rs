@@ -335,6 +335,16 @@ impl StagedDir {
     /// Lock `target` and create its empty staging folder. Fails if `target` is not a folder,
     /// holds files a run does not write (it would be replaced), or another live run holds it.
     pub fn begin(target: &Path) -> Result<Self, OutputError> {
+        Self::begin_holding(target, Holds::RunFiles)
+    }
+
+    /// [`begin`](Self::begin) for a study's folder: besides run files it may hold markdown
+    /// reports and one level of sub-folders of run files (one per scene), all replaced.
+    pub fn begin_study(target: &Path) -> Result<Self, OutputError> {
+        Self::begin_holding(target, Holds::StudyFiles)
+    }
+
+    fn begin_holding(target: &Path, holds: Holds) -> Result<Self, OutputError> {
         let target = std::path::absolute(target).map_err(io_err(target))?;
         let folder_err = |reason: &str| OutputError::Folder {
             path: target.clone(),
@@ -355,10 +365,10 @@ impl StagedDir {
             if !target.is_dir() {
                 return Err(folder_err("exists and is not a folder"));
             }
-            if let Some(foreign) = foreign_entry(&target)? {
+            if let Some(foreign) = foreign_entry(&target, holds)? {
                 return Err(folder_err(&format!(
-                    "holds {foreign:?}, which a run does not write; a run replaces the whole \
-                     folder, so choose a new or empty folder"
+                    "holds {foreign:?}, which wearsim does not write there; the output \
+                     replaces the whole folder, so choose a new or empty folder"
                 )));
             }
         }
@@ -449,18 +459,36 @@ pub fn abandon_staged() {
     }
 }
 
-/// The first entry of `dir` that a run does not write (a sub-folder or another extension).
-fn foreign_entry(dir: &Path) -> Result<Option<String>, OutputError> {
+/// What an existing output folder may hold for [`StagedDir`] to replace it.
+#[derive(Clone, Copy, PartialEq)]
+enum Holds {
+    /// A run's files only.
+    RunFiles,
+    /// Run files, markdown reports and sub-folders of run files (a study).
+    StudyFiles,
+}
+
+/// The first entry of `dir` that the output does not write (as `sub/name` inside a
+/// sub-folder): another extension, or a sub-folder where none belongs.
+fn foreign_entry(dir: &Path, holds: Holds) -> Result<Option<String>, OutputError> {
     for entry in fs::read_dir(dir).map_err(io_err(dir))? {
         let entry = entry.map_err(io_err(dir))?;
         let path = entry.path();
-        let ours = entry.file_type().is_ok_and(|t| t.is_file())
-            && path
-                .extension()
-                .and_then(|e| e.to_str())
-                .is_some_and(|e| RUN_FILE_EXTENSIONS.contains(&e));
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let file_type = entry.file_type().map_err(io_err(&path))?;
+        if file_type.is_dir() && holds == Holds::StudyFiles {
+            if let Some(inner) = foreign_entry(&path, Holds::RunFiles)? {
+                return Ok(Some(format!("{name}/{inner}")));
+            }
+            continue;
+        }
+        let extension = path.extension().and_then(|e| e.to_str());
+        let ours = file_type.is_file()
+            && extension.is_some_and(|e| {
+                RUN_FILE_EXTENSIONS.contains(&e) || (holds == Holds::StudyFiles && e == "md")
+            });
         if !ours {
-            return Ok(Some(entry.file_name().to_string_lossy().into_owned()));
+            return Ok(Some(name));
         }
     }
     Ok(None)
