@@ -471,6 +471,7 @@ fn stress(quick: bool, o: &Overrides) -> Result<(), CliError> {
         .out
         .clone()
         .unwrap_or_else(|| Path::new("out").join("stress"));
+    let _lock = lgres::io::output::FolderLock::take(&out)?;
     let options = lgres::analysis::stress::StressOptions {
         quick,
         ..Default::default()
@@ -523,6 +524,7 @@ fn precision(spec: &str, args: &PrecisionArgs<'_>, o: &Overrides) -> Result<(), 
         .out
         .clone()
         .unwrap_or_else(|| Path::new("out").join("precision"));
+    let _lock = lgres::io::output::FolderLock::take(&out)?;
     let mut options = lgres::analysis::precision::PrecisionOptions {
         repeats: args.repeats,
         duration: args.duration,

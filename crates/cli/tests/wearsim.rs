@@ -313,6 +313,39 @@ fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
 }
 
 #[test]
+fn precision_into_a_locked_folder_is_refused_and_releases_its_lock() {
+    let dir = scratch("precision-lock");
+    let out = dir.join("out");
+    let precision = |out: &std::path::Path| {
+        wearsim(&[
+            "precision",
+            "lgres",
+            "--methods",
+            "bdf",
+            "--rtols",
+            "1e-3",
+            "--repeats",
+            "1",
+            "--duration",
+            "0.02",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
+    let o = precision(&out);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
+    assert!(!out.exists());
+    std::fs::remove_file(dir.join(".out.lock")).unwrap();
+    let o = precision(&out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.join("precision.md").exists());
+    assert_eq!(listing(&dir), ["out"], "lock left behind");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn budgets_and_penetration_end_runs_with_exit_1_naming_the_cause() {
     let dir = scratch("budget");
     let out = dir.join("out");

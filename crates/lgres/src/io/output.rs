@@ -308,9 +308,9 @@ pub fn write_csv(
 }
 
 /// Staging folders and lock files of runs in progress, for [`abandon_staged`].
-static ACTIVE: Mutex<Vec<(PathBuf, PathBuf)>> = Mutex::new(Vec::new());
+static ACTIVE: Mutex<Vec<(Option<PathBuf>, PathBuf)>> = Mutex::new(Vec::new());
 
-fn active() -> std::sync::MutexGuard<'static, Vec<(PathBuf, PathBuf)>> {
+fn active() -> std::sync::MutexGuard<'static, Vec<(Option<PathBuf>, PathBuf)>> {
     ACTIVE
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner)
@@ -345,22 +345,16 @@ impl StagedDir {
     }
 
     fn begin_holding(target: &Path, holds: Holds) -> Result<Self, OutputError> {
-        let target = std::path::absolute(target).map_err(io_err(target))?;
+        let OutputFolder {
+            target,
+            parent,
+            name,
+        } = OutputFolder::new(target)?;
+        let parent = parent.as_path();
         let folder_err = |reason: &str| OutputError::Folder {
             path: target.clone(),
             reason: reason.to_string(),
         };
-        let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
-            return Err(folder_err("needs a folder name (not `/`, `.` or `..`)"));
-        };
-        let name = name.to_string_lossy().into_owned();
-        if target
-            .components()
-            .any(|c| c == std::path::Component::ParentDir)
-        {
-            return Err(folder_err("must not contain `..`"));
-        }
-        fs::create_dir_all(parent).map_err(io_err(parent))?;
         if target.exists() {
             if !target.is_dir() {
                 return Err(folder_err("exists and is not a folder"));
@@ -372,7 +366,7 @@ impl StagedDir {
                 )));
             }
         }
-        let lock = parent.join(format!(".{name}.lock"));
+        let lock = OutputFolder::lock_file(parent, &name);
         take_lock(&target, &lock)?;
         remove_dead_staging(parent, &name);
         let staging = parent.join(format!(".{name}.staging-{}", std::process::id()));
@@ -386,7 +380,7 @@ impl StagedDir {
             let _ = fs::remove_file(&lock);
             return Err(io_err(&staging)(e));
         }
-        active().push((staging.clone(), lock.clone()));
+        active().push((Some(staging.clone()), lock.clone()));
         Ok(Self {
             target,
             staging,
@@ -432,7 +426,7 @@ impl StagedDir {
             let _ = fs::remove_dir_all(&previous);
         }
         let _ = fs::remove_file(&self.lock);
-        registry.retain(|(s, _)| s != &self.staging);
+        registry.retain(|(s, _)| s.as_ref() != Some(&self.staging));
         self.done = true;
         Ok(self.target.clone())
     }
@@ -444,8 +438,77 @@ impl Drop for StagedDir {
             let mut registry = active();
             let _ = fs::remove_dir_all(&self.staging);
             let _ = fs::remove_file(&self.lock);
-            registry.retain(|(s, _)| s != &self.staging);
+            registry.retain(|(s, _)| s.as_ref() != Some(&self.staging));
         }
+    }
+}
+
+/// A lock on an output folder whose reports are written in place, file by file at the end
+/// (`wearsim precision`, `wearsim stress`: their folders may hold other reports' sub-folders,
+/// which a staged replacement would delete). A second writer into the same folder is refused
+/// meanwhile. Released on drop, and by [`abandon_staged`] on a signal.
+pub struct FolderLock {
+    lock: PathBuf,
+}
+
+impl FolderLock {
+    /// Takes the lock of `target` (the folder need not exist yet).
+    pub fn take(target: &Path) -> Result<Self, OutputError> {
+        let OutputFolder {
+            target,
+            parent,
+            name,
+        } = OutputFolder::new(target)?;
+        let lock = OutputFolder::lock_file(&parent, &name);
+        take_lock(&target, &lock)?;
+        active().push((None, lock.clone()));
+        Ok(Self { lock })
+    }
+}
+
+impl Drop for FolderLock {
+    fn drop(&mut self) {
+        let mut registry = active();
+        let _ = fs::remove_file(&self.lock);
+        registry.retain(|(_, lock)| lock != &self.lock);
+    }
+}
+
+/// An output folder's absolute path, its parent (created) and its name.
+struct OutputFolder {
+    target: PathBuf,
+    parent: PathBuf,
+    name: String,
+}
+
+impl OutputFolder {
+    fn new(target: &Path) -> Result<Self, OutputError> {
+        let target = std::path::absolute(target).map_err(io_err(target))?;
+        let folder_err = |reason: &str| OutputError::Folder {
+            path: target.clone(),
+            reason: reason.to_string(),
+        };
+        let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
+            return Err(folder_err("needs a folder name (not `/`, `.` or `..`)"));
+        };
+        let (parent, name) = (parent.to_path_buf(), name.to_string_lossy().into_owned());
+        if target
+            .components()
+            .any(|c| c == std::path::Component::ParentDir)
+        {
+            return Err(folder_err("must not contain `..`"));
+        }
+        fs::create_dir_all(&parent).map_err(io_err(&parent))?;
+        Ok(Self {
+            target,
+            parent,
+            name,
+        })
+    }
+
+    /// The lock file of folder `name` in `parent`, beside the folder.
+    fn lock_file(parent: &Path, name: &str) -> PathBuf {
+        parent.join(format!(".{name}.lock"))
     }
 }
 
@@ -454,7 +517,9 @@ impl Drop for StagedDir {
 pub fn abandon_staged() {
     let mut registry = active();
     for (staging, lock) in registry.drain(..) {
-        let _ = fs::remove_dir_all(&staging);
+        if let Some(staging) = staging {
+            let _ = fs::remove_dir_all(&staging);
+        }
         let _ = fs::remove_file(&lock);
     }
 }
