@@ -56,7 +56,7 @@ def sweep_file(tmp_path_factory):
     return path
 
 
-def test_sixteen_samples_same_rows_on_every_engine(sweep_file, tmp_path, wearsim):
+def test_sixteen_samples_same_rows_on_every_engine(sweep_file, tmp_path, wearsim, capfd):
     cli = tmp_path / "cli"
     subprocess.run([wearsim, "sweep", str(sweep_file), "--out", str(cli)], check=True, capture_output=True)
     expected = rows(cli / "samples.csv")
@@ -75,7 +75,9 @@ def test_sixteen_samples_same_rows_on_every_engine(sweep_file, tmp_path, wearsim
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
         with Client(cluster) as client:
             assert len(client.scheduler_info()["workers"]) == 2
+            capfd.readouterr()
             dask = wornjoint.sweep(sweep_file, client, out=tmp_path / "dask")
+            assert "16/16 samples\n" in capfd.readouterr().err
     assert rows(tmp_path / "dask" / "samples.csv") == expected
     assert dask.drop(columns="wall_time_s").equals(local.drop(columns="wall_time_s"))
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import json
 import os
+import sys
 import time
 from typing import Any, Dict, Optional
 
@@ -158,6 +159,7 @@ def sweep(
     out: "str | os.PathLike[str] | None" = None,
     resume: bool = False,
     jobs: Optional[int] = None,
+    progress: bool = True,
 ):
     """Run a sweep file and return its rows as a pandas DataFrame.
 
@@ -166,7 +168,8 @@ def sweep(
     are gathered and written by the same writer, so the file and the rows are the same (but for
     ``wall_time_s``) whatever the engine and the number of workers. Outputs go to ``out``
     (default ``out/sweep/<file stem>``): ``samples.csv`` and the figures. ``resume`` keeps the
-    rows already in ``samples.csv`` and runs the rest.
+    rows already in ``samples.csv`` and runs the rest. With a client and ``progress``, a line on
+    standard error counts the finished samples (at most once a second, and at the end).
     """
     import pandas as pd
 
@@ -181,12 +184,20 @@ def sweep(
         rows = list(rows)
         futures = client.map(_sample, todo, plan=plan, pure=False)
         written = time.monotonic()
+        total = len(rows) + len(todo)
+
+        def report(end: str = "") -> None:
+            if progress:
+                print(f"\rsweep {name}: {len(rows)}/{total} samples", end=end, file=sys.stderr, flush=True)
+
         for future in as_completed(futures):
             rows.append(future.result())
             # Keep samples.csv current, as the local engine does, so a resume finds them.
             if time.monotonic() - written >= 1.0:
                 _native.sweep_write(plan, rows, out, figures=False)
+                report()
                 written = time.monotonic()
+        report(end="\n")
         _native.sweep_write(plan, rows, out, figures=True)
         path = os.path.join(out, "samples.csv")
     return pd.read_csv(path, keep_default_na=False, na_values=[""])
