@@ -210,31 +210,69 @@ impl Equations for JointEvaluator<'_> {
     }
 }
 
-/// Forward-difference Jacobian of `rhs` at `x` (`size + 1` evaluations, steps
-/// `√ε · max(|x_c|, 1)`), in the caller's scratch (each of length `x.len()`). Stops at the
-/// first failed evaluation and returns its error.
-pub(crate) fn forward_differences(
-    mut rhs: impl FnMut(&[f64], &mut [f64]) -> Result<(), EvaluationError>,
-    x: &[f64],
-    jacobian: &mut DMatrix<f64>,
-    base: &mut [f64],
-    shifted: &mut [f64],
-    work: &mut [f64],
-) -> Result<(), EvaluationError> {
-    let size = x.len();
-    work.copy_from_slice(x);
-    let mut result = rhs(x, base);
-    for c in 0..size {
-        if result.is_err() {
-            break;
-        }
-        let step = f64::EPSILON.sqrt() * x[c].abs().max(1.0);
-        work[c] = x[c] + step;
-        result = rhs(work, shifted);
-        work[c] = x[c];
-        for r in 0..size {
-            jacobian[(r, c)] = (shifted[r] - base[r]) / step;
+/// Scratch of a forward-difference Jacobian ([`ForwardDifferences::jacobian`]), kept by each
+/// evaluator so the fallback Jacobian does not allocate.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ForwardDifferences {
+    base: Vec<f64>,
+    shifted: Vec<f64>,
+    work: Vec<f64>,
+}
+
+impl ForwardDifferences {
+    /// Scratch for states of length `size`.
+    pub(crate) fn new(size: usize) -> Self {
+        Self {
+            base: vec![0.0; size],
+            shifted: vec![0.0; size],
+            work: vec![0.0; size],
         }
     }
-    result
+
+    /// Forward-difference Jacobian of `rhs` at `x` (`size + 1` evaluations, steps
+    /// `√ε · max(|x_c|, 1)`). Stops at the first failed evaluation and returns its error.
+    pub(crate) fn jacobian(
+        &mut self,
+        mut rhs: impl FnMut(&[f64], &mut [f64]) -> Result<(), EvaluationError>,
+        x: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), EvaluationError> {
+        let Self {
+            base,
+            shifted,
+            work,
+        } = self;
+        work.copy_from_slice(x);
+        let mut result = rhs(x, base);
+        for c in 0..x.len() {
+            if result.is_err() {
+                break;
+            }
+            let step = f64::EPSILON.sqrt() * x[c].abs().max(1.0);
+            work[c] = x[c] + step;
+            result = rhs(work, shifted);
+            work[c] = x[c];
+            for r in 0..x.len() {
+                jacobian[(r, c)] = (shifted[r] - base[r]) / step;
+            }
+        }
+        result
+    }
+}
+
+/// `Ok` when `values` has `expected` entries, else the error naming `what`.
+pub(crate) fn check_len(
+    what: &'static str,
+    values: &[f64],
+    expected: usize,
+) -> Result<(), EvaluationError> {
+    if values.len() == expected {
+        Ok(())
+    } else {
+        Err(EvaluationError::WrongLength {
+            what,
+            expected,
+            actual: values.len(),
+        })
+    }
 }

@@ -6,6 +6,7 @@ use nalgebra::DMatrix;
 use crate::constraints::{ConstraintOwner, Constraints, LocalDerivatives};
 use crate::error::{AssemblyError, EvaluationError, KinematicsError, ModelError};
 use crate::force::{ElementId, ForceElement, ForcePartials};
+use crate::formulation::{ForwardDifferences, check_len};
 use crate::linalg::{DenseCholesky, DenseLu, dependent_rows, weakest_row};
 use crate::model::{Body, BodyId, Joint, Model};
 use crate::trajectory::Trajectory;
@@ -513,18 +514,6 @@ pub(crate) fn local_dot(
         .sum()
 }
 
-fn check_len(what: &'static str, values: &[f64], expected: usize) -> Result<(), EvaluationError> {
-    if values.len() == expected {
-        Ok(())
-    } else {
-        Err(EvaluationError::WrongLength {
-            what,
-            expected,
-            actual: values.len(),
-        })
-    }
-}
-
 /// Position-level workspace: `Φ`, `Φ_q` and the factors of `Φ_q Φ_qᵀ`.
 struct Projector {
     residual: Vec<f64>,
@@ -608,10 +597,8 @@ pub struct Evaluator<'s> {
     derivative_rhs: DMatrix<f64>,
     /// Scratch vector of length `n`.
     work: Vec<f64>,
-    /// Finite-difference scratch (length `2n` each): `f(y)`, `f(y + h e_c)`, `y + h e_c`.
-    fd_base: Vec<f64>,
-    fd_shifted: Vec<f64>,
-    fd_y: Vec<f64>,
+    /// Scratch of the forward-difference Jacobian.
+    forward_differences: ForwardDifferences,
     /// RHS evaluations (including those of finite differences).
     pub(crate) rhs_evaluations: usize,
     /// Jacobian evaluations.
@@ -637,9 +624,7 @@ impl<'s> Evaluator<'s> {
             d_dqd: DMatrix::zeros(n, n),
             derivative_rhs: DMatrix::zeros(n + m, 2 * n),
             work: vec![0.0; n],
-            fd_base: vec![0.0; 2 * n],
-            fd_shifted: vec![0.0; 2 * n],
-            fd_y: vec![0.0; 2 * n],
+            forward_differences: ForwardDifferences::new(2 * n),
             rhs_evaluations: 0,
             jacobian_evaluations: 0,
         }
@@ -886,20 +871,9 @@ impl<'s> Evaluator<'s> {
         self.jacobian_evaluations += 1;
         check_len("y", y, 2 * self.n)?;
         check_len("Jacobian rows", jacobian.as_slice(), 4 * self.n * self.n)?;
-        let mut base = std::mem::take(&mut self.fd_base);
-        let mut shifted = std::mem::take(&mut self.fd_shifted);
-        let mut y_work = std::mem::take(&mut self.fd_y);
-        let result = crate::formulation::forward_differences(
-            |y, dy| self.rhs(elements, t, y, dy),
-            y,
-            jacobian,
-            &mut base,
-            &mut shifted,
-            &mut y_work,
-        );
-        self.fd_base = base;
-        self.fd_shifted = shifted;
-        self.fd_y = y_work;
+        let mut differences = std::mem::take(&mut self.forward_differences);
+        let result = differences.jacobian(|v, dv| self.rhs(elements, t, v, dv), y, jacobian);
+        self.forward_differences = differences;
         result
     }
 }

@@ -91,15 +91,7 @@ fn load_table(spec: &str) -> Result<(String, toml::Table), lgres::scene::SceneEr
         // The built-in error lists the known names.
         lgres::scenes::builtin(spec)?;
     }
-    let text = std::fs::read_to_string(path).map_err(|source| lgres::scene::SceneError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    let stem = path
-        .file_stem()
-        .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned());
-    let table = lgres::scene::merged_table(&text, &path.display().to_string(), path.parent())?;
-    Ok((stem, table))
+    lgres::scene::merged_table_of_file(path)
 }
 
 fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {

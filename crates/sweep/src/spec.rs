@@ -3,7 +3,6 @@
 use std::path::Path;
 
 use lgres::overrides::RunOverrides;
-use lgres::scene::SceneError;
 use serde::Deserialize;
 
 use crate::{Input, Mode, Sampler, SweepError};
@@ -336,13 +335,5 @@ pub(crate) fn base_scene(
             "no built-in scene and no file of this name (relative to the sweep file)",
         ));
     }
-    let text = std::fs::read_to_string(&path).map_err(|source| SceneError::Io {
-        path: path.clone(),
-        source,
-    })?;
-    let stem = path
-        .file_stem()
-        .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned());
-    let table = lgres::scene::merged_table(&text, &path.display().to_string(), path.parent())?;
-    Ok((stem, table))
+    Ok(lgres::scene::merged_table_of_file(&path)?)
 }

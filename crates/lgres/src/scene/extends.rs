@@ -255,6 +255,17 @@ pub fn merged_table(
     resolve_extends(table, origin, dir, 0)
 }
 
+/// A scene file's [`merged_table`] (file `extends` relative to its folder) and its file stem,
+/// the name its outputs are filed under.
+pub fn merged_table_of_file(path: &Path) -> Result<(String, toml::Table), SceneError> {
+    let text = read(path)?;
+    let stem = path
+        .file_stem()
+        .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned());
+    let table = merged_table(&text, &path.display().to_string(), path.parent())?;
+    Ok((stem, table))
+}
+
 /// Deserialize and validate a scene table (e.g. from [`merged_table`], edited); a type error
 /// or unknown key names its field path.
 pub fn from_table(table: toml::Table, origin: &str) -> Result<Scene, SceneError> {

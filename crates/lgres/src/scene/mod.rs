@@ -33,7 +33,7 @@ mod types;
 mod validate;
 
 pub use error::{Issue, SceneError};
-pub use extends::{from_table, load_path, load_str, merged_table};
+pub use extends::{from_table, load_path, load_str, merged_table, merged_table_of_file};
 pub use types::*;
 pub(crate) use validate::Validator;
 

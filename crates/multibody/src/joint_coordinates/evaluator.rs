@@ -19,6 +19,7 @@ use crate::constraints::LocalDerivatives;
 use crate::dynamics::AbsoluteTolerances;
 use crate::error::EvaluationError;
 use crate::force::{ForceElement, ForcePartials};
+use crate::formulation::{ForwardDifferences, check_len};
 use crate::linalg::{DenseCholesky, dependent_rows};
 use crate::system::{Baumgarte, State, System};
 
@@ -87,9 +88,8 @@ pub(crate) struct JointEvaluator<'s> {
     dual: DualWork,
     /// Scratch `[a; b]` of one reduced solve, `nf + ml`.
     column: Vec<f64>,
-    fd_base: Vec<f64>,
-    fd_shifted: Vec<f64>,
-    fd_x: Vec<f64>,
+    /// Scratch of the forward-difference Jacobian.
+    forward_differences: ForwardDifferences,
     pub(crate) rhs_evaluations: usize,
     pub(crate) jacobian_evaluations: usize,
 }
@@ -145,9 +145,7 @@ impl<'s> JointEvaluator<'s> {
             work: vec![0.0; n],
             dual,
             column: vec![0.0; nf + ml],
-            fd_base: vec![0.0; 2 * nf],
-            fd_shifted: vec![0.0; 2 * nf],
-            fd_x: vec![0.0; 2 * nf],
+            forward_differences: ForwardDifferences::new(2 * nf),
             rhs_evaluations: 0,
             jacobian_evaluations: 0,
         }
@@ -627,32 +625,9 @@ impl<'s> JointEvaluator<'s> {
             jacobian.as_slice(),
             4 * self.nf * self.nf,
         )?;
-        let mut base = std::mem::take(&mut self.fd_base);
-        let mut shifted = std::mem::take(&mut self.fd_shifted);
-        let mut work = std::mem::take(&mut self.fd_x);
-        let result = crate::formulation::forward_differences(
-            |x, dx| self.rhs(elements, t, x, dx),
-            x,
-            jacobian,
-            &mut base,
-            &mut shifted,
-            &mut work,
-        );
-        self.fd_base = base;
-        self.fd_shifted = shifted;
-        self.fd_x = work;
+        let mut differences = std::mem::take(&mut self.forward_differences);
+        let result = differences.jacobian(|v, dv| self.rhs(elements, t, v, dv), x, jacobian);
+        self.forward_differences = differences;
         result
-    }
-}
-
-fn check_len(what: &'static str, values: &[f64], expected: usize) -> Result<(), EvaluationError> {
-    if values.len() == expected {
-        Ok(())
-    } else {
-        Err(EvaluationError::WrongLength {
-            what,
-            expected,
-            actual: values.len(),
-        })
     }
 }

@@ -29,6 +29,21 @@ fn sin_cos<T: Scalar>(theta: T) -> V2<T> {
     [sin, cos]
 }
 
+/// Position, velocity and acceleration of the material point at arm `d` from a point
+/// `(p, v, a)` of a body turning at rate `w` with angular acceleration `al`.
+fn offset<T: Scalar>(
+    (p, v, a): (V2<T>, V2<T>, V2<T>),
+    w: T,
+    al: T,
+    d: V2<T>,
+) -> (V2<T>, V2<T>, V2<T>) {
+    (
+        add(p, d),
+        add(v, scale(w, perp(d))),
+        add(a, sub(scale(al, perp(d)), scale(w * w, d))),
+    )
+}
+
 /// `R(θ) s` from `(sin θ, cos θ)`.
 fn rotate_by<T: Scalar>(trig: V2<T>, s: [f64; 2]) -> V2<T> {
     let [sin, cos] = trig;
@@ -377,11 +392,7 @@ impl Tree {
             };
             // Position, velocity and acceleration of the parent's material point at `rel`
             // from its centroid.
-            let field = |rel: V2<T>| {
-                let v = add(vp, scale(wp, perp(rel)));
-                let a = add(ap, sub(scale(alp, perp(rel)), scale(wp * wp, rel)));
-                (add(rp, rel), v, a)
-            };
+            let field = |rel: V2<T>| offset((rp, vp, ap), wp, alp, rel);
             let k = joint.first;
             let two = T::constant(2.0);
             // Child: angle, its rates, the point it hangs from (with velocity and
@@ -401,9 +412,7 @@ impl Tree {
                     al = alp + s * zdd[k];
                     trig = sin_cos(th);
                     let d = scale(T::constant(-1.0), rotate_by(trig, child_point));
-                    r = add(p, d);
-                    v = add(vp_, scale(w, perp(d)));
-                    a = add(ap_, sub(scale(al, perp(d)), scale(w * w, d)));
+                    (r, v, a) = offset((p, vp_, ap_), w, al, d);
                 }
                 Link::Slider {
                     base_point,
@@ -429,9 +438,7 @@ impl Tree {
                     al = alp + phidd;
                     trig = sin_cos(th);
                     let d = scale(T::constant(-1.0), rotate_by(trig, slider_point));
-                    r = add(p, d);
-                    v = add(vs, scale(w, perp(d)));
-                    a = add(as_, sub(scale(al, perp(d)), scale(w * w, d)));
+                    (r, v, a) = offset((p, vs, as_), w, al, d);
                 }
                 Link::Base {
                     slider_point,
@@ -458,12 +465,10 @@ impl Tree {
                         T::constant(-1.0),
                         add(scale(z[ks], u), rotate_by(trig, base_point)),
                     );
-                    r = add(p, d);
-                    v = sub(add(vp_, scale(w, perp(d))), scale(zd[ks], u));
-                    a = sub(
-                        add(ap_, sub(scale(al, perp(d)), scale(w * w, d))),
-                        add(scale(zdd[ks], u), scale(two * w * zd[ks], perp(u))),
-                    );
+                    let (rd, vd, ad) = offset((p, vp_, ap_), w, al, d);
+                    r = rd;
+                    v = sub(vd, scale(zd[ks], u));
+                    a = sub(ad, add(scale(zdd[ks], u), scale(two * w * zd[ks], perp(u))));
                 }
                 Link::Floating => {
                     r = [z[k], z[k + 1]];
