@@ -56,4 +56,14 @@ pub struct ContactDiagnostics {
     pub bearing_curvature: f64,
     /// Pin profile curvature `d²R_j/dα²` in the contact direction (m/rad²).
     pub pin_curvature: f64,
+    /// Foundation model: nodes of the pin's outline that overlap the bearing (0 for the
+    /// line-of-centres model).
+    #[serde(default)]
+    pub contact_cells: u32,
+    /// Foundation model: separate contact zones (runs of overlapping nodes).
+    #[serde(default)]
+    pub contact_zones: u32,
+    /// Foundation model: overlapping nodes across the narrowest contact zone (0 when free).
+    #[serde(default)]
+    pub narrowest_zone_cells: u32,
 }

@@ -44,7 +44,12 @@ use crate::friction::{FrictionLaw, FrictionLawKind};
 use crate::normal::{NormalForce, NormalLaw, NormalLawKind};
 use crate::surface::{RadiusSample, SurfaceProfile};
 
+mod dual;
+pub mod foundation;
 mod general;
+
+use foundation::OutlineBounds;
+pub use foundation::{ContactModel, DEFAULT_FOUNDATION_CELLS, Foundation, NodeLoad};
 
 /// Which relative velocity of the contact counts as sliding (for friction, and for wear).
 ///
@@ -321,6 +326,10 @@ pub struct ClearanceJoint<B, P, N = NormalLawKind, F = FrictionLawKind> {
     friction_law: F,
     /// Which sliding velocity the friction law sees.
     friction_sliding: SlidingVelocity,
+    /// Line of centres (default) or elastic foundation.
+    model: ContactModel,
+    /// The outlines' radius bounds, for the foundation's node window.
+    bounds: OutlineBounds,
 }
 
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
@@ -345,6 +354,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         }
         validate_profiles(&bearing.profile, &pin.profile)?;
         let compliance = bearing.material.compliance() + pin.material.compliance();
+        let bounds = OutlineBounds::new(&bearing.profile, &pin.profile, DEFAULT_FOUNDATION_CELLS);
         Ok(Self {
             bearing_centre: Vector2::from(bearing.centre),
             pin_centre: Vector2::from(pin.centre),
@@ -356,7 +366,48 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             normal_law,
             friction_law,
             friction_sliding: SlidingVelocity::Material,
+            model: ContactModel::LineOfCentres,
+            bounds,
         })
+    }
+
+    /// The same joint with contact model `model` (default [`ContactModel::LineOfCentres`]).
+    pub fn with_model(mut self, model: ContactModel) -> Self {
+        self.model = model;
+        self.bounds = OutlineBounds::new(&self.bearing_profile, &self.pin_profile, self.cells());
+        self
+    }
+
+    /// The contact model.
+    pub fn model(&self) -> ContactModel {
+        self.model
+    }
+
+    /// Nodes on the pin's outline of the foundation model ([`DEFAULT_FOUNDATION_CELLS`] for the
+    /// line of centres, which has none).
+    fn cells(&self) -> usize {
+        match self.model {
+            ContactModel::Foundation(f) => f.cells(),
+            ContactModel::LineOfCentres => DEFAULT_FOUNDATION_CELLS,
+        }
+    }
+
+    /// Calls `visit` with every loaded node of the foundation model at the given states (its
+    /// pressure and sliding, for Archard wear), and returns the forces; the line-of-centres
+    /// model has no nodes and visits none.
+    pub fn forces_visiting_nodes(
+        &self,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        onset_velocity: Option<f64>,
+        visit: &mut dyn FnMut(&NodeLoad),
+    ) -> ContactForces {
+        match self.model {
+            ContactModel::Foundation(f) => {
+                self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, visit)
+            }
+            ContactModel::LineOfCentres => self.forces(bearing_body, pin_body, onset_velocity),
+        }
     }
 
     /// The same joint with friction driven by `sliding` (default [`SlidingVelocity::Material`]).
@@ -386,6 +437,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_profile: P2,
     ) -> Result<ClearanceJoint<B2, P2, N, F>, ContactError> {
         validate_profiles(&bearing_profile, &pin_profile)?;
+        let bounds = OutlineBounds::new(&bearing_profile, &pin_profile, self.cells());
         Ok(ClearanceJoint {
             bearing_centre: self.bearing_centre,
             pin_centre: self.pin_centre,
@@ -397,6 +449,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             normal_law: self.normal_law,
             friction_law: self.friction_law,
             friction_sliding: self.friction_sliding,
+            model: self.model,
+            bounds,
         })
     }
 
@@ -431,9 +485,13 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         self.modulus_factor * effective_radius.sqrt()
     }
 
-    /// Penetration `δ` only (m; negative when free): cheap, for event (root) functions.
+    /// Penetration `δ` only (m; negative when free): cheap, for event (root) functions. For the
+    /// foundation model, the deepest overlap of the outlines at its nodes.
     #[inline]
     pub fn penetration(&self, bearing_body: &BodyState, pin_body: &BodyState) -> f64 {
+        if let ContactModel::Foundation(f) = self.model {
+            return self.foundation_overlap(&f, bearing_body, pin_body);
+        }
         self.geometry(bearing_body, pin_body).penetration
     }
 
@@ -454,6 +512,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_body: &BodyState,
         onset_velocity: Option<f64>,
     ) -> ContactForces {
+        if let ContactModel::Foundation(f) = self.model {
+            return self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, &mut |_| {});
+        }
         let geometry = self.geometry(bearing_body, pin_body);
         let kin = kinematics_from(&geometry, bearing_body, pin_body);
         if kin.penetration < 0.0 {
@@ -487,6 +548,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_body: &BodyState,
         onset_velocity: Option<f64>,
     ) -> (ContactForces, ContactJacobian) {
+        if let ContactModel::Foundation(f) = self.model {
+            return self.foundation_forces_and_jacobian(&f, bearing_body, pin_body, onset_velocity);
+        }
         let geometry = self.geometry(bearing_body, pin_body);
         let kin = kinematics_from(&geometry, bearing_body, pin_body);
         if kin.penetration < 0.0 {
@@ -761,6 +825,7 @@ fn diagnostics(
         pin_slope: kin.pin.slope,
         bearing_curvature: kin.bearing.curvature,
         pin_curvature: kin.pin.curvature,
+        ..ContactDiagnostics::default()
     }
 }
 

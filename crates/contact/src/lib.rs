@@ -83,8 +83,9 @@ pub use friction::{
     FrictionLawParams, Frictionless,
 };
 pub use joint::{
-    BodyState, ClearanceJoint, ContactForces, ContactJacobian, JointKinematics, JointSurface,
-    Material, MaterialParams, OutlineOverlap, SlidingVelocity,
+    BodyState, ClearanceJoint, ContactForces, ContactJacobian, ContactModel,
+    DEFAULT_FOUNDATION_CELLS, Foundation, JointKinematics, JointSurface, Material, MaterialParams,
+    NodeLoad, OutlineOverlap, SlidingVelocity,
 };
 pub use normal::{
     DEFAULT_HERTZ_EXPONENT, DEFAULT_ONSET_VELOCITY_FLOOR, DampedHertzParams, Flores, Hertz,

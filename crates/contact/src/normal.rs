@@ -60,6 +60,15 @@ pub trait NormalLaw {
         velocity: f64,
         onset_velocity: f64,
     ) -> NormalForce;
+
+    /// The hysteresis factor `φ(δ̇) = F_n/(K δⁿ)` (clamped at 0) and `∂φ/∂δ̇`: the damping of a
+    /// law whose force is `K δⁿ φ(δ̇)`, applied per node by the foundation contact. Every law
+    /// here has that form, so the default reads it off [`evaluate`](Self::evaluate) at
+    /// `K = δ = 1`.
+    fn hysteresis(&self, velocity: f64, onset_velocity: f64) -> (f64, f64) {
+        let unit = self.evaluate(1.0, 1.0, velocity, onset_velocity);
+        (unit.force, unit.d_velocity)
+    }
 }
 
 /// The shared kernel `F = K δⁿ (1 + damping_rate · δ̇)`, clamped at zero.

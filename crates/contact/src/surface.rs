@@ -33,6 +33,13 @@ pub trait SurfaceProfile {
     fn is_round(&self) -> bool {
         false
     }
+
+    /// The smallest and largest radius over the whole surface, or bounds on them (the first no
+    /// larger than the true smallest, the second no smaller than the true largest). `None`
+    /// (the default): unknown, and the foundation contact then visits every node of the pin.
+    fn radius_bounds(&self) -> Option<(f64, f64)> {
+        None
+    }
 }
 
 /// A perfectly round surface of constant radius: the unworn pin or bearing.
@@ -62,6 +69,10 @@ impl SurfaceProfile for CircularProfile {
     fn is_round(&self) -> bool {
         true
     }
+
+    fn radius_bounds(&self) -> Option<(f64, f64)> {
+        Some((self.radius, self.radius))
+    }
 }
 
 impl<P: SurfaceProfile + ?Sized> SurfaceProfile for &P {
@@ -72,5 +83,9 @@ impl<P: SurfaceProfile + ?Sized> SurfaceProfile for &P {
 
     fn is_round(&self) -> bool {
         (**self).is_round()
+    }
+
+    fn radius_bounds(&self) -> Option<(f64, f64)> {
+        (**self).radius_bounds()
     }
 }

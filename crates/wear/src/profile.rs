@@ -362,6 +362,16 @@ impl SurfaceProfile for WornProfile {
     fn is_round(&self) -> bool {
         self.unworn
     }
+
+    /// Exact: the B-spline never leaves `[0, max h]`, so the radius stays between the nominal
+    /// one and the nominal one moved by half the deepest cell.
+    fn radius_bounds(&self) -> Option<(f64, f64)> {
+        let moved = self.nominal_radius + self.side.radius_per_depth() * self.peak().depth;
+        Some((
+            self.nominal_radius.min(moved),
+            self.nominal_radius.max(moved),
+        ))
+    }
 }
 
 /// `Σ h_k/2 · R Δθ · w` for cell depths `depths` on a surface of radius `radius`.

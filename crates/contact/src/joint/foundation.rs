@@ -1,0 +1,876 @@
+//! The elastic-foundation contact: a Winkler layer over the true outlines of pin and bearing.
+//!
+//! A worn bearing is a groove with dents and flanks, and a worn pin touches it over an arc, at
+//! times over two; a line-of-centres contact sees one point. Here every point of the pin's
+//! outline presses into a thin elastic layer on the bearing (Mukras et al., J. Tribol. 2010,
+//! used it for revolute-joint wear).
+//!
+//! # Overlap
+//! The pin's outline is sampled at `N` nodes fixed in the pin's frame, at the centres of its
+//! cells `α_k = (k + ½) 2π/N` (the wear grid's), at its own (worn) radius `r_k`. Node `k` sits at
+//! `P_k = r_j + A(θ_j)(s_j + r_k u(α_k))`. Its overlap with the bearing's outline is measured
+//! radially from the bearing centre `C_i`: with `D_k = P_k − C_i`, `ρ_k = |D_k|` and
+//! `ψ_k = atan2(D_k)`, `g_k = ρ_k − R_i(ψ_k − θ_i)`, the bearing's (worn) radius in that
+//! direction. This is exact geometry for any eccentricity: nothing is linearised about the
+//! line of centres.
+//!
+//! # Energy and force
+//! The layer stores `V = (k w/2) ∫ d² ds` over the pin's outline (`d = max(0, g)`, `k` the layer
+//! modulus in Pa/m, `w` the hinge width, `ds = R_j0 dα`). Between nodes `g` is taken linear and
+//! the positive part is integrated exactly:
+//! `∫₀¹ max(0, a + (b − a)s)² ds` is `(a² + ab + b²)/3` for `a, b ≥ 0` and `a³/(3(a − b))` when
+//! only `a > 0`. This is C² in `(a, b)` as a node crosses the edge of a contact zone, so the
+//! force is C¹: the integrator sees no kink when a zone grows or shrinks by a cell.
+//!
+//! The elastic force is exactly `−∇V`: with `G_k = ∂V/∂g_k ≥ 0` and
+//! `∇g_k = m_k·∂D_k/∂q + R_i' ∂θ_i/∂q`, `m_k = n_k − (R_i'/ρ_k) t_k`, node `k` pushes the pin
+//! with `−G_k m_k` at `P_k` and the bearing with `+G_k m_k` at the same point (its moment about
+//! the bearing centre carries the `R_i'` term). So an elastic worn joint conserves energy on
+//! any shape, and the pair of forces has no net moment.
+//!
+//! # Damping and friction, per node
+//! Each node's load is `L_k = G_k φ(ġ_k)`, where `φ` is the joint's normal law's hysteresis
+//! factor (for Lankarani–Nikravesh `1 + 3(1 − c_e²)/4 · ġ/δ̇⁻`, clamped at zero so the layer
+//! never pulls) and `ġ_k = ∇g_k·q̇`. Damping dissipates `Σ (L_k − G_k) ġ_k ≥ 0`. On round
+//! surfaces `ġ_k ≈ δ̇` across the small contact arc, so the total is the law's force. Friction
+//! acts at each node along the local tangent `t̂_k ⟂ m_k`, with the law evaluated on the node's
+//! load `L_k |m_k|` and its material sliding velocity (the pin's material point at `P_k`
+//! relative to the bearing's), or the paper's `d_k φ̇` where the joint chooses it.
+//!
+//! # Calibration
+//! For a round pin of radius `R − c` in a round bearing of radius `R`, penetration `δ`, the
+//! integral gives to leading order `F = (4√2/3) k w √(R R_j) δ^{3/2}/√(c + δ)`. With
+//! `k w = E*/√2`, `E* = 1/(σ_i + σ_j)`, this is the model's conformal Hertz force
+//! `K δ^{3/2}`, `K = (4/3) E* √(R_i R_j/c)`, times `√(c/(c + δ))` ([`Foundation::calibrated`]);
+//! the tests check it against an independent quadrature.
+//!
+//! # Cost
+//! Only nodes that can touch are visited: with the bearing's smallest radius `R_i⁻` and the
+//! pin's largest `R_j⁺`, node `k` can overlap only if the angle between its direction and the
+//! eccentricity `e` has cosine above `(R_i⁻² − R_j⁺² − |e|²)/(2R_j⁺|e|)`. In free flight
+//! (`|e| + R_j⁺ ≤ R_i⁻`) no node is visited. The Jacobian runs the same code on dual numbers.
+
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+use super::dual::{Dual, Real};
+use super::{BodyState, ClearanceJoint, ContactForces, ContactJacobian, SlidingVelocity};
+use crate::diagnostics::ContactDiagnostics;
+use crate::error::{ContactError, positive};
+use crate::friction::FrictionLaw;
+use crate::joint::Material;
+use crate::normal::NormalLaw;
+use crate::surface::SurfaceProfile;
+
+use std::f64::consts::TAU;
+
+/// Default number of nodes on the pin's outline (the wear grid's default cell count).
+pub const DEFAULT_FOUNDATION_CELLS: usize = 1000;
+
+/// Parameters of the elastic-foundation contact: the layer and the nodes on the pin.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Foundation {
+    /// Layer modulus times hinge width, `k w` (Pa): the force per unit overlap and outline
+    /// length.
+    line_modulus: f64,
+    /// Nodes on the pin's outline over 360°.
+    cells: usize,
+}
+
+impl Foundation {
+    /// The layer that reproduces the model's conformal Hertz stiffness on round surfaces:
+    /// `k w = E*/√2` with `E* = 1/(σ_i + σ_j)`, `σ = (1 − ν²)/E` (see the module docs), on
+    /// [`DEFAULT_FOUNDATION_CELLS`] nodes.
+    pub fn calibrated(bearing: &Material, pin: &Material) -> Self {
+        let effective_modulus = 1.0 / (bearing.compliance() + pin.compliance());
+        Self {
+            line_modulus: effective_modulus / std::f64::consts::SQRT_2,
+            cells: DEFAULT_FOUNDATION_CELLS,
+        }
+    }
+
+    /// A layer of modulus `k` (Pa/m, > 0) over hinge width `w` (m, > 0).
+    pub fn with_layer(layer_modulus: f64, width: f64) -> Result<Self, ContactError> {
+        positive("layer_modulus", layer_modulus)?;
+        positive("width", width)?;
+        let line_modulus = layer_modulus * width;
+        positive("layer_modulus × width", line_modulus)?;
+        Ok(Self {
+            line_modulus,
+            cells: DEFAULT_FOUNDATION_CELLS,
+        })
+    }
+
+    /// The same layer on `cells` nodes (≥ 8). A worn pin should use its wear grid's count, so
+    /// the nodes sit at its cell centres.
+    pub fn with_cells(mut self, cells: usize) -> Result<Self, ContactError> {
+        if cells < 8 {
+            return Err(ContactError::OutOfRange {
+                parameter: "cells",
+                value: cells as f64,
+                expected: ">= 8",
+            });
+        }
+        self.cells = cells;
+        Ok(self)
+    }
+
+    /// `k w` (Pa).
+    pub fn line_modulus(&self) -> f64 {
+        self.line_modulus
+    }
+
+    /// The layer modulus `k` (Pa/m) over hinge width `width` (m).
+    pub fn layer_modulus(&self, width: f64) -> f64 {
+        self.line_modulus / width
+    }
+
+    /// Nodes on the pin's outline.
+    pub fn cells(&self) -> usize {
+        self.cells
+    }
+}
+
+/// Which contact model a clearance joint uses; one run uses one model for its unworn and worn
+/// responses.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum ContactModel {
+    /// One contact point on the line of centres, Hertz law on the local radii (module
+    /// [`crate::joint`]); energy-consistent on worn surfaces but valid only while they stay
+    /// smooth and shallow.
+    #[default]
+    LineOfCentres,
+    /// An elastic layer over the true outlines ([`Foundation`]; this module).
+    Foundation(Foundation),
+}
+
+/// The load of one node of the foundation at one state: what Archard wear needs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NodeLoad {
+    /// The node's index on the pin's outline (its cell, `0..cells`).
+    pub cell: usize,
+    /// The node's angle in the pin's frame, the centre of its cell (rad).
+    pub pin_angle: f64,
+    /// Where the node meets the bearing, in the bearing's frame (rad, in `[0, 2π)`).
+    pub bearing_angle: f64,
+    /// Normal force the node carries, `L_k |m_k|` (N).
+    pub normal_force: f64,
+    /// The node's outline length on the pin, `R_j0 Δα` (m): pressure is
+    /// `normal_force / (arc · w)`.
+    pub arc: f64,
+    /// Sliding velocity of the pin's material point on the bearing's along the local tangent
+    /// (m/s).
+    pub material_sliding: f64,
+    /// The paper's sliding velocity `d_k φ̇` (m/s).
+    pub paper_sliding: f64,
+}
+
+impl NodeLoad {
+    /// The sliding velocity `choice` reads (m/s).
+    pub fn sliding(&self, choice: SlidingVelocity) -> f64 {
+        match choice {
+            SlidingVelocity::Material => self.material_sliding,
+            SlidingVelocity::Paper => self.paper_sliding,
+        }
+    }
+}
+
+/// Bounds on the two outlines, fixed while the profiles are: the visited-node window needs
+/// them. Computed once per joint from [`SurfaceProfile::radius_bounds`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct OutlineBounds {
+    /// Smallest bearing radius (m; 0 when unknown: every node is visited).
+    bearing_min: f64,
+    /// Largest pin radius (m; infinite when unknown).
+    pin_max: f64,
+    /// Outline length per node, `R_j0 2π/N` (m), `R_j0` the pin's largest radius.
+    node_arc: f64,
+}
+
+impl OutlineBounds {
+    pub(super) fn new<B: SurfaceProfile, P: SurfaceProfile>(
+        bearing: &B,
+        pin: &P,
+        cells: usize,
+    ) -> Self {
+        let bearing_min = bearing.radius_bounds().map_or(0.0, |(lo, _)| lo);
+        let pin_bounds = pin.radius_bounds();
+        // The node weight needs a radius even where the bounds are unknown: the largest sample.
+        let pin_reference = pin_bounds.map_or_else(
+            || {
+                (0..cells)
+                    .map(|k| pin.sample(node_angle(k, cells)).radius)
+                    .fold(0.0, f64::max)
+            },
+            |(_, hi)| hi,
+        );
+        Self {
+            bearing_min,
+            pin_max: pin_bounds.map_or(f64::INFINITY, |(_, hi)| hi),
+            node_arc: pin_reference * TAU / cells as f64,
+        }
+    }
+}
+
+/// The angle of node `k` of `cells` in the pin's frame: its cell's centre.
+#[inline]
+fn node_angle(k: usize, cells: usize) -> f64 {
+    (k as f64 + 0.5) * TAU / cells as f64
+}
+
+/// The positional and kinematic values of one node.
+#[derive(Clone, Copy)]
+struct Node<T> {
+    cell: usize,
+    alpha: f64,
+    /// Overlap `g_k` (m; negative: apart).
+    g: T,
+    /// `m_k = n_k − (R_i'/ρ_k) t_k`.
+    m: [T; 2],
+    /// `ġ_k`.
+    g_rate: T,
+    /// Relative velocity of the pin's material point at `P_k` on the bearing's.
+    relative_velocity: [T; 2],
+    /// `P_k` from the pin body's centroid.
+    pin_arm: [T; 2],
+    /// `P_k` from the bearing body's centroid.
+    bearing_arm: [T; 2],
+    /// `ψ_k − θ_i` (rad, unwrapped).
+    bearing_angle: f64,
+}
+
+/// One body's position and velocity in the kernel's arithmetic.
+#[derive(Clone, Copy)]
+struct Body<T> {
+    position: [T; 2],
+    theta_sin_cos: (T, T),
+    velocity: [T; 2],
+    omega: T,
+}
+
+impl<T: Real> Body<T> {
+    fn new(state: [T; 6]) -> Self {
+        Self {
+            position: [state[0], state[1]],
+            theta_sin_cos: state[2].sin_cos(),
+            velocity: [state[3], state[4]],
+            omega: state[5],
+        }
+    }
+
+    /// A body-fixed vector turned into the global frame.
+    #[inline]
+    fn rotate(&self, local: [f64; 2]) -> [T; 2] {
+        let (s, c) = self.theta_sin_cos;
+        [c * local[0] - s * local[1], s * local[0] + c * local[1]]
+    }
+
+    /// Velocity of the material point at `arm` from the centroid.
+    #[inline]
+    fn point_velocity(&self, arm: &[T; 2]) -> [T; 2] {
+        [
+            self.velocity[0] - self.omega * arm[1],
+            self.velocity[1] + self.omega * arm[0],
+        ]
+    }
+}
+
+#[inline]
+fn dot<T: Real>(a: &[T; 2], b: &[T; 2]) -> T {
+    a[0] * b[0] + a[1] * b[1]
+}
+
+#[inline]
+fn cross<T: Real>(a: &[T; 2], b: &[T; 2]) -> T {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+/// `∫₀¹ max(0, a + (b − a)s)² ds` and its partials in `a` and `b` (the exact energy of one
+/// segment between two nodes, see the module docs).
+#[inline]
+fn segment<T: Real>(a: T, b: T) -> (T, T, T) {
+    let (av, bv) = (a.value(), b.value());
+    let zero = T::constant(0.0);
+    if av >= 0.0 && bv >= 0.0 {
+        let q = (a * a + a * b + b * b) / 3.0;
+        (q, (a * 2.0 + b) / 3.0, (a + b * 2.0) / 3.0)
+    } else if av > 0.0 {
+        let span = a - b;
+        let a2 = a * a;
+        let q = a2 * a / (span * 3.0);
+        let dq_db = q / span;
+        (q, a2 * (a * 2.0 - b * 3.0) / (span * span * 3.0), dq_db)
+    } else if bv > 0.0 {
+        let span = b - a;
+        let b2 = b * b;
+        let q = b2 * b / (span * 3.0);
+        let dq_da = q / span;
+        (q, dq_da, b2 * (b * 2.0 - a * 3.0) / (span * span * 3.0))
+    } else {
+        (zero, zero, zero)
+    }
+}
+
+/// What one evaluation gives: generalized forces `(F_x, F_y, M)` on bearing and pin bodies.
+struct Output<T> {
+    bearing: [T; 3],
+    pin: [T; 3],
+    diagnostics: ContactDiagnostics,
+}
+
+/// Running sums for the diagnostics (plain values).
+#[derive(Default)]
+struct Books {
+    energy: f64,
+    damping_power: f64,
+    friction_power: f64,
+    friction_force: f64,
+    normal_resultant: [f64; 2],
+    load: f64,
+    load_sliding: f64,
+    deepest: Option<(f64, f64, f64)>,
+    cells: u32,
+    zones: u32,
+    narrowest: u32,
+    run: u32,
+    previous_positive: bool,
+}
+
+impl Books {
+    fn see_overlap(&mut self, g: f64, rate: f64, bearing_angle: f64) {
+        if self.deepest.is_none_or(|(d, _, _)| g > d) {
+            self.deepest = Some((g, rate, bearing_angle));
+        }
+        if g > 0.0 {
+            self.cells += 1;
+            self.run += 1;
+        } else if self.previous_positive {
+            self.close_run();
+        }
+        self.previous_positive = g > 0.0;
+    }
+
+    fn close_run(&mut self) {
+        self.zones += 1;
+        self.narrowest = if self.zones == 1 {
+            self.run
+        } else {
+            self.narrowest.min(self.run)
+        };
+        self.run = 0;
+    }
+
+    /// Ends the scan. A whole-circle scan starts at the node facing away from the contact,
+    /// which never overlaps, so no zone runs through the start.
+    fn finish(&mut self) {
+        if self.previous_positive {
+            self.close_run();
+        }
+    }
+}
+
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
+    ClearanceJoint<B, P, N, F>
+{
+    /// The range of nodes that can touch, as signed indices `first..=last` (wrapping), and
+    /// whether they cover the whole circle; `None` in free flight.
+    fn node_window(&self, cells: usize, e: [f64; 2], theta_pin: f64) -> Option<(i64, i64)> {
+        let b = self.bounds;
+        let rho = e[0].hypot(e[1]);
+        if rho + b.pin_max <= b.bearing_min {
+            return None;
+        }
+        let n = cells as i64;
+        let cos_limit = (b.bearing_min * b.bearing_min - b.pin_max * b.pin_max - rho * rho)
+            / (2.0 * b.pin_max * rho);
+        if cos_limit.is_nan() || cos_limit <= -1.0 || rho == 0.0 {
+            let start = if rho == 0.0 {
+                0
+            } else {
+                let away = (-e[1]).atan2(-e[0]) - theta_pin;
+                (away * cells as f64 / TAU - 0.5).round() as i64
+            };
+            return Some((start, start + n - 1));
+        }
+        let half = cos_limit.min(1.0).acos();
+        let centre = e[1].atan2(e[0]) - theta_pin;
+        let per_rad = cells as f64 / TAU;
+        // One node beyond each end: a node outside the window has g ≤ 0 but may still share a
+        // loaded segment with the first node inside.
+        let first = ((centre - half) * per_rad - 0.5).ceil() as i64 - 1;
+        let last = ((centre + half) * per_rad - 0.5).floor() as i64 + 1;
+        if last - first + 1 >= n {
+            // Start opposite the eccentricity: that node is `R_j − |e|` from the bearing
+            // centre at most, so it never overlaps and no zone runs through the start.
+            let start = ((centre + std::f64::consts::PI) * per_rad - 0.5).round() as i64;
+            return Some((start, start + n - 1));
+        }
+        Some((first, last))
+    }
+
+    /// Node `cell` at the given bodies.
+    #[inline]
+    fn node<T: Real>(
+        &self,
+        cell: usize,
+        cells: usize,
+        bearing: &Body<T>,
+        pin: &Body<T>,
+        bearing_centre_arm: &[T; 2],
+        theta_bearing: T,
+    ) -> Node<T> {
+        let alpha = node_angle(cell, cells);
+        let radius = self.pin_profile.sample(alpha).radius;
+        let (s, c) = alpha.sin_cos();
+        let local = [
+            self.pin_centre.x + radius * c,
+            self.pin_centre.y + radius * s,
+        ];
+        let pin_arm = pin.rotate(local);
+        let d = [
+            pin.position[0] + pin_arm[0] - bearing.position[0] - bearing_centre_arm[0],
+            pin.position[1] + pin_arm[1] - bearing.position[1] - bearing_centre_arm[1],
+        ];
+        let rho = dot(&d, &d).sqrt();
+        let psi = d[1].atan2(d[0]);
+        let angle = psi - theta_bearing;
+        let sample = self.bearing_profile.sample(angle.value());
+        let bearing_radius = angle.chain(sample.radius, sample.slope);
+        let bearing_slope = angle.chain(sample.slope, sample.curvature);
+        let n = [d[0] / rho, d[1] / rho];
+        let t = [-n[1], n[0]];
+        let slope_over_rho = bearing_slope / rho;
+        let m = [n[0] - t[0] * slope_over_rho, n[1] - t[1] * slope_over_rho];
+        let bearing_arm = [bearing_centre_arm[0] + d[0], bearing_centre_arm[1] + d[1]];
+        let pin_velocity = pin.point_velocity(&pin_arm);
+        let d_rate = {
+            let centre = bearing.point_velocity(bearing_centre_arm);
+            [pin_velocity[0] - centre[0], pin_velocity[1] - centre[1]]
+        };
+        let bearing_velocity = bearing.point_velocity(&bearing_arm);
+        Node {
+            cell,
+            alpha,
+            g: rho - bearing_radius,
+            m,
+            g_rate: dot(&m, &d_rate) + bearing_slope * bearing.omega,
+            relative_velocity: [
+                pin_velocity[0] - bearing_velocity[0],
+                pin_velocity[1] - bearing_velocity[1],
+            ],
+            pin_arm,
+            bearing_arm,
+            bearing_angle: angle.value(),
+        }
+    }
+
+    /// The kernel: forces on both bodies, diagnostics, and each loaded node to `visit`.
+    fn foundation_eval<T: Real>(
+        &self,
+        foundation: &Foundation,
+        bearing_state: [T; 6],
+        pin_state: [T; 6],
+        onset_velocity: Option<f64>,
+        visit: &mut dyn FnMut(&NodeLoad),
+    ) -> Output<T> {
+        let cells = foundation.cells;
+        let bearing = Body::new(bearing_state);
+        let pin = Body::new(pin_state);
+        let bearing_centre_arm = bearing.rotate([self.bearing_centre.x, self.bearing_centre.y]);
+        let pin_centre_arm = pin.rotate([self.pin_centre.x, self.pin_centre.y]);
+        let e = [
+            pin.position[0] + pin_centre_arm[0] - bearing.position[0] - bearing_centre_arm[0],
+            pin.position[1] + pin_centre_arm[1] - bearing.position[1] - bearing_centre_arm[1],
+        ];
+        let e_value = [e[0].value(), e[1].value()];
+        let rho = e_value[0].hypot(e_value[1]);
+        // The line of centres: the direction of the free joint's diagnostics, and the paper's
+        // sliding rate φ̇ = t·ė/|e|.
+        let e_rate = {
+            let p = pin.point_velocity(&pin_centre_arm);
+            let b = bearing.point_velocity(&bearing_centre_arm);
+            [p[0] - b[0], p[1] - b[1]]
+        };
+        let e_norm = dot(&e, &e).sqrt();
+        let phi_rate = if rho > 0.0 {
+            cross(&e, &e_rate) / (e_norm * e_norm)
+        } else {
+            T::constant(0.0)
+        };
+        let centre_rate = if rho > 0.0 {
+            (e_value[0] * e_rate[0].value() + e_value[1] * e_rate[1].value()) / rho
+        } else {
+            0.0
+        };
+        let onset = onset_velocity.unwrap_or(centre_rate);
+        let theta_bearing = bearing_state[2];
+        let theta_pin = pin_state[2].value();
+
+        let zero = T::constant(0.0);
+        let mut out = Output {
+            bearing: [zero; 3],
+            pin: [zero; 3],
+            diagnostics: ContactDiagnostics::default(),
+        };
+        let mut books = Books::default();
+        let weight = 0.5 * foundation.line_modulus * self.bounds.node_arc;
+        let window = self.node_window(cells, e_value, theta_pin);
+
+        let mut emit =
+            |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| {
+                let g_k = load_gradient * weight;
+                if g_k.value() <= 0.0 {
+                    return;
+                }
+                let (factor, d_factor) = self.normal_law.hysteresis(node.g_rate.value(), onset);
+                if factor <= 0.0 {
+                    // Clamped: the layer does not pull; its elastic load is released as damping.
+                    books.damping_power -= g_k.value() * node.g_rate.value();
+                    return;
+                }
+                let load = g_k * node.g_rate.chain(factor, d_factor);
+                let m_norm = dot(&node.m, &node.m).sqrt();
+                let t_hat = [-node.m[1] / m_norm, node.m[0] / m_norm];
+                let normal = load * m_norm;
+                let material = dot(&node.relative_velocity, &t_hat);
+                let paper = if node.g.value() > 0.0 {
+                    node.g * phi_rate
+                } else {
+                    zero
+                };
+                let sliding = match self.friction_sliding {
+                    SlidingVelocity::Material => material,
+                    SlidingVelocity::Paper => paper,
+                };
+                let friction = self.friction_law.evaluate(sliding.value(), normal.value());
+                let friction_force = sliding.chain2(
+                    normal,
+                    friction.force,
+                    friction.d_velocity,
+                    friction.d_normal_force,
+                );
+                let force_on_pin = [
+                    -(load * node.m[0]) - friction_force * t_hat[0],
+                    -(load * node.m[1]) - friction_force * t_hat[1],
+                ];
+                out.pin[0] = out.pin[0] + force_on_pin[0];
+                out.pin[1] = out.pin[1] + force_on_pin[1];
+                out.pin[2] = out.pin[2] + cross(&node.pin_arm, &force_on_pin);
+                out.bearing[0] = out.bearing[0] - force_on_pin[0];
+                out.bearing[1] = out.bearing[1] - force_on_pin[1];
+                out.bearing[2] = out.bearing[2] - cross(&node.bearing_arm, &force_on_pin);
+
+                let (load_v, normal_v, material_v) =
+                    (load.value(), normal.value(), material.value());
+                books.damping_power += (load_v - g_k.value()) * node.g_rate.value();
+                books.friction_power += friction.force * material_v;
+                books.friction_force += friction.force;
+                books.normal_resultant[0] += load_v * node.m[0].value();
+                books.normal_resultant[1] += load_v * node.m[1].value();
+                books.load += normal_v;
+                books.load_sliding += normal_v * material_v;
+                visit(&NodeLoad {
+                    cell: node.cell,
+                    pin_angle: node.alpha,
+                    bearing_angle: node.bearing_angle.rem_euclid(TAU),
+                    normal_force: normal_v,
+                    arc: self.bounds.node_arc,
+                    material_sliding: material_v,
+                    paper_sliding: paper.value(),
+                });
+            };
+
+        if let Some((first, last)) = window {
+            let n = cells as i64;
+            let wrapped = last - first + 1 >= n;
+            let node_at = |k: i64| {
+                self.node(
+                    k.rem_euclid(n) as usize,
+                    cells,
+                    &bearing,
+                    &pin,
+                    &bearing_centre_arm,
+                    theta_bearing,
+                )
+            };
+            // Stream the nodes, closing each node's load once both its segments are seen.
+            let mut head: Option<(Node<T>, T)> = None;
+            let mut previous: Option<(Node<T>, T)> = None;
+            for k in first..=last {
+                let node = node_at(k);
+                books.see_overlap(node.g.value(), node.g_rate.value(), node.bearing_angle);
+                let mut right_part = zero;
+                if let Some((prev, prev_part)) = previous.take() {
+                    let (q, dq_a, dq_b) = segment(prev.g, node.g);
+                    books.energy += weight * q.value();
+                    right_part = dq_b;
+                    let total = prev_part + dq_a;
+                    if wrapped && k == first + 1 {
+                        head = Some((prev, total));
+                    } else {
+                        emit(&prev, total, &mut books, &mut out);
+                    }
+                }
+                previous = Some((node, right_part));
+            }
+            if let Some((last_node, last_part)) = previous {
+                match head {
+                    Some((head_node, head_part)) => {
+                        // The closing segment from the last node back to the first.
+                        let (q, dq_a, dq_b) = segment(last_node.g, head_node.g);
+                        books.energy += weight * q.value();
+                        emit(&last_node, last_part + dq_a, &mut books, &mut out);
+                        emit(&head_node, head_part + dq_b, &mut books, &mut out);
+                    }
+                    None => emit(&last_node, last_part, &mut books, &mut out),
+                }
+            }
+        }
+        books.finish();
+        out.diagnostics = self.foundation_diagnostics(
+            &books,
+            rho,
+            e_value,
+            [
+                bearing_state[0].value(),
+                bearing_state[1].value(),
+                theta_bearing.value(),
+            ],
+            [bearing_centre_arm[0].value(), bearing_centre_arm[1].value()],
+            theta_pin,
+            phi_rate.value(),
+        );
+        out
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn foundation_diagnostics(
+        &self,
+        books: &Books,
+        rho: f64,
+        e: [f64; 2],
+        bearing_pose: [f64; 3],
+        bearing_centre_arm: [f64; 2],
+        theta_pin: f64,
+        phi_rate: f64,
+    ) -> ContactDiagnostics {
+        let loaded = books.load > 0.0;
+        // The direction of the resultant normal force on the bearing when loaded, else the
+        // line of centres.
+        let direction = if loaded { books.normal_resultant } else { e };
+        let contact_angle = if direction == [0.0, 0.0] {
+            0.0
+        } else {
+            direction[1].atan2(direction[0])
+        };
+        let bearing_angle = (contact_angle - bearing_pose[2]).rem_euclid(TAU);
+        let pin_angle = (contact_angle - theta_pin).rem_euclid(TAU);
+        let bearing_sample = self.bearing_profile.sample(bearing_angle);
+        let pin_sample = self.pin_profile.sample(pin_angle);
+        let (sin, cos) = contact_angle.sin_cos();
+        let centre = [
+            bearing_pose[0] + bearing_centre_arm[0],
+            bearing_pose[1] + bearing_centre_arm[1],
+        ];
+        let (penetration, normal_velocity) = match books.deepest {
+            Some((g, rate, _)) => (g, rate),
+            // Free flight: how far the outlines' bounds are apart (≤ 0).
+            None => (
+                rho + self.bounds.pin_max.min(1e300) - self.bounds.bearing_min,
+                0.0,
+            ),
+        };
+        ContactDiagnostics {
+            in_contact: penetration > 0.0,
+            penetration,
+            eccentricity: rho,
+            contact_angle,
+            bearing_angle,
+            pin_angle,
+            bearing_radius: bearing_sample.radius,
+            pin_radius: pin_sample.radius,
+            normal_velocity,
+            tangential_velocity: if loaded {
+                books.load_sliding / books.load
+            } else {
+                0.0
+            },
+            geometric_sliding_velocity: penetration.max(0.0) * phi_rate,
+            normal_force: books.normal_resultant[0].hypot(books.normal_resultant[1]),
+            friction_force: books.friction_force,
+            contact_point: [
+                centre[0] + bearing_sample.radius * cos,
+                centre[1] + bearing_sample.radius * sin,
+            ],
+            elastic_energy: books.energy,
+            damping_power: books.damping_power,
+            friction_power: books.friction_power,
+            bearing_slope: bearing_sample.slope,
+            pin_slope: pin_sample.slope,
+            bearing_curvature: bearing_sample.curvature,
+            pin_curvature: pin_sample.curvature,
+            contact_cells: books.cells,
+            contact_zones: books.zones,
+            narrowest_zone_cells: books.narrowest,
+        }
+    }
+
+    /// Forces of the foundation model at the given states.
+    pub(super) fn foundation_forces(
+        &self,
+        foundation: &Foundation,
+        bearing: &BodyState,
+        pin: &BodyState,
+        onset_velocity: Option<f64>,
+        visit: &mut dyn FnMut(&NodeLoad),
+    ) -> ContactForces {
+        let out = self.foundation_eval(
+            foundation,
+            state_array(bearing),
+            state_array(pin),
+            onset_velocity,
+            visit,
+        );
+        ContactForces {
+            bearing: Vector3::from(out.bearing),
+            pin: Vector3::from(out.pin),
+            diagnostics: out.diagnostics,
+        }
+    }
+
+    /// Forces of the foundation model and their exact Jacobian (dual numbers).
+    pub(super) fn foundation_forces_and_jacobian(
+        &self,
+        foundation: &Foundation,
+        bearing: &BodyState,
+        pin: &BodyState,
+        onset_velocity: Option<f64>,
+    ) -> (ContactForces, ContactJacobian) {
+        let seed = |state: &BodyState, offset: usize| -> [Dual; 6] {
+            let values = state_array(state);
+            // Positions are columns 0–2 (bearing) and 3–5 (pin), velocities 6–8 and 9–11.
+            std::array::from_fn(|k| {
+                let column = if k < 3 {
+                    offset + k
+                } else {
+                    6 + offset + k - 3
+                };
+                Dual::variable(values[k], column)
+            })
+        };
+        let out = self.foundation_eval(
+            foundation,
+            seed(bearing, 0),
+            seed(pin, 3),
+            onset_velocity,
+            &mut |_| {},
+        );
+        let mut jacobian = ContactJacobian::zeros();
+        for (row, value) in out.bearing.iter().chain(&out.pin).enumerate() {
+            for (column, partial) in value.partials.iter().enumerate() {
+                jacobian[(row, column)] = *partial;
+            }
+        }
+        let forces = ContactForces {
+            bearing: Vector3::new(
+                out.bearing[0].value,
+                out.bearing[1].value,
+                out.bearing[2].value,
+            ),
+            pin: Vector3::new(out.pin[0].value, out.pin[1].value, out.pin[2].value),
+            diagnostics: out.diagnostics,
+        };
+        (forces, jacobian)
+    }
+
+    /// The deepest overlap of the outlines (m; negative when apart): the foundation's event
+    /// function. In free flight, the gap between the outlines' radius bounds.
+    pub(super) fn foundation_overlap(
+        &self,
+        foundation: &Foundation,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+    ) -> f64 {
+        let bearing = Body::new(state_array(bearing_body));
+        let pin = Body::new(state_array(pin_body));
+        let bearing_centre_arm = bearing.rotate([self.bearing_centre.x, self.bearing_centre.y]);
+        let pin_centre_arm = pin.rotate([self.pin_centre.x, self.pin_centre.y]);
+        let e = [
+            pin.position[0] + pin_centre_arm[0] - bearing.position[0] - bearing_centre_arm[0],
+            pin.position[1] + pin_centre_arm[1] - bearing.position[1] - bearing_centre_arm[1],
+        ];
+        let cells = foundation.cells;
+        match self.node_window(cells, e, pin_body.theta) {
+            None => e[0].hypot(e[1]) + self.bounds.pin_max - self.bounds.bearing_min,
+            Some((first, last)) => (first..=last)
+                .map(|k| {
+                    let cell = k.rem_euclid(cells as i64) as usize;
+                    self.node(
+                        cell,
+                        cells,
+                        &bearing,
+                        &pin,
+                        &bearing_centre_arm,
+                        bearing_body.theta,
+                    )
+                    .g
+                })
+                .fold(f64::NEG_INFINITY, f64::max),
+        }
+    }
+}
+
+fn state_array(state: &BodyState) -> [f64; 6] {
+    [
+        state.x,
+        state.y,
+        state.theta,
+        state.vx,
+        state.vy,
+        state.omega,
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::segment;
+
+    /// The segment energy and its partials are continuous, with continuous partials, as a node
+    /// crosses zero: the force is C¹ across a zone edge.
+    #[test]
+    fn segment_is_smooth_across_a_zone_edge() {
+        let a = 3e-6;
+        for b in [1e-14, -1e-14] {
+            let (q, qa, qb) = segment(a, b);
+            assert!((q - a * a / 3.0).abs() < 1e-24, "{q}");
+            assert!((qa - 2.0 * a / 3.0).abs() < 1e-15, "{qa}");
+            assert!((qb - a / 3.0).abs() < 1e-15, "{qb}");
+        }
+        // Second derivatives: ∂²Q/∂b² is 2/3 on both sides.
+        let h = 1e-9;
+        let second = |b: f64| (segment(a, b + h).2 - segment(a, b - h).2) / (2.0 * h);
+        assert!((second(2e-8) - 2.0 / 3.0).abs() < 1e-3);
+        assert!(
+            (second(-2e-8) - 2.0 / 3.0).abs() < 1e-2,
+            "{}",
+            second(-2e-8)
+        );
+        // Against a fine quadrature of the definition.
+        for (a, b) in [(2e-6, -5e-6), (-1e-6, 4e-6), (1e-6, 2e-6), (-1.0, -2.0)] {
+            let n = 200_000;
+            let quad: f64 = (0..n)
+                .map(|k| {
+                    let s = (k as f64 + 0.5) / n as f64;
+                    let v = f64::max(0.0, a + (b - a) * s);
+                    v * v
+                })
+                .sum::<f64>()
+                / n as f64;
+            let (q, _, _) = segment(a, b);
+            assert!(
+                (q - quad).abs() <= 1e-8 * quad.max(1e-30),
+                "{a} {b}: {q} vs {quad}"
+            );
+        }
+    }
+}
