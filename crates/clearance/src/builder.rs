@@ -1,8 +1,8 @@
 //! A clearance joint assembled from named parts instead of nested constructors.
 
 use contact::{
-    CircularProfile, ClearanceJoint, ContactError, FrictionLawKind, JointSurface, Material,
-    NormalLawKind, SlidingVelocity,
+    CircularProfile, ClearanceJoint, ContactError, ContactModel, FrictionLawKind, JointSurface,
+    Material, NormalLawKind, SlidingVelocity,
 };
 use multibody::BodyId;
 use wear::{WearError, WearParams, WornJoint};
@@ -109,6 +109,7 @@ pub struct ClearanceJointBuilder {
     friction_law: FrictionLawKind,
     friction_sliding: SlidingVelocity,
     wear_sliding: SlidingVelocity,
+    model: ContactModel,
 }
 
 impl ClearanceJointBuilder {
@@ -128,7 +129,15 @@ impl ClearanceJointBuilder {
             friction_law: FrictionLawKind::None,
             friction_sliding: SlidingVelocity::Material,
             wear_sliding: SlidingVelocity::Material,
+            model: ContactModel::LineOfCentres,
         }
+    }
+
+    /// Sets the contact model (default: line of centres). A worn joint on the foundation model
+    /// should give it as many nodes as its wear grid has cells, so each node is a pin cell.
+    pub fn contact_model(mut self, model: ContactModel) -> Self {
+        self.model = model;
+        self
     }
 
     /// Sets the friction law (default: none).
@@ -200,7 +209,11 @@ impl ClearanceJointBuilder {
             self.normal_law,
             self.friction_law,
         )
-        .map(|joint| joint.with_friction_sliding(self.friction_sliding))
+        .map(|joint| {
+            joint
+                .with_friction_sliding(self.friction_sliding)
+                .with_model(self.model)
+        })
         .map_err(|source| ClearanceError::Contact {
             joint: self.name.clone(),
             source,

@@ -1,8 +1,8 @@
 //! The clearance force element and its read-only probe.
 
 use contact::{
-    BodyState, CircularProfile, ClearanceJoint, ContactDiagnostics, ContactForces, FrictionLaw,
-    FrictionLawKind, ImpactMemory, NormalLaw, NormalLawKind, SurfaceProfile,
+    BodyState, CircularProfile, ClearanceJoint, ContactDiagnostics, ContactForces, ContactModel,
+    FrictionLaw, FrictionLawKind, ImpactMemory, NodeLoad, NormalLaw, NormalLawKind, SurfaceProfile,
 };
 use multibody::{BodyId, ForceElement, ForcePartials};
 use wear::{StageWear, WornProfile};
@@ -40,6 +40,9 @@ pub struct ClearanceForce<
     damping_dissipation: f64,
     /// Largest normal force at an accepted step end (N).
     peak_normal_force: f64,
+    /// Foundation model with wear on: the loaded nodes at the last accepted step's start and
+    /// end (buffers reused from step to step).
+    nodes: [Vec<NodeLoad>; 2],
 }
 
 /// A clearance joint between round (unworn) surfaces: no wear code involved.
@@ -71,6 +74,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             friction_dissipation: 0.0,
             damping_dissipation: 0.0,
             peak_normal_force: 0.0,
+            nodes: [Vec::new(), Vec::new()],
         }
     }
 
@@ -211,7 +215,28 @@ where
     }
 
     fn on_accepted_step(&mut self, t_previous: f64, t: f64, q: &[f64], qd: &[f64]) {
-        let current = self.evaluate(q, qd).diagnostics;
+        // The foundation's wear needs the pressure of every loaded node, from the same
+        // evaluation as the diagnostics.
+        let foundation_wear =
+            self.wear.is_some() && matches!(self.joint.model(), ContactModel::Foundation(_));
+        let current = if foundation_wear {
+            let [bearing, pin] = self.states(q, qd);
+            let mut nodes = std::mem::take(&mut self.nodes[1]);
+            nodes.clear();
+            let forces = self.joint.forces_visiting_nodes(
+                &bearing,
+                &pin,
+                self.memory.onset_velocity(),
+                &mut |node| nodes.push(*node),
+            );
+            if self.last.is_none() {
+                self.nodes[0].clone_from(&nodes);
+            }
+            self.nodes[1] = nodes;
+            forces.diagnostics
+        } else {
+            self.evaluate(q, qd).diagnostics
+        };
         let previous = self.last.unwrap_or(current);
         self.memory.update(&previous, &current);
         let dt = t - t_previous;
@@ -230,13 +255,21 @@ where
                 .filter(|(split, _)| t_previous < *split)
                 .map(|(_, wear)| wear);
             for wear in std::iter::once(wear).chain(first) {
-                if let Err(error) = wear.accumulate_step(&previous, &current, dt) {
+                let deposited = if foundation_wear {
+                    wear.accumulate_nodes(&self.nodes[0], &self.nodes[1], dt)
+                } else {
+                    wear.accumulate_step(&previous, &current, dt)
+                };
+                if let Err(error) = deposited {
                     debug_assert!(
                         false,
                         "wear accumulation rejected kernel diagnostics: {error}"
                     );
                 }
             }
+        }
+        if foundation_wear {
+            self.nodes.swap(0, 1);
         }
         self.last = Some(current);
     }

@@ -11,6 +11,7 @@ use clearance::{
     ClearanceJointBuilder, JointSide, LankaraniNikravesh, Material, StagePlan, StageSimulation,
     WearParams, WearStagesError, run_wear_stages,
 };
+use contact::{ContactModel, Foundation};
 use wear::{Extrapolation, RunContext, WornJoint};
 
 const MASS: f64 = 10.0;
@@ -23,18 +24,30 @@ const WEAR_FROM: f64 = 0.5;
 /// ... to here: two whole turns, one per half.
 const T_END: f64 = 1.5;
 
-fn shaft_joint() -> Result<ClearanceJointBuilder, Box<dyn std::error::Error>> {
+fn shaft_joint(model: ContactModel) -> Result<ClearanceJointBuilder, Box<dyn std::error::Error>> {
     let steel = Material::new(200e9, 0.3)?;
     Ok(ClearanceJointBuilder::new(
         "shaft",
         JointSide::ground([0.0, 0.0], BEARING_RADIUS, steel),
         JointSide::on(BodyId(0), [0.0, 0.0], PIN_RADIUS, steel),
         LankaraniNikravesh::new(0.5)?,
+    )
+    .contact_model(model))
+}
+
+/// The elastic foundation on the wear grid's 720 cells.
+fn foundation() -> Result<ContactModel, Box<dyn std::error::Error>> {
+    let steel = Material::new(200e9, 0.3)?;
+    Ok(ContactModel::Foundation(
+        Foundation::calibrated(&steel, &steel).with_cells(720)?,
     ))
 }
 
 /// The hanging shaft on `surfaces`, wearing from [`WEAR_FROM`], halves split at 1 s.
-fn hanging_shaft(surfaces: &WornJoint) -> Result<StageSimulation, Box<dyn std::error::Error>> {
+fn hanging_shaft(
+    surfaces: &WornJoint,
+    contact_model: ContactModel,
+) -> Result<StageSimulation, Box<dyn std::error::Error>> {
     let mut model = Model::new();
     let shaft = model.add_body(Body::new("shaft", MASS, 0.02, [0.0, 0.0, 0.0]))?;
     let spin = DriveTarget::Coordinate(shaft, Coordinate::Theta);
@@ -42,7 +55,7 @@ fn hanging_shaft(surfaces: &WornJoint) -> Result<StageSimulation, Box<dyn std::e
     let gravity = Gravity::new(&model, [0.0, -9.81]);
     let mut system = System::new(model)?;
     system.add_element(Box::new(gravity));
-    let element = shaft_joint()?
+    let element = shaft_joint(contact_model)?
         .on_surfaces(surfaces)?
         .with_stage_wear(surfaces.start_stage(), WEAR_FROM)
         .with_halves(surfaces.start_stage(), 0.5 * (WEAR_FROM + T_END));
@@ -66,12 +79,22 @@ fn hanging_shaft(surfaces: &WornJoint) -> Result<StageSimulation, Box<dyn std::e
 #[test]
 fn each_stage_adds_the_archard_volume_of_a_dead_load_times_the_amplification()
 -> Result<(), Box<dyn std::error::Error>> {
+    stages_add_the_archard_volume(ContactModel::LineOfCentres)
+}
+
+#[test]
+fn the_foundation_wears_the_archard_volume_from_its_pressure()
+-> Result<(), Box<dyn std::error::Error>> {
+    stages_add_the_archard_volume(foundation()?)
+}
+
+fn stages_add_the_archard_volume(model: ContactModel) -> Result<(), Box<dyn std::error::Error>> {
     let amplification = 10.0;
     let params = WearParams::new(1e-13, 0.02, 720)?;
-    let mut joints = vec![shaft_joint()?.unworn_surfaces(&params)?];
+    let mut joints = vec![shaft_joint(model)?.unworn_surfaces(&params)?];
     let jump = Extrapolation::SingleJump { warn_fraction: 0.1 };
     let plan = StagePlan::new(2, amplification, jump);
-    let mut runs = |_: RunContext, surfaces: &[WornJoint]| hanging_shaft(&surfaces[0]);
+    let mut runs = |_: RunContext, surfaces: &[WornJoint]| hanging_shaft(&surfaces[0], model);
     let stages = run_wear_stages(&mut joints, &plan, &mut runs).map_err(|e| e.to_string())?;
 
     let per_run = 1e-13 * MASS * 9.81 * SPEED * PIN_RADIUS * (T_END - WEAR_FROM);
@@ -81,7 +104,7 @@ fn each_stage_adds_the_archard_volume_of_a_dead_load_times_the_amplification()
         let expected = (stage + 1) as f64 * amplification * per_run;
         let volume = surfaces[0].worn_volume();
         eprintln!(
-            "stage {}: worn volume {volume:.5e} m³, Archard {expected:.5e} m³ ({:+.3} %)",
+            "{model:?} stage {}: worn volume {volume:.5e} m³, Archard {expected:.5e} m³ ({:+.3} %)",
             stage + 1,
             100.0 * (volume / expected - 1.0)
         );
@@ -108,9 +131,9 @@ fn each_stage_adds_the_archard_volume_of_a_dead_load_times_the_amplification()
 #[test]
 fn an_element_without_a_stage_buffer_is_named() -> Result<(), Box<dyn std::error::Error>> {
     let params = WearParams::new(1e-13, 0.02, 720)?;
-    let mut joints = vec![shaft_joint()?.unworn_surfaces(&params)?];
+    let mut joints = vec![shaft_joint(ContactModel::LineOfCentres)?.unworn_surfaces(&params)?];
     let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
-        let mut run = hanging_shaft(&surfaces[0])?;
+        let mut run = hanging_shaft(&surfaces[0], ContactModel::LineOfCentres)?;
         // The gravity element (0) is no clearance joint.
         run.elements = vec![clearance::multibody::ElementId(0)];
         Ok::<_, Box<dyn std::error::Error>>(run)

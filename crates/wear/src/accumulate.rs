@@ -1,6 +1,8 @@
 //! Archard wear accumulated over one stage's accepted integration steps.
 
-use contact::{ContactDiagnostics, SlidingVelocity};
+use std::f64::consts::TAU;
+
+use contact::{ContactDiagnostics, NodeLoad, SlidingVelocity};
 
 use crate::error::{WearError, finite, non_negative, positive};
 use crate::joint::{ContactArc, WornJoint};
@@ -105,6 +107,49 @@ impl StageWear {
         Ok(())
     }
 
+    /// Adds the wear of one accepted step of length `dt` (s) of an elastic-foundation contact,
+    /// from the loaded nodes at its start and at its end (`contact::NodeLoad`, as the contact
+    /// model reported them).
+    ///
+    /// Archard per node, from the pressure the force used: depth `h = K_d p |v_s| dt/2` per end
+    /// (trapezoid), with `p = F_k/(arc · w)` the node's normal force over its share of the
+    /// outline and `v_s` the joint's chosen sliding velocity. Each surface takes `h/2` in
+    /// radius over the node's arc: on the pin at the node's own angle, on the bearing where the
+    /// node meets it, each spread over the two nearest cell centres (linear weights, so the
+    /// deposit moves continuously with the contact). The worn volume of the step is then
+    /// exactly `K_d Σ F_k |v_s| dt`, Archard's ([`archard_volume`](Self::archard_volume)).
+    ///
+    /// Errors name the first non-finite or negative node field, or a bad `dt`; the record is
+    /// unchanged then.
+    pub fn accumulate_nodes(
+        &mut self,
+        start: &[NodeLoad],
+        end: &[NodeLoad],
+        dt: f64,
+    ) -> Result<(), WearError> {
+        non_negative("dt", dt)?;
+        for node in start.iter().chain(end) {
+            non_negative("node normal_force", node.normal_force)?;
+            positive("node arc", node.arc)?;
+            finite("node sliding", node.sliding(self.sliding))?;
+            finite("node pin_angle", node.pin_angle)?;
+            finite("node bearing_angle", node.bearing_angle)?;
+        }
+        for node in start.iter().chain(end) {
+            let speed = node.sliding(self.sliding).abs();
+            let archard_rate = self.wear_coefficient * node.normal_force * speed;
+            // Depth h over the node's arc; each surface's cells hold h/2 of radius over their
+            // own width at their nominal radius (`layer_volume`).
+            let depth = archard_rate * 0.5 * dt / (node.arc * self.hinge_width);
+            let pin_cells = spread_factor(node.arc, self.pin_radius, self.pin.len());
+            let bearing_cells = spread_factor(node.arc, self.bearing_radius, self.bearing.len());
+            deposit_linear(&mut self.pin, node.pin_angle, depth * pin_cells);
+            deposit_linear(&mut self.bearing, node.bearing_angle, depth * bearing_cells);
+            self.archard_volume += archard_rate * 0.5 * dt;
+        }
+        Ok(())
+    }
+
     /// For a loaded state: its arc, depth rate `K_d p |v_t|` (m/s) and Archard volume rate
     /// `K_d F_n |v_t|` (m³/s). `None` when nothing wears.
     fn rate(&self, d: &ContactDiagnostics) -> Result<Option<(ContactArc, f64, f64)>, WearError> {
@@ -165,5 +210,25 @@ impl StageWear {
     pub fn worn_volume(&self) -> f64 {
         layer_volume(&self.bearing, self.bearing_radius, self.hinge_width)
             + layer_volume(&self.pin, self.pin_radius, self.hinge_width)
+    }
+}
+
+/// How many cells of a surface of radius `radius` and `cells` cells an arc of length `arc`
+/// covers: a depth spread over the arc becomes this times the depth in one cell.
+fn spread_factor(arc: f64, radius: f64, cells: usize) -> f64 {
+    arc / (radius * TAU / cells as f64)
+}
+
+/// Adds `amount` to the cells around body-frame angle `angle`, split between the two nearest
+/// cell centres in proportion to closeness (all in one cell when `angle` is a centre).
+fn deposit_linear(cells: &mut [f64], angle: f64, amount: f64) {
+    let n = cells.len();
+    let u = angle.rem_euclid(TAU) * n as f64 / TAU - 0.5;
+    let base = u.floor();
+    let t = u - base;
+    let i = (base as i64).rem_euclid(n as i64) as usize;
+    cells[i] += amount * (1.0 - t);
+    if t > 0.0 {
+        cells[(i + 1) % n] += amount * t;
     }
 }

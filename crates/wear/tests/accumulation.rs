@@ -206,3 +206,59 @@ fn paper_sliding_wears_with_the_geometric_contact_point_speed() {
     );
     assert_relative_eq!(b.max_depth(), 0.04 * a.max_depth(), max_relative = 1e-12);
 }
+
+/// Foundation node loads: the worn volume of every step is Archard's `K_d Σ F |v| dt` to
+/// round-off, whatever the nodes' angles (between cell centres or on them) and grid sizes.
+#[test]
+fn node_deposits_carry_the_archard_volume_exactly() {
+    use contact::NodeLoad;
+    use wear::{WearParams, WornJoint};
+    for (cells, node_cells) in [(1000, 1000), (720, 1000), (1000, 360)] {
+        let params = WearParams::new(1.8e-13, 0.1, cells).unwrap();
+        let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
+        let mut stage = joint.start_stage();
+        let arc = R_PIN * TAU / node_cells as f64;
+        let node = |k: usize, force: f64, speed: f64| NodeLoad {
+            cell: k,
+            pin_angle: (k as f64 + 0.5) * TAU / node_cells as f64,
+            bearing_angle: 1.234 + 0.0137 * k as f64,
+            normal_force: force,
+            arc,
+            material_sliding: speed,
+            paper_sliding: 0.0,
+        };
+        let start: Vec<NodeLoad> = (10..40).map(|k| node(k, 50.0 + k as f64, -0.3)).collect();
+        let end: Vec<NodeLoad> = (12..45).map(|k| node(k, 80.0 - k as f64, 0.25)).collect();
+        let dt = 1e-4;
+        stage.accumulate_nodes(&start, &end, dt).unwrap();
+        let expected: f64 = start
+            .iter()
+            .chain(&end)
+            .map(|n| 1.8e-13 * n.normal_force * n.material_sliding.abs() * 0.5 * dt)
+            .sum();
+        assert_relative_eq!(stage.archard_volume(), expected, max_relative = 1e-14);
+        assert_relative_eq!(stage.worn_volume(), expected, max_relative = 1e-12);
+        // The pin cells under matching grids hold the closed-form depth K_d p |v| dt/2 ...
+        if cells == node_cells {
+            let p = start[0].normal_force / (arc * 0.1);
+            assert_relative_eq!(
+                stage.pin()[10],
+                1.8e-13 * p * 0.3 * 0.5 * dt,
+                max_relative = 1e-12
+            );
+        }
+        // ... and nothing is deposited away from the nodes.
+        assert_eq!(stage.pin()[cells / 2 + 100], 0.0);
+    }
+    // A NaN node is refused and leaves the record as it was.
+    let params = WearParams::new(1.8e-13, 0.1, 100).unwrap();
+    let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
+    let mut stage = joint.start_stage();
+    let bad = NodeLoad {
+        normal_force: f64::NAN,
+        arc: 1e-3,
+        ..NodeLoad::default()
+    };
+    assert!(stage.accumulate_nodes(&[bad], &[], 1e-4).is_err());
+    assert_eq!(stage.max_depth(), 0.0);
+}
