@@ -429,6 +429,8 @@ pub fn life_curve(
         for (k, ((y_label, ys, series), area)) in panels.iter().zip(&areas).enumerate() {
             let mut chart = ChartBuilder::on(area)
                 .margin(12)
+                // Room for the last cycle label, centred on the axis end.
+                .margin_right(30)
                 .x_label_area_size(45)
                 .y_label_area_size(80)
                 .build_cartesian_2d(xs.clone(), ys.clone())?;
@@ -473,7 +475,7 @@ pub fn life_curve(
                 let line = [(xs.start, value), (xs.end, value)];
                 chart
                     .draw_series(DashedLineSeries::new(line, 10, 6, red))?
-                    .label(format!("limit {:.0} µm", value))
+                    .label(format!("limit {} µm", tick(&value)))
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], red));
                 if let Some(at) = reached {
                     chart.draw_series([Circle::new((at, value), 6, red)])?;
