@@ -416,6 +416,14 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
                 j.pin_peak_angle_deg
             );
         }
+        for j in &w.joints {
+            if let Some(limit) = &j.clearance_limit {
+                println!(
+                    "  {}",
+                    clearance_limit_line(&j.name, limit, w.cycles_applied)
+                );
+            }
+        }
         for text in &w.warnings {
             println!("  {text}");
         }
@@ -429,6 +437,35 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
         out.display(),
         s.wall_time_s
     );
+}
+
+/// When joint `name`'s largest local clearance reaches the maintenance limit, in a line.
+fn clearance_limit_line(
+    name: &str,
+    limit: &lgres::run::ClearanceLimitReport,
+    cycles_applied: f64,
+) -> String {
+    // Two decimals as in "1.00 mm", more when the limit needs them (0.501 mm).
+    let value = limit.limit_m * 1e3;
+    let mm = (2..=6)
+        .map(|d| format!("{value:.d$}"))
+        .find(|t| {
+            t.parse::<f64>()
+                .is_ok_and(|v| (v - value).abs() <= 1e-9 * value)
+        })
+        .unwrap_or_else(|| format!("{value:e}"));
+    match limit.cycles {
+        Some(c) if c > 0.0 => {
+            format!("joint {name} reaches {mm} mm clearance after {c:.1e} cycles")
+        }
+        Some(_) => format!(
+            "joint {name} is at {mm} mm clearance from the start (the surfaces the run started \
+             from)"
+        ),
+        None => format!(
+            "joint {name} does not reach {mm} mm clearance within {cycles_applied:.1e} cycles"
+        ),
+    }
 }
 
 /// Per-joint peaks and energy books of one response, and what the books flag.

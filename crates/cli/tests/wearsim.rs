@@ -458,3 +458,47 @@ values = [5e-4, -1e-4]
     assert!(stderr(&o).contains("--cycles"), "{}", stderr(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn run_prints_when_each_joint_reaches_the_clearance_limit() {
+    let dir = scratch("limit");
+    let scene = |limit: &str| {
+        write_scene(
+            &dir,
+            &format!(
+                "extends = \"slider-crank\"\n\
+                 [[clearance_joints]]\n\
+                 name = \"rod-slider\"\n\
+                 wear = {{ k_d = 1.8e-13, width = 0.02, cells = 360 }}\n\
+                 [run]\n\
+                 cycles = 1\n\
+                 wear_stages = 1\n\
+                 cycles_per_stage = 1\n\
+                 amplification = 750.0\n\
+                 clearance_limit = {limit}\n"
+            ),
+        )
+    };
+    let out = dir.join("out");
+    let path = scene("0.000505");
+    let o = run_into(path.to_str().unwrap(), &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("joint rod-slider reaches 0.505 mm clearance after "),
+        "{text}"
+    );
+    for file in ["wear_life.csv", "wear_life_rod-slider.png"] {
+        assert!(out.join(file).is_file(), "{file} missing");
+    }
+    let path = scene("0.001");
+    let o = run_into(path.to_str().unwrap(), &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    // One stage of K = 1 cycle × 750 stands for 750 cycles, all applied.
+    assert!(
+        text.contains("joint rod-slider does not reach 1.00 mm clearance within 7.5e2 cycles"),
+        "{text}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

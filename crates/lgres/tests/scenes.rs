@@ -207,6 +207,48 @@ fn bad_values_name_field_value_and_reason() {
 }
 
 #[test]
+fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
+    let with = |limit: &str| {
+        edited(
+            "transient_window = 0.1",
+            &format!("transient_window = 0.1\nclearance_limit = {limit}"),
+        )
+    };
+    // Below the 0.5 mm of both A and B: one issue per joint, naming the field, value and joint.
+    let msg = issues(scene::load_str(&with("0.0004"), "t").unwrap_err());
+    assert_eq!(msg.len(), 2, "{msg:?}");
+    for (m, joint) in msg
+        .iter()
+        .zip(["clearance_joints[0] (A)", "clearance_joints[1] (B)"])
+    {
+        assert!(
+            m.starts_with("run.clearance_limit = 0.0004: must exceed the initial clearance"),
+            "{m}"
+        );
+        assert!(m.contains(joint) && m.contains("0.0005 m"), "{m}");
+    }
+    // Equal is not above.
+    let msg = issues(scene::load_str(&with("0.0005"), "t").unwrap_err());
+    assert_eq!(msg.len(), 2, "{msg:?}");
+    let msg = issues(scene::load_str(&with("-0.001"), "t").unwrap_err());
+    assert_eq!(msg, ["run.clearance_limit = -0.001: must be positive"]);
+    let msg = issues(scene::load_str(&with("inf"), "t").unwrap_err());
+    assert_eq!(msg, ["run.clearance_limit = inf: must be a finite number"]);
+    // A valid limit loads, and survives the round trip through TOML; none is the default.
+    let s = scene::load_str(&with("0.001"), "t").unwrap();
+    assert_eq!(s.run.clearance_limit, Some(0.001));
+    let again = scene::load_str(&s.to_toml(), "t").unwrap();
+    assert_eq!(again.run.clearance_limit, Some(0.001));
+    assert_eq!(scenes::builtin("lgres").unwrap().run.clearance_limit, None);
+    assert!(
+        !scenes::builtin("lgres")
+            .unwrap()
+            .to_toml()
+            .contains("clearance_limit")
+    );
+}
+
+#[test]
 fn unknown_keys_and_syntax_errors_carry_position() {
     let text = edited("mass = 6.32", "mass = 6.32\nmas = 1.0");
     let msg = scene::load_str(&text, "t").unwrap_err().to_string();

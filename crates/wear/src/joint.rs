@@ -274,6 +274,15 @@ impl WornJoint {
             + 0.5 * (self.bearing.wear_depth(bearing_angle).0 + self.pin.wear_depth(pin_angle).0)
     }
 
+    /// Largest local clearance (m): `c0 + (max h_i + max h_j)/2`, the clearance where the
+    /// deepest dents of bearing and pin face each other (cell depths; the interpolated profile
+    /// never exceeds its deepest cell, so this bounds [`local_clearance`](Self::local_clearance)
+    /// in every direction, and the bodies' relative rotation reaches it when it aligns the two
+    /// peaks).
+    pub fn max_local_clearance(&self) -> f64 {
+        self.nominal_clearance() + 0.5 * (self.bearing.peak().depth + self.pin.peak().depth)
+    }
+
     /// Material removed from both surfaces so far (m³).
     pub fn worn_volume(&self) -> f64 {
         self.bearing.worn_volume(self.hinge_width) + self.pin.worn_volume(self.hinge_width)

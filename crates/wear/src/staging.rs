@@ -248,6 +248,13 @@ pub struct JointSubstep {
     /// Bound on the relative change of the clearance curvature, `|Δc''|/(c0 + |c''|)`, of
     /// this update.
     pub curvature_change: f64,
+    /// Material removed from both surfaces so far, after the update (m³;
+    /// [`WornJoint::worn_volume`]).
+    pub worn_volume: f64,
+    /// Largest local clearance after the update (m): `c0 + (max h_i + max h_j)/2`, the
+    /// clearance where the deepest dents of bearing and pin face each other
+    /// ([`WornJoint::max_local_clearance`]).
+    pub max_local_clearance: f64,
 }
 
 /// One amplification sub-step (a single jump is one sub-step).
@@ -477,6 +484,8 @@ fn apply_all(
             change_fraction,
             slope_change: amplification * slope,
             curvature_change: amplification * curvature,
+            worn_volume: joint.worn_volume(),
+            max_local_clearance: joint.max_local_clearance(),
         };
         report.max_depth = report
             .max_depth

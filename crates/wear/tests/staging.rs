@@ -309,3 +309,69 @@ fn geometry_limits_end_a_stage_at_the_limit() {
         (largest(&|a| j.bearing().sample(a).slope) + largest(&|a| j.pin().sample(a).slope)) / c0;
     assert!((bound - 0.3).abs() < 0.3 * 2e-3, "slope bound {bound}");
 }
+
+/// Material removed from one surface, summed here from its cells: `Σ h_k/2 · R Δθ · w`.
+fn layer_volume(depth: &[f64], radius: f64) -> f64 {
+    let arc = radius * std::f64::consts::TAU / depth.len() as f64;
+    depth.iter().map(|h| 0.5 * h * arc * WIDTH).sum()
+}
+
+#[test]
+fn substeps_report_the_life_curve_of_each_joint() {
+    let mut joints = vec![joint(1000), joint(400)];
+    let plan = fraction_only(2);
+    // The surfaces after every sub-step: the runner of sub-step n + 1 sees those of sub-step n.
+    let mut seen: Vec<Vec<WornJoint>> = Vec::new();
+    let reports = run_stages(&mut joints, &plan, |_, js: &[WornJoint]| {
+        seen.push(js.to_vec());
+        Ok::<_, Infallible>(vec![
+            clearance_proportional(&js[0], 1e-4),
+            clearance_proportional(&js[1], 3e-5),
+        ])
+    })
+    .unwrap();
+    seen.push(joints.clone());
+    let substeps: Vec<_> = reports.iter().flat_map(|r| &r.substeps).collect();
+    assert_eq!(seen.len(), substeps.len() + 1);
+    for (j, cells) in [1000, 400].into_iter().enumerate() {
+        let mut previous = (0.0, CLEARANCE);
+        for (n, s) in substeps.iter().enumerate() {
+            let step = &s.joints[j];
+            let after = &seen[n + 1][j];
+            let (b, p) = (after.bearing().depth(), after.pin().depth());
+            assert_eq!(b.len(), cells);
+            // Worn volume: the joint's own figure, and the cells summed here.
+            assert_eq!(step.worn_volume, after.worn_volume());
+            assert_relative_eq!(
+                step.worn_volume,
+                layer_volume(b, R_BEARING) + layer_volume(p, R_PIN),
+                max_relative = 1e-12
+            );
+            // Largest local clearance: c0 + (h_i + h_j)/2 at the two peaks of the cells.
+            let peak = |d: &[f64]| d.iter().copied().fold(0.0, f64::max);
+            let expected = CLEARANCE + 0.5 * (peak(b) + peak(p));
+            assert_relative_eq!(step.max_local_clearance, expected, max_relative = 1e-12);
+            assert_eq!(step.max_local_clearance, after.max_local_clearance());
+            assert_eq!(step.max_bearing_depth, peak(b));
+            assert_eq!(step.max_pin_depth, peak(p));
+            // No contact direction sees a larger clearance (sampled at every cell pairing
+            // around the peaks, and with the peaks aligned).
+            let (pb, pp) = (after.bearing().peak(), after.pin().peak());
+            for shift in -20..=20 {
+                let a = pb.angle + f64::from(shift) * 1e-3;
+                assert!(after.local_clearance(a, pp.angle) <= step.max_local_clearance);
+            }
+            // Both grow with every sub-step (wear only removes material).
+            assert!(step.worn_volume > previous.0, "sub-step {n} of joint {j}");
+            assert!(
+                step.max_local_clearance > previous.1,
+                "sub-step {n} of joint {j}"
+            );
+            previous = (step.worn_volume, step.max_local_clearance);
+        }
+    }
+    // Stages go on from the surfaces the previous one left: the curve is continuous.
+    let first_of_second = &reports[1].substeps[0].joints[0];
+    let last_of_first = &reports[0].substeps.last().unwrap().joints[0];
+    assert!(first_of_second.worn_volume > last_of_first.worn_volume);
+}

@@ -1,12 +1,14 @@
 //! The files of one run, written atomically with [`crate::io::output`] and drawn with
-//! [`crate::io::plot`]: CSV time series, per-stage wear grids, `summary.json`, the resolved
-//! `scene.toml` and PNG figures.
+//! [`crate::io::plot`]: CSV time series, per-stage wear grids, the joints' life curves
+//! (`wear_life.csv`), `summary.json`, the resolved `scene.toml` and PNG figures.
 
 use std::path::{Path, PathBuf};
 
-use crate::io::output::{Column, OutputError, write_atomic, write_csv, write_json};
+use crate::io::output::{
+    Cell, Column, CsvWriter, OutputError, write_atomic, write_csv, write_json,
+};
 use crate::io::plot::{self, DEFAULT_SIZE, Figure, Series};
-use crate::run::{Response, RunOutcome};
+use crate::run::{LifePoint, Response, RunOutcome};
 
 const QUANTITIES: [(&str, &str, &str); 6] = [
     ("x", "m", "x displacement"),
@@ -97,6 +99,9 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
             files.push(path);
         }
     }
+    if !outcome.wear.is_empty() {
+        files.extend(life_files(outcome, dir)?);
+    }
     let path = dir.join("summary.json");
     write_json(&path, &outcome.summary)?;
     files.push(path);
@@ -108,6 +113,73 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
 
 fn col<'a>(name: &'a str, unit: &'a str) -> Column<'a> {
     Column { name, unit }
+}
+
+/// `wear_life.csv` (every wearing joint's life curve, one row per sub-step after a row at 0
+/// cycles) and one `wear_life_<joint>.png` per joint.
+fn life_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    let mut files = Vec::new();
+    let path = dir.join("wear_life.csv");
+    let mut csv = CsvWriter::create(
+        &path,
+        &[
+            col("joint", "-"),
+            col("stage", "1"),
+            col("substep", "1"),
+            col("cycles", "1"),
+            col("bearing_peak_depth", "m"),
+            col("pin_peak_depth", "m"),
+            col("worn_volume", "m^3"),
+            col("max_local_clearance", "m"),
+        ],
+    )?;
+    for joint in &outcome.wear {
+        for p in &joint.life {
+            csv.record(&[
+                Cell::Text(&joint.name),
+                Cell::Count(p.stage),
+                Cell::Count(p.substep),
+                Cell::Number(p.cycles),
+                Cell::Number(p.bearing_peak_depth_m),
+                Cell::Number(p.pin_peak_depth_m),
+                Cell::Number(p.worn_volume_m3),
+                Cell::Number(p.max_local_clearance_m),
+            ])?;
+        }
+    }
+    files.push(csv.finish()?);
+    let limits = outcome.summary.wear.as_ref().map(|w| &w.joints);
+    for joint in &outcome.wear {
+        let column = |f: fn(&LifePoint) -> f64| joint.life.iter().map(f).collect::<Vec<f64>>();
+        let cycles = column(|p| p.cycles);
+        // A stage's last point is where the next begins (not after the last stage).
+        let boundaries: Vec<f64> = joint
+            .life
+            .windows(2)
+            .filter(|w| w[1].stage > w[0].stage && w[0].stage > 0)
+            .map(|w| w[0].cycles)
+            .collect();
+        let limit = limits
+            .and_then(|js| js.iter().find(|j| j.name == joint.name))
+            .and_then(|j| j.clearance_limit.as_ref())
+            .map(|l| (l.limit_m, l.cycles));
+        let path = dir.join(format!("wear_life_{}.png", joint.name));
+        plot::life_curve(
+            &path,
+            &format!("Wear of joint {} over its life", joint.name),
+            DEFAULT_SIZE,
+            &plot::LifeCurve {
+                cycles: &cycles,
+                bearing_depth: &column(|p| p.bearing_peak_depth_m),
+                pin_depth: &column(|p| p.pin_peak_depth_m),
+                max_clearance: &column(|p| p.max_local_clearance_m),
+                stage_boundaries: &boundaries,
+                limit,
+            },
+        )?;
+        files.push(path);
+    }
+    Ok(files)
 }
 
 /// `response{suffix}.csv`, `contact{suffix}.csv` and their figures.

@@ -225,6 +225,27 @@ pub struct Column<'a> {
     pub unit: &'a str,
 }
 
+/// One value of a CSV row written with [`CsvWriter::record`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Cell<'a> {
+    /// A label (a joint's name), written as it is (quoted if it needs to be).
+    Text(&'a str),
+    /// A count or an index, written as an integer.
+    Count(usize),
+    /// A number, written in scientific notation like every value of [`CsvWriter::row`].
+    Number(f64),
+}
+
+impl std::fmt::Display for Cell<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Cell::Text(text) => f.write_str(text),
+            Cell::Count(n) => write!(f, "{n}"),
+            Cell::Number(v) => write!(f, "{v:e}"),
+        }
+    }
+}
+
 /// Streams rows of numbers to a CSV file with a `name [unit]` header; the file appears only on
 /// [`CsvWriter::finish`].
 pub struct CsvWriter {
@@ -252,17 +273,30 @@ impl CsvWriter {
         })
     }
 
-    /// Append one row; it must have one value per column.
+    /// Append one row of numbers; it must have one value per column.
     pub fn row(&mut self, values: &[f64]) -> Result<(), OutputError> {
-        if values.len() != self.columns {
+        self.write(values.len(), values.iter().map(|v| Cell::Number(*v)))
+    }
+
+    /// Append one row of labels, counts and numbers; it must have one cell per column.
+    pub fn record(&mut self, cells: &[Cell<'_>]) -> Result<(), OutputError> {
+        self.write(cells.len(), cells.iter().copied())
+    }
+
+    fn write<'a>(
+        &mut self,
+        len: usize,
+        cells: impl Iterator<Item = Cell<'a>>,
+    ) -> Result<(), OutputError> {
+        if len != self.columns {
             return Err(OutputError::RowLength {
                 path: self.path.clone(),
                 expected: self.columns,
-                got: values.len(),
+                got: len,
             });
         }
         self.inner
-            .write_record(values.iter().map(|v| format!("{v:e}")))
+            .write_record(cells.map(|c| c.to_string()))
             .map_err(|source| OutputError::Csv {
                 path: self.path.clone(),
                 source,

@@ -18,8 +18,10 @@
 //!
 //! Here: the options, errors and the driver; `outcome` holds the result types, `record` the
 //! response run and its recording observer, `summary` the statistics and energy books,
-//! `stages` the wear stages and [`validity`] the worn geometry's validity measures.
+//! `stages` the wear stages, `life` the joints' life curves over the stages' drive cycles
+//! and [`validity`] the worn geometry's validity measures.
 
+mod life;
 mod outcome;
 mod record;
 mod stages;
@@ -38,9 +40,11 @@ use wear::WornJoint;
 use crate::build::{BuildError, Surfaces, build, unworn_joints};
 use crate::scene::{self, Scene};
 
+pub use life::cycles_to_reach;
 pub use outcome::{
-    ContactSeries, Deviation, JointSummary, JointWearHistory, JointWearSummary, Motion, Numerics,
-    PeakStats, Response, ResponseSummary, RunOutcome, SubstepSummary, Summary, WearSummary,
+    ClearanceLimitReport, ContactSeries, Deviation, JointSummary, JointWearHistory,
+    JointWearSummary, LifePoint, Motion, Numerics, PeakStats, Response, ResponseSummary,
+    RunOutcome, SubstepSummary, Summary, WearSummary,
 };
 use record::{assemble, respond};
 use stages::stages;

@@ -93,6 +93,42 @@ pub struct JointWearHistory {
     pub pin_radius: f64,
     /// The joint after stage 1, 2, … (cumulative surfaces).
     pub stages: Vec<WornJoint>,
+    /// Its life curve: the surfaces the stages started from at 0 cycles, then one point after
+    /// every wear sub-step (`wear_life.csv`).
+    pub life: Vec<LifePoint>,
+}
+
+/// A joint's wear after `cycles` drive cycles: one point of its life curve.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct LifePoint {
+    /// Stage, from 1 (0: the surfaces the stages started from).
+    pub stage: usize,
+    /// Sub-step within the stage, from 1 (0: the start).
+    pub substep: usize,
+    /// Drive cycles the wear applied so far stands for: the sum over the run's sub-steps of
+    /// amplification × simulated cycles per stage `K`.
+    pub cycles: f64,
+    /// Peak bearing depth `h` (the radius grew by h/2), m.
+    pub bearing_peak_depth_m: f64,
+    /// Peak pin depth `h`, m.
+    pub pin_peak_depth_m: f64,
+    /// Material removed from both surfaces, m³.
+    pub worn_volume_m3: f64,
+    /// Largest local clearance `c0 + (max h_i + max h_j)/2` (the deepest dents facing each
+    /// other), m.
+    pub max_local_clearance_m: f64,
+}
+
+/// When a joint's largest local clearance reaches the maintenance limit `run.clearance_limit`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ClearanceLimitReport {
+    /// The limit, m.
+    pub limit_m: f64,
+    /// Drive cycles after which the largest local clearance reaches it, interpolated linearly
+    /// between the sub-steps of the life curve; `None` when the run does not reach it.
+    pub cycles: Option<f64>,
+    /// The same in words (`not reached within the run` when `cycles` is `None`).
+    pub message: String,
 }
 
 /// Statistics of per-cycle peaks.
@@ -242,6 +278,11 @@ pub struct JointWearSummary {
     pub bearing_ranges_deg: Vec<[f64; 2]>,
     /// Pin ranges with depth ≥ half the peak, deg.
     pub pin_ranges_deg: Vec<[f64; 2]>,
+    /// Largest local clearance `c0 + (max h_i + max h_j)/2` after the last stage, m.
+    pub max_local_clearance_m: f64,
+    /// When the largest local clearance reaches `run.clearance_limit` (absent without one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clearance_limit: Option<ClearanceLimitReport>,
 }
 
 /// How the wear stages were run.
@@ -257,6 +298,10 @@ pub struct WearSummary {
     pub amplification: f64,
     /// Drive cycles one stage stands for (`K × amplification`).
     pub cycles_represented_per_stage: f64,
+    /// Drive cycles the wear applied over all stages stands for: the sum of every sub-step's
+    /// amplification × `K` (less than `stages × cycles_represented_per_stage` when a stage
+    /// ended at the validity limits). The last `cycles` of `wear_life.csv`.
+    pub cycles_applied: f64,
     /// Start of wear accumulation in each K-cycle run (start-up skipped), s.
     pub wear_start_s: f64,
     /// `adaptive` or `single-jump`.

@@ -7,6 +7,7 @@ use clearance::{StageRuns, StageSimulation, WearStagesError, run_wear_stages};
 use multibody::{OutputTimes, SimulationError, SimulationResult};
 use wear::{Extrapolation, GeometryLimits, RunContext, StagePlan, WornJoint};
 
+use super::life::{clearance_limit, life_curves};
 use super::record::{Recorder, assemble};
 use super::summary::HALVES_TOLERANCE;
 use super::{
@@ -163,6 +164,7 @@ pub(super) fn stages(
         .filter(|(_, w)| w.is_some())
         .map(|(c, _)| c.name.clone())
         .collect();
+    let start = joints.clone();
     let mut runs = SceneRuns {
         scene,
         slots: &slots,
@@ -184,15 +186,18 @@ pub(super) fn stages(
             joint: format!("element {element}"),
         },
     })?;
+    let (curves, cycles_applied) = life_curves(&start, &staged.reports, k);
     let history: Vec<JointWearHistory> = joints
         .iter()
         .enumerate()
         .zip(&names)
-        .map(|((i, j), name)| JointWearHistory {
+        .zip(curves)
+        .map(|(((i, j), name), life)| JointWearHistory {
             name: name.clone(),
             bearing_radius: j.bearing().nominal_radius(),
             pin_radius: j.pin().nominal_radius(),
             stages: staged.surfaces.iter().map(|s| s[i].clone()).collect(),
+            life,
         })
         .collect();
     let mut substeps = Vec::new();
@@ -278,6 +283,10 @@ pub(super) fn stages(
                 pin_peak_angle_deg: pa.to_degrees(),
                 bearing_ranges_deg: ranges(j.bearing()),
                 pin_ranges_deg: ranges(j.pin()),
+                max_local_clearance_m: j.max_local_clearance(),
+                clearance_limit: r
+                    .clearance_limit
+                    .map(|limit| clearance_limit(&h.life, limit)),
             }
         })
         .collect();
@@ -293,6 +302,7 @@ pub(super) fn stages(
         scene_cycles_per_stage: 0,
         amplification: r.amplification,
         cycles_represented_per_stage: f64::from(k) * r.amplification,
+        cycles_applied,
         wear_start_s: wear_start,
         extrapolation: if r.adaptive_extrapolation {
             format!(

@@ -528,6 +528,12 @@ pub struct RunSettings {
     /// Start-up window excluded from peak statistics, s.
     #[serde(default = "transient_window")]
     pub transient_window: f64,
+    /// Maintenance limit on the largest local clearance, m (optional; above every clearance
+    /// joint's initial `clearance`). The summary then says, per wearing joint, after how many
+    /// drive cycles its largest local clearance `c0 + (max h_i + max h_j)/2` reaches it,
+    /// interpolated linearly between the wear sub-steps, or that the run does not reach it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clearance_limit: Option<f64>,
     /// Body whose centroid response is recorded and compared with the ideal mechanism;
     /// default: `rod3` if the scene has one, else the last body.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -574,6 +580,7 @@ impl Default for RunSettings {
             max_substeps: max_substeps(),
             stop_at_validity_limits: true,
             transient_window: transient_window(),
+            clearance_limit: None,
             response_body: None,
         }
     }

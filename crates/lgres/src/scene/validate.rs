@@ -346,6 +346,23 @@ impl Validator {
         {
             self.push("run.response_body", name, "no body of this name");
         }
+        if let Some(limit) = r.clearance_limit
+            && self.number("run.clearance_limit", limit, true)
+        {
+            for (k, c) in s.clearance_joints.iter().enumerate() {
+                if !c.ideal && c.clearance.is_finite() && limit <= c.clearance {
+                    self.push(
+                        "run.clearance_limit",
+                        limit,
+                        format!(
+                            "must exceed the initial clearance of every clearance joint: \
+                             clearance_joints[{k}] ({}) starts at {} m",
+                            c.name, c.clearance
+                        ),
+                    );
+                }
+            }
+        }
         if self.number("run.transient_window", r.transient_window, false)
             && r.transient_window < 0.0
         {

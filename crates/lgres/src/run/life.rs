@@ -1,0 +1,152 @@
+//! Life curves: how each wearing joint's wear grows over the drive cycles the stages stand
+//! for, one point per sub-step, and when its largest local clearance reaches the maintenance
+//! limit `run.clearance_limit`.
+
+use wear::{StageReport, WornJoint};
+
+use super::{ClearanceLimitReport, LifePoint};
+
+/// Per joint of `initial` (the surfaces the stages started from, in the stages' order), its
+/// life curve: a point at 0 cycles, then one after every sub-step of `reports`, each standing
+/// for its amplification × `k` drive cycles, counted over the whole run. Returns the curves
+/// and the cycles of the whole run.
+///
+/// The cycles of a stage accumulate in the order the staging does (`Σ amplification`, then
+/// × `k`), so a stage that ended at the validity limits ends at exactly its
+/// `cycles_applied_at_limits`.
+pub(super) fn life_curves(
+    initial: &[WornJoint],
+    reports: &[StageReport],
+    k: u32,
+) -> (Vec<Vec<LifePoint>>, f64) {
+    let mut curves: Vec<Vec<LifePoint>> = initial
+        .iter()
+        .map(|j| {
+            vec![LifePoint {
+                stage: 0,
+                substep: 0,
+                cycles: 0.0,
+                bearing_peak_depth_m: j.bearing().peak().depth,
+                pin_peak_depth_m: j.pin().peak().depth,
+                worn_volume_m3: j.worn_volume(),
+                max_local_clearance_m: j.max_local_clearance(),
+            }]
+        })
+        .collect();
+    let k = f64::from(k);
+    let mut before = 0.0;
+    for report in reports {
+        let mut used = 0.0;
+        for (n, step) in report.substeps.iter().enumerate() {
+            used += step.amplification;
+            let cycles = before + used * k;
+            for (curve, j) in curves.iter_mut().zip(&step.joints) {
+                curve.push(LifePoint {
+                    stage: report.stage + 1,
+                    substep: n + 1,
+                    cycles,
+                    bearing_peak_depth_m: j.max_bearing_depth,
+                    pin_peak_depth_m: j.max_pin_depth,
+                    worn_volume_m3: j.worn_volume,
+                    max_local_clearance_m: j.max_local_clearance,
+                });
+            }
+        }
+        before += used * k;
+    }
+    (curves, before)
+}
+
+/// The first abscissa at which a curve of `(cycles, clearance)` points, in order of cycles,
+/// reaches `limit`: linear between the two points that straddle it, the first point's cycles
+/// when that is already at the limit, `None` when no point reaches it.
+///
+/// Within a sub-step every cell deepens linearly in the cycles, so the largest clearance is
+/// convex between two points and the chord reaches the limit no later than the surfaces do:
+/// for a maintenance limit the estimate errs early.
+pub fn cycles_to_reach(curve: impl IntoIterator<Item = (f64, f64)>, limit: f64) -> Option<f64> {
+    let mut previous: Option<(f64, f64)> = None;
+    for (cycles, clearance) in curve {
+        if clearance >= limit {
+            return Some(match previous {
+                Some((c0, v0)) => c0 + (limit - v0) / (clearance - v0) * (cycles - c0),
+                None => cycles,
+            });
+        }
+        previous = Some((cycles, clearance));
+    }
+    None
+}
+
+/// When `curve` reaches `limit` (see [`cycles_to_reach`]), in a number and in words.
+pub(super) fn clearance_limit(curve: &[LifePoint], limit: f64) -> ClearanceLimitReport {
+    let cycles = cycles_to_reach(
+        curve.iter().map(|p| (p.cycles, p.max_local_clearance_m)),
+        limit,
+    );
+    let message = match cycles {
+        Some(c) if c > 0.0 => {
+            format!("reached after {c:.3e} cycles (linear between wear sub-steps)")
+        }
+        Some(_) => {
+            "reached at the start: the surfaces the run started from are at the limit".to_string()
+        }
+        None => "not reached within the run".to_string(),
+    };
+    ClearanceLimitReport {
+        limit_m: limit,
+        cycles,
+        message,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Clearances in µm at cycles 0, 100, 300, 600 (values exact in binary).
+    const CURVE: [(f64, f64); 4] = [(0.0, 500.0), (100.0, 520.0), (300.0, 600.0), (600.0, 610.0)];
+
+    #[test]
+    fn limit_is_interpolated_between_the_points_that_straddle_it() {
+        // 560 lies halfway from 520 (100 cycles) to 600 (300 cycles): 200 cycles.
+        assert_eq!(cycles_to_reach(CURVE, 560.0), Some(200.0));
+        // A quarter of the way from 600 (300) to 610 (600): 375 cycles.
+        assert_eq!(cycles_to_reach(CURVE, 602.5), Some(375.0));
+        // On a point: that point's cycles; at the last point: the end of the run.
+        assert_eq!(cycles_to_reach(CURVE, 520.0), Some(100.0));
+        assert_eq!(cycles_to_reach(CURVE, 610.0), Some(600.0));
+        // Beyond the last point: not reached; at or below the start: reached at once.
+        assert_eq!(cycles_to_reach(CURVE, 610.5), None);
+        assert_eq!(cycles_to_reach(CURVE, 500.0), Some(0.0));
+        assert_eq!(cycles_to_reach(CURVE, 400.0), Some(0.0));
+        assert_eq!(cycles_to_reach([], 1.0), None);
+        // A flat stretch before the rise does not divide by zero.
+        let flat = [(0.0, 500.0), (10.0, 500.0), (20.0, 540.0)];
+        assert_eq!(cycles_to_reach(flat, 510.0), Some(12.5));
+    }
+
+    #[test]
+    fn report_says_when_and_in_words() {
+        let point = |cycles: f64, clearance: f64| LifePoint {
+            stage: 1,
+            substep: 1,
+            cycles,
+            bearing_peak_depth_m: 0.0,
+            pin_peak_depth_m: 0.0,
+            worn_volume_m3: 0.0,
+            max_local_clearance_m: clearance,
+        };
+        let curve: Vec<LifePoint> = CURVE.iter().map(|(c, v)| point(*c, v * 1e-6)).collect();
+        let r = clearance_limit(&curve, 560e-6);
+        assert!((r.cycles.unwrap() - 200.0).abs() < 1e-9, "{r:?}");
+        assert_eq!(r.limit_m, 560e-6);
+        assert!(
+            r.message.starts_with("reached after 2.000e2 cycles"),
+            "{r:?}"
+        );
+        let r = clearance_limit(&curve, 1e-3);
+        assert_eq!(r.cycles, None);
+        assert_eq!(r.message, "not reached within the run");
+    }
+}
