@@ -74,6 +74,8 @@ pub struct JointHandle {
     pub worn: bool,
     /// Nominal radial clearance `c0`, m.
     pub clearance: f64,
+    /// Whether it uses the elastic-foundation contact (else the line of centres).
+    pub foundation: bool,
 }
 
 impl JointHandle {
@@ -286,6 +288,7 @@ pub fn build(scene: &Scene, surfaces: Surfaces<'_>) -> Result<Built, BuildError>
             element,
             worn: worn.is_some(),
             clearance: c.clearance,
+            foundation: c.contact.model == crate::scene::ContactModelName::Foundation,
         });
     }
     Ok(Built { system, joints })
@@ -330,6 +333,11 @@ fn round_joint(
         normal,
         friction,
     )
-    .map(|joint| joint.with_friction_sliding(c.sliding.friction))
     .map_err(err("clearance"))
+    .and_then(|joint| {
+        let model = c.contact_model().map_err(err("contact"))?;
+        Ok(joint
+            .with_friction_sliding(c.sliding.friction)
+            .with_model(model))
+    })
 }

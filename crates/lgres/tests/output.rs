@@ -355,9 +355,12 @@ clearance_limit = 0.000505
     let mut far = scene.clone();
     far.run.clearance_limit = Some(0.01);
     far.run.wear_stages = 1;
-    // A stage of 40 000 cycles that ends early at the validity limits: the curve ends at
-    // exactly the cycles the stage applied.
+    // A stage of 40 000 cycles that ends early at the line-of-centres contact's validity
+    // limits: the curve ends at exactly the cycles the stage applied.
     far.run.amplification = 20_000.0;
+    for joint in &mut far.clearance_joints {
+        joint.contact.model = lgres::scene::ContactModelName::LineOfCentres;
+    }
     let outcome = lgres::run_scene("far", &far, &Default::default(), &mut ()).unwrap();
     let wear = outcome.summary.wear.as_ref().unwrap();
     let applied = wear.cycles_applied_at_limits[0].expect("ends at the validity limits");

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 
 use lgres::io::surfaces::SurfacesError;
 use lgres::run::{RunError, RunOptions, run_scene};
+use lgres::scene::ContactModelName;
 
 /// A Gaussian dent `depth · exp(−((θ − centre)/width)²)` on `cells` cells (wrapped).
 fn dent(cells: usize, centre_deg: f64, depth: f64) -> Vec<f64> {
@@ -57,9 +58,19 @@ fn worn_folder(name: &str) -> PathBuf {
 /// stored energy that peaks at tens of joules per impact.
 #[test]
 fn elastic_contact_on_worn_surfaces_conserves_energy() {
-    let dir = worn_folder("elastic");
+    for model in [
+        ContactModelName::Foundation,
+        ContactModelName::LineOfCentres,
+    ] {
+        elastic_contact_conserves_energy(model);
+    }
+}
+
+fn elastic_contact_conserves_energy(model: ContactModelName) {
+    let dir = worn_folder(&format!("elastic-{model:?}"));
     let mut scene = lgres::scenes::builtin("lgres-elastic").expect("built-in");
     scene.run.cycles = 1;
+    set_model(&mut scene, model);
     let options = RunOptions {
         surfaces: Some(dir.clone()),
         ..RunOptions::default()
@@ -67,7 +78,7 @@ fn elastic_contact_on_worn_surfaces_conserves_energy() {
     let outcome = run_scene("lgres-elastic", &scene, &options, &mut ()).expect("runs");
     let r = &outcome.summary.response;
     eprintln!(
-        "elastic LGRES on 20 µm dents: dissipated {:.4} J per cycle (A {:.4}, B {:.4})",
+        "elastic LGRES on 20 µm dents ({model:?}): dissipated {:.4} J per cycle (A {:.4}, B {:.4})",
         r.dissipated_per_cycle_j,
         r.joints[0].contact_dissipation_per_cycle_j,
         r.joints[1].contact_dissipation_per_cycle_j
@@ -76,12 +87,30 @@ fn elastic_contact_on_worn_surfaces_conserves_energy() {
     assert_eq!(r.damping_per_cycle_j, 0.0);
     assert_eq!(r.friction_per_cycle_j, 0.0);
     assert!(r.energy_warnings.is_empty(), "{:?}", r.energy_warnings);
-    // The run did sample the dents: the validity measures saw non-zero slopes.
     for j in &r.joints {
         let v = j.validity.as_ref().expect("measured");
-        assert!(v.max_slope_ratio > 0.0 && v.overlap_frames > 0, "{v:?}");
+        match model {
+            // The run did sample the dents: the validity measures saw non-zero slopes.
+            ContactModelName::LineOfCentres => {
+                assert!(v.max_slope_ratio > 0.0 && v.overlap_frames > 0, "{v:?}");
+            }
+            // The foundation measured its overlap and zones.
+            ContactModelName::Foundation => {
+                assert_eq!(v.model, "foundation");
+                assert!(
+                    v.max_overlap_ratio > 0.0 && v.narrowest_zone_cells.is_some(),
+                    "{v:?}"
+                );
+            }
+        }
     }
     std::fs::remove_dir_all(dir).ok();
+}
+
+fn set_model(scene: &mut lgres::scene::Scene, model: ContactModelName) {
+    for joint in &mut scene.clearance_joints {
+        joint.contact.model = model;
+    }
 }
 
 #[test]
@@ -133,15 +162,17 @@ fn missing_or_mismatched_wear_files_are_named_errors() {
     std::fs::remove_dir_all(dir).ok();
 }
 
-/// The default run's stage ends where its worn geometry reaches the contact model's slope
-/// limit, and on the surfaces it writes an elastic, frictionless contact conserves energy (the
-/// check of `wearsim run lgres-elastic --surfaces out/lgres`, over one cycle here).
+/// On the line-of-centres contact, the default run's stage ends where its worn geometry reaches
+/// the model's slope limit, and on the surfaces it writes an elastic, frictionless contact
+/// conserves energy (the check of `wearsim run lgres-elastic --surfaces out/lgres`, over one
+/// cycle here).
 #[test]
-fn default_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_energy() {
+fn line_of_centres_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_energy() {
     let dir = std::env::temp_dir().join(format!("wornjoint-default-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let mut scene = lgres::scenes::builtin("lgres").expect("built-in");
     scene.run.cycles = 1;
+    set_model(&mut scene, ContactModelName::LineOfCentres);
     let options = RunOptions {
         cycles_per_stage: Some(1),
         ..RunOptions::default()
@@ -164,6 +195,7 @@ fn default_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_energy() 
 
     let mut elastic = lgres::scenes::builtin("lgres-elastic").expect("built-in");
     elastic.run.cycles = 1;
+    set_model(&mut elastic, ContactModelName::LineOfCentres);
     let options = RunOptions {
         surfaces: Some(dir.clone()),
         ..RunOptions::default()

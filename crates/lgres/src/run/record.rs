@@ -49,10 +49,12 @@ impl Observer for Recorder<'_> {
             let d = probe
                 .map(|p| p.contact(frame.q, frame.qd).diagnostics)
                 .unwrap_or_default();
-            // On round surfaces the overlap is δ itself: measure it on worn ones only.
+            // On round surfaces the overlap is δ itself, and the foundation's δ is the true
+            // overlap: measure it on worn line-of-centres joints only.
             let overlap = probe
                 .filter(|_| {
                     handle.worn
+                        && !handle.foundation
                         && frame_index.is_multiple_of(OVERLAP_EVERY)
                         && d.penetration > -0.25 * handle.clearance
                 })
@@ -139,7 +141,7 @@ pub(super) fn respond(
             .collect(),
         validity: joints
             .iter()
-            .map(|j| Tally::new(j.clearance, Limits::default()))
+            .map(|j| Tally::new(j.clearance, Limits::default(), j.foundation))
             .collect(),
         progress,
         record: true,

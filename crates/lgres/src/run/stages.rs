@@ -125,12 +125,16 @@ pub(super) fn stages(
     let started = Instant::now();
     let r = &scene.run;
     let k = r.cycles_per_stage.max(1);
+    let line_of_centres = scene
+        .active_clearance_joints()
+        .any(|c| c.contact.model == crate::scene::ContactModelName::LineOfCentres);
+    let (max_slope_change, max_curvature_change) = r.shape_change_bounds(line_of_centres);
     let extrapolation = if r.adaptive_extrapolation {
         Extrapolation::Adaptive {
             max_fraction: r.max_clearance_change,
             max_substeps: r.max_substeps as usize,
-            max_slope_change: r.max_slope_change,
-            max_curvature_change: r.max_curvature_change,
+            max_slope_change,
+            max_curvature_change,
         }
     } else {
         Extrapolation::SingleJump {
@@ -139,7 +143,8 @@ pub(super) fn stages(
     };
     let plan = StagePlan::new(r.wear_stages as usize, r.amplification, extrapolation)
         .with_geometry_limits(
-            (r.adaptive_extrapolation && r.stop_at_validity_limits)
+            // The slope stop is the line-of-centres model's: the foundation follows any shape.
+            (r.adaptive_extrapolation && r.stop_at_validity_limits && line_of_centres)
                 .then_some(GeometryLimits::CONTACT_MODEL),
         );
     // Gather wear after the start-up window only (see the module docs).
@@ -305,13 +310,20 @@ pub(super) fn stages(
         cycles_applied,
         wear_start_s: wear_start,
         extrapolation: if r.adaptive_extrapolation {
-            format!(
-                "adaptive (each sub-step changes a local clearance by at most {:.0} %, its slope \
-                 by at most {} c0/rad and its curvature by at most {} c0/rad²)",
-                100.0 * r.max_clearance_change,
-                r.max_slope_change,
-                r.max_curvature_change
-            )
+            if line_of_centres || max_slope_change.is_finite() || max_curvature_change.is_finite() {
+                format!(
+                    "adaptive (each sub-step changes a local clearance by at most {:.0} %, its \
+                     slope by at most {} c0/rad and its curvature by at most {} c0/rad²)",
+                    100.0 * r.max_clearance_change,
+                    max_slope_change,
+                    max_curvature_change
+                )
+            } else {
+                format!(
+                    "adaptive (each sub-step changes a local clearance by at most {:.0} %)",
+                    100.0 * r.max_clearance_change
+                )
+            }
         } else {
             "single-jump (the paper's)".into()
         },

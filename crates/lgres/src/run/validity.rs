@@ -1,7 +1,18 @@
 //! Is the worn geometry still inside what the contact model describes? Measured at the
 //! contacts of every response run, per joint.
 //!
-//! The clearance joint is a line-of-centres model: the penetration is measured along the line
+//! **Elastic foundation** (the default model): it resolves any outline, so what limits it is
+//! the thin layer and the grid. Three measures:
+//! - **overlap** `max d / c0`: the deepest overlap of the outlines against the nominal
+//!   clearance. The layer is calibrated on round surfaces, where its force stays within 4 % of
+//!   Hertz up to `d = 0.06 c0` and within 11 % at `0.2 c0` (docs/model.md §10); beyond that a
+//!   thin linear layer no longer stands for the bodies' elasticity. Limit 0.2.
+//! - **zone resolution**: nodes across the narrowest contact zone, over frames whose overlap
+//!   exceeds 1 % of the clearance (a light touch always begins with one node). A zone of a
+//!   few nodes means the grid cannot resolve the worn shape that carries the load. Limit 5.
+//! - **unloaded penetration**, as below (the damped law's clamp switching a deep contact off).
+//!
+//! **Line of centres**: the penetration is measured along the line
 //! through the two centres, and the pin is assumed to reach the bottom of whatever the bearing
 //! offers there. A worn profile breaks that when it is steep or rough against the clearance.
 //! Four measures, each with a limit ([`Limits`]):
@@ -34,6 +45,11 @@ pub struct Limits {
     pub overlap_error: f64,
     /// Largest fraction of the checked frames where the outlines overlap but `δ < 0`.
     pub missed_contact_fraction: f64,
+    /// Foundation: largest overlap of the outlines over the nominal clearance.
+    pub overlap_ratio: f64,
+    /// Foundation: fewest nodes across a contact zone at frames overlapping by more than 1 %
+    /// of the clearance.
+    pub zone_cells: u32,
 }
 
 impl Default for Limits {
@@ -44,6 +60,8 @@ impl Default for Limits {
             unloaded_fraction: 0.01,
             overlap_error: 0.1,
             missed_contact_fraction: 0.01,
+            overlap_ratio: 0.2,
+            zone_cells: 5,
         }
     }
 }
@@ -51,6 +69,8 @@ impl Default for Limits {
 /// What was measured for one joint in one response run, against the limits.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Validity {
+    /// The contact model measured: `foundation` or `line-of-centres`.
+    pub model: &'static str,
     /// Every measure within its limit.
     pub inside: bool,
     /// One sentence per measure beyond its limit.
@@ -71,6 +91,13 @@ pub struct Validity {
     pub max_overlap_error_m: f64,
     /// Frames where the outlines overlap but `δ < 0`.
     pub missed_contact_frames: usize,
+    /// Foundation: the deepest overlap over the nominal clearance.
+    pub max_overlap_ratio: f64,
+    /// Foundation: fewest nodes across a contact zone at frames overlapping by more than 1 %
+    /// of the clearance (`None`: no such frame).
+    pub narrowest_zone_cells: Option<u32>,
+    /// Foundation: most separate contact zones seen at one frame.
+    pub max_contact_zones: u32,
     /// The limits applied.
     pub limits: Limits,
 }
@@ -79,15 +106,23 @@ pub struct Validity {
 #[derive(Debug, Clone)]
 pub struct Tally {
     clearance: f64,
+    foundation: bool,
     validity: Validity,
 }
 
 impl Tally {
-    /// An empty tally for a joint of nominal clearance `clearance` (m).
-    pub fn new(clearance: f64, limits: Limits) -> Self {
+    /// An empty tally for a joint of nominal clearance `clearance` (m) on the foundation
+    /// model (`foundation`) or the line of centres.
+    pub fn new(clearance: f64, limits: Limits, foundation: bool) -> Self {
         Self {
             clearance,
+            foundation,
             validity: Validity {
+                model: if foundation {
+                    "foundation"
+                } else {
+                    "line-of-centres"
+                },
                 inside: true,
                 reasons: Vec::new(),
                 loaded_frames: 0,
@@ -98,6 +133,9 @@ impl Tally {
                 overlap_frames: 0,
                 max_overlap_error_m: 0.0,
                 missed_contact_frames: 0,
+                max_overlap_ratio: 0.0,
+                narrowest_zone_cells: None,
+                max_contact_zones: 0,
                 limits,
             },
         }
@@ -106,13 +144,26 @@ impl Tally {
     /// Adds one output frame; `overlap` is the true outline overlap where it was measured.
     pub fn frame(&mut self, d: &ContactDiagnostics, overlap: Option<f64>) {
         let v = &mut self.validity;
-        if d.in_contact && d.normal_force > 0.0 {
+        if self.foundation {
+            v.max_overlap_ratio = v.max_overlap_ratio.max(d.penetration / self.clearance);
+            v.max_contact_zones = v.max_contact_zones.max(d.contact_zones);
+            if d.penetration > 0.01 * self.clearance && d.contact_zones > 0 {
+                v.narrowest_zone_cells = Some(
+                    v.narrowest_zone_cells
+                        .map_or(d.narrowest_zone_cells, |n| n.min(d.narrowest_zone_cells)),
+                );
+            }
+        }
+        if d.in_contact && d.normal_force > 0.0 && !self.foundation {
             v.loaded_frames += 1;
             let slope = (d.bearing_slope - d.pin_slope).abs() / d.eccentricity;
             let local_clearance = d.bearing_radius - d.pin_radius;
             let conformity = (d.pin_curvature - d.bearing_curvature) / local_clearance;
             v.max_slope_ratio = v.max_slope_ratio.max(slope);
             v.max_conformity_ratio = v.max_conformity_ratio.max(conformity);
+        }
+        if self.foundation && d.in_contact && d.normal_force > 0.0 {
+            v.loaded_frames += 1;
         }
         if d.penetration > 0.01 * self.clearance {
             v.penetrating_frames += 1;
@@ -143,7 +194,26 @@ impl Tally {
                 part as f64 / whole as f64
             }
         };
-        let checks = [
+        let foundation = [
+            (
+                v.max_overlap_ratio > l.overlap_ratio,
+                format!(
+                    "the outlines overlap by up to {:.2} of the clearance, more than a thin \
+                     layer describes (limit {})",
+                    v.max_overlap_ratio, l.overlap_ratio
+                ),
+            ),
+            (
+                v.narrowest_zone_cells.is_some_and(|n| n < l.zone_cells),
+                format!(
+                    "a loaded contact zone spans only {} cells of the grid (limit {}): the \
+                     worn shape is finer than the grid resolves",
+                    v.narrowest_zone_cells.unwrap_or(0),
+                    l.zone_cells
+                ),
+            ),
+        ];
+        let line_of_centres = [
             (
                 v.max_slope_ratio > l.slope_ratio,
                 format!(
@@ -166,6 +236,8 @@ impl Tally {
                     v.unloaded_penetrating_frames, v.penetrating_frames
                 ),
             ),
+        ];
+        let line_of_centres_only = [
             (
                 v.max_overlap_error_m > l.overlap_error * self.clearance,
                 format!(
@@ -185,6 +257,16 @@ impl Tally {
                 ),
             ),
         ];
+        let checks: Vec<(bool, String)> = if self.foundation {
+            // The shared unloaded-penetration measure is the last of the line-of-centres set.
+            let shared = line_of_centres.into_iter().last();
+            foundation.into_iter().chain(shared).collect()
+        } else {
+            line_of_centres
+                .into_iter()
+                .chain(line_of_centres_only)
+                .collect()
+        };
         v.reasons = checks
             .into_iter()
             .filter(|(failed, _)| *failed)
@@ -216,7 +298,7 @@ mod tests {
     #[test]
     fn round_contacts_are_inside_and_each_measure_can_fail() {
         let clearance = 5e-4;
-        let mut round = Tally::new(clearance, Limits::default());
+        let mut round = Tally::new(clearance, Limits::default(), false);
         for _ in 0..100 {
             round.frame(&loaded(0.0, 0.0), Some(2e-5));
         }
@@ -225,7 +307,7 @@ mod tests {
         assert_eq!((v.loaded_frames, v.penetrating_frames), (100, 100));
 
         // Slope 0.4 × |e| and conformity 1.2: both beyond their limits.
-        let mut steep = Tally::new(clearance, Limits::default());
+        let mut steep = Tally::new(clearance, Limits::default(), false);
         steep.frame(&loaded(0.4 * 5.2e-4, 1.2 * 5e-4), None);
         let v = steep.finish();
         assert!(!v.inside);
@@ -234,7 +316,7 @@ mod tests {
         assert!((v.max_conformity_ratio - 1.2).abs() < 1e-12);
 
         // A contact the line of centres misses, and a penetrating frame without force.
-        let mut missed = Tally::new(clearance, Limits::default());
+        let mut missed = Tally::new(clearance, Limits::default(), false);
         let free = ContactDiagnostics {
             penetration: -1e-5,
             ..ContactDiagnostics::default()
@@ -251,7 +333,7 @@ mod tests {
         assert!((v.max_overlap_error_m - 8e-5).abs() < 1e-18);
         assert_eq!(v.reasons.len(), 3, "{:?}", v.reasons);
         // Two gaps of different size are no error.
-        let mut apart = Tally::new(clearance, Limits::default());
+        let mut apart = Tally::new(clearance, Limits::default(), false);
         apart.frame(&free, Some(-2e-4));
         assert!(apart.finish().inside);
     }

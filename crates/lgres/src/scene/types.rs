@@ -311,6 +311,11 @@ pub struct ClearanceJoint {
     /// physical one; `paper` is the paper's `δ φ̇`, see docs/model.md §9).
     #[serde(default, skip_serializing_if = "Sliding::is_default")]
     pub sliding: Sliding,
+    /// The contact model (default: the elastic foundation over the true outlines, its layer
+    /// calibrated to the Hertz stiffness; `{ model = "line-of-centres" }` for the one-point
+    /// model, docs/model.md §10).
+    #[serde(default, skip_serializing_if = "ContactSpec::is_default")]
+    pub contact: ContactSpec,
     /// Treat as an ideal revolute joint (2 constraint equations, centres coincide) — the
     /// reference mechanism of the studies. Contact and wear settings are then unused.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
@@ -322,6 +327,71 @@ impl ClearanceJoint {
     pub fn pin_radius(&self) -> f64 {
         self.bearing_radius - self.clearance
     }
+
+    /// The contact model this joint's `contact` table names, with its defaults filled in
+    /// (the calibrated layer, `wear.width`, `wear.cells`).
+    pub fn contact_model(&self) -> Result<contact::ContactModel, contact::ContactError> {
+        let spec = &self.contact;
+        if spec.model == ContactModelName::LineOfCentres {
+            return Ok(contact::ContactModel::LineOfCentres);
+        }
+        let layer = match spec.layer_modulus {
+            Some(k) => {
+                let width = spec
+                    .width
+                    .or(self.wear.map(|w| w.width))
+                    .unwrap_or(f64::NAN);
+                contact::Foundation::with_layer(k, width)?
+            }
+            None => contact::Foundation::calibrated(
+                &contact::Material::try_from(self.bearing_material)?,
+                &contact::Material::try_from(self.pin_material)?,
+            ),
+        };
+        let cells = spec
+            .cells
+            .or(self.wear.map(|w| w.cells))
+            .unwrap_or(contact::DEFAULT_FOUNDATION_CELLS);
+        Ok(contact::ContactModel::Foundation(layer.with_cells(cells)?))
+    }
+}
+
+/// The contact model of a clearance joint, e.g. `contact = { model = "foundation" }` or
+/// `contact = { model = "foundation", layer_modulus = 5e14, width = 0.1, cells = 2000 }`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactSpec {
+    /// `foundation` (default) or `line-of-centres`.
+    #[serde(default)]
+    pub model: ContactModelName,
+    /// Foundation: layer modulus `k`, Pa/m (pressure per metre of overlap). Default: the layer
+    /// that reproduces the conformal Hertz stiffness on round surfaces, `k w = E*/√2`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer_modulus: Option<f64>,
+    /// Foundation: hinge width `w` the layer modulus acts over, m. Default: `wear.width`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub width: Option<f64>,
+    /// Foundation: nodes on the pin's outline. Default: `wear.cells` (each node a pin cell),
+    /// else 1000; with wear it must equal `wear.cells`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cells: Option<usize>,
+}
+
+impl ContactSpec {
+    fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+}
+
+/// The contact models a scene can name.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ContactModelName {
+    /// The elastic foundation over the true worn outlines.
+    #[default]
+    Foundation,
+    /// One contact point on the line of centres.
+    LineOfCentres,
 }
 
 /// The sliding velocity each of friction and wear uses, e.g.
@@ -509,13 +579,16 @@ pub struct RunSettings {
     #[serde(default = "max_clearance_change")]
     pub max_clearance_change: f64,
     /// Largest relative change of the clearance's slope per extrapolation step,
-    /// `|Δc'|/(c0 + |c'|)`: bounds how fast a sub-step reshapes the worn profile.
-    #[serde(default = "max_slope_change")]
-    pub max_slope_change: f64,
+    /// `|Δc'|/(c0 + |c'|)`: bounds how fast a sub-step reshapes the worn profile. Default: 0.25
+    /// when a clearance joint uses the line-of-centres contact (whose validity the shape
+    /// limits), unbounded when all use the foundation, which follows any shape
+    /// ([`RunSettings::shape_change_bounds`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_slope_change: Option<f64>,
     /// Largest relative change of the clearance's curvature per extrapolation step,
-    /// `|Δc''|/(c0 + |c''|)`.
-    #[serde(default = "max_curvature_change")]
-    pub max_curvature_change: f64,
+    /// `|Δc''|/(c0 + |c''|)`; default as for `max_slope_change`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_curvature_change: Option<f64>,
     /// Most extrapolation sub-steps per stage; a stage that needs more fails, naming this.
     #[serde(default = "max_substeps")]
     pub max_substeps: u32,
@@ -558,11 +631,19 @@ fn transient_window() -> f64 {
 fn max_substeps() -> u32 {
     400
 }
-fn max_slope_change() -> f64 {
-    wear::Extrapolation::DEFAULT_SLOPE_CHANGE
-}
-fn max_curvature_change() -> f64 {
-    wear::Extrapolation::DEFAULT_CURVATURE_CHANGE
+
+impl RunSettings {
+    /// The slope and curvature bounds per extrapolation sub-step: the scene's, else 0.25 each
+    /// when `line_of_centres` (some joint uses that contact) and unbounded otherwise.
+    pub fn shape_change_bounds(&self, line_of_centres: bool) -> (f64, f64) {
+        let default = |line: f64| if line_of_centres { line } else { f64::INFINITY };
+        (
+            self.max_slope_change
+                .unwrap_or(default(wear::Extrapolation::DEFAULT_SLOPE_CHANGE)),
+            self.max_curvature_change
+                .unwrap_or(default(wear::Extrapolation::DEFAULT_CURVATURE_CHANGE)),
+        )
+    }
 }
 
 impl Default for RunSettings {
@@ -575,8 +656,8 @@ impl Default for RunSettings {
             amplification: amplification(),
             adaptive_extrapolation: true,
             max_clearance_change: max_clearance_change(),
-            max_slope_change: max_slope_change(),
-            max_curvature_change: max_curvature_change(),
+            max_slope_change: None,
+            max_curvature_change: None,
             max_substeps: max_substeps(),
             stop_at_validity_limits: true,
             transient_window: transient_window(),

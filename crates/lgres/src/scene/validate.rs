@@ -7,8 +7,8 @@ use std::fmt;
 use contact::ContactError;
 
 use super::{
-    BodyRef, ClearanceJoint, DriverTarget, GROUND, Issue, MAX_WEAR_CELLS, Scene, SceneError,
-    Solver, TimeLaw,
+    BodyRef, ClearanceJoint, ContactModelName, DriverTarget, GROUND, Issue, MAX_WEAR_CELLS, Scene,
+    SceneError, Solver, TimeLaw,
 };
 
 impl Scene {
@@ -252,6 +252,7 @@ impl Validator {
             &format!("{p}.friction"),
             contact::FrictionLawKind::from_params(c.friction),
         );
+        self.contact_model(p, c);
         if let Some(w) = &c.wear {
             let q = format!("{p}.wear");
             self.number(&format!("{q}.k_d"), w.k_d, true);
@@ -264,6 +265,60 @@ impl Validator {
                     format!("{q}.cells"),
                     w.cells,
                     format!("must lie in 8..={MAX_WEAR_CELLS}"),
+                );
+            }
+        }
+    }
+
+    fn contact_model(&mut self, p: &str, c: &ClearanceJoint) {
+        let spec = &c.contact;
+        let q = format!("{p}.contact");
+        if spec.model == ContactModelName::LineOfCentres {
+            for (field, given) in [
+                ("layer_modulus", spec.layer_modulus.is_some()),
+                ("width", spec.width.is_some()),
+                ("cells", spec.cells.is_some()),
+            ] {
+                if given {
+                    self.push(
+                        format!("{q}.{field}"),
+                        "…",
+                        "only the foundation model takes it (model = \"line-of-centres\")",
+                    );
+                }
+            }
+            return;
+        }
+        if let Some(k) = spec.layer_modulus {
+            self.number(&format!("{q}.layer_modulus"), k, true);
+            if spec.width.is_none() && c.wear.is_none() {
+                self.push(
+                    format!("{q}.width"),
+                    "(none)",
+                    "a layer_modulus needs the hinge width it acts over: give contact.width \
+                     (or wear.width)",
+                );
+            }
+        }
+        if let Some(w) = spec.width {
+            self.number(&format!("{q}.width"), w, true);
+        }
+        if let Some(n) = spec.cells {
+            if !(8..=MAX_WEAR_CELLS).contains(&n) {
+                self.push(
+                    format!("{q}.cells"),
+                    n,
+                    format!("must lie in 8..={MAX_WEAR_CELLS}"),
+                );
+            } else if let Some(w) = c.wear.filter(|w| w.cells != n) {
+                self.push(
+                    format!("{q}.cells"),
+                    n,
+                    format!(
+                        "must equal wear.cells ({}): each node of the foundation is a cell of \
+                         the pin's wear grid",
+                        w.cells
+                    ),
                 );
             }
         }
@@ -336,8 +391,12 @@ impl Validator {
         if self.number("run.max_clearance_change", f, true) && f > 1.0 {
             self.push("run.max_clearance_change", f, "must lie in (0, 1]");
         }
-        self.number("run.max_slope_change", r.max_slope_change, true);
-        self.number("run.max_curvature_change", r.max_curvature_change, true);
+        if let Some(bound) = r.max_slope_change {
+            self.number("run.max_slope_change", bound, true);
+        }
+        if let Some(bound) = r.max_curvature_change {
+            self.number("run.max_curvature_change", bound, true);
+        }
         if r.max_substeps == 0 {
             self.push("run.max_substeps", 0, "must be at least 1");
         }
