@@ -40,6 +40,13 @@ pub trait SurfaceProfile {
     fn radius_bounds(&self) -> Option<(f64, f64)> {
         None
     }
+
+    /// Bounds on the radius over the body-frame angles `[start, end]` (`end ≥ start`, any
+    /// finite angles, the range may wrap): the foundation contact skips the parts of the
+    /// outlines that cannot touch with them. The default is the whole surface's bounds.
+    fn radius_bounds_between(&self, _start: f64, _end: f64) -> Option<(f64, f64)> {
+        self.radius_bounds()
+    }
 }
 
 /// A perfectly round surface of constant radius: the unworn pin or bearing.
@@ -87,5 +94,9 @@ impl<P: SurfaceProfile + ?Sized> SurfaceProfile for &P {
 
     fn radius_bounds(&self) -> Option<(f64, f64)> {
         (**self).radius_bounds()
+    }
+
+    fn radius_bounds_between(&self, start: f64, end: f64) -> Option<(f64, f64)> {
+        (**self).radius_bounds_between(start, end)
     }
 }

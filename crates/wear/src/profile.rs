@@ -372,6 +372,24 @@ impl SurfaceProfile for WornProfile {
             self.nominal_radius.max(moved),
         ))
     }
+
+    /// Exact bounds from the cells whose B-spline support meets the range: a sample at `u`
+    /// mixes the four control points around it, so the depth over `[start, end]` lies between
+    /// the smallest and largest of those cells.
+    fn radius_bounds_between(&self, start: f64, end: f64) -> Option<(f64, f64)> {
+        let n = self.depth.len() as i64;
+        let first = (start * self.cells_per_rad - 0.5).floor() as i64 - 1;
+        let last = ((end * self.cells_per_rad - 0.5).floor() as i64 + 2).min(first + n - 1);
+        let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+        for k in first..=last {
+            let h = self.depth[k.rem_euclid(n) as usize];
+            low = low.min(h);
+            high = high.max(h);
+        }
+        let a = self.nominal_radius + self.side.radius_per_depth() * low;
+        let b = self.nominal_radius + self.side.radius_per_depth() * high;
+        Some((a.min(b), a.max(b)))
+    }
 }
 
 /// `Σ h_k/2 · R Δθ · w` for cell depths `depths` on a surface of radius `radius`.

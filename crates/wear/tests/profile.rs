@@ -202,3 +202,35 @@ fn concentrated_ranges_merge_through_zero() {
     assert_relative_eq!(r[1].start.to_degrees(), 90.0, epsilon = 1e-9);
     assert_eq!(r[1].peak, 1e-6);
 }
+
+/// The sector bounds the foundation contact skips by hold every sample of the spline inside
+/// the sector, and are exact for an unworn surface.
+#[test]
+fn radius_bounds_between_hold_every_sample() {
+    use contact::SurfaceProfile;
+    use wear::{Side, WornProfile};
+    let depths: Vec<f64> = (0..360)
+        .map(|k| 1e-5 * (1.0 + (0.37 * k as f64).sin() * (0.05 * k as f64).cos()))
+        .collect();
+    for side in [Side::Bearing, Side::Pin] {
+        let profile = WornProfile::from_depths(side, 0.05, depths.clone()).unwrap();
+        for (start, width) in [
+            (0.0, 0.1),
+            (6.2, 0.2),
+            (-0.3, 0.05),
+            (1.0, 6.5),
+            (3.0, 0.001),
+        ] {
+            let (low, high) = profile.radius_bounds_between(start, start + width).unwrap();
+            for k in 0..=200 {
+                let r = profile.sample(start + width * k as f64 / 200.0).radius;
+                assert!(
+                    low <= r && r <= high,
+                    "{side:?} [{start}, +{width}]: {r} not in [{low}, {high}]"
+                );
+            }
+        }
+    }
+    let round = WornProfile::new(Side::Bearing, 0.05, 100).unwrap();
+    assert_eq!(round.radius_bounds_between(1.0, 2.0), Some((0.05, 0.05)));
+}

@@ -24,6 +24,9 @@ pub(crate) trait Real:
     + Mul<f64, Output = Self>
     + Div<f64, Output = Self>
 {
+    /// Whether this is the plain `f64` (no partials): then computing a value costs no more
+    /// than testing whether it is needed.
+    const PLAIN: bool;
     /// A constant.
     fn constant(value: f64) -> Self;
     /// The value (the derivatives dropped).
@@ -39,6 +42,7 @@ pub(crate) trait Real:
 }
 
 impl Real for f64 {
+    const PLAIN: bool = true;
     #[inline]
     fn constant(value: f64) -> Self {
         value
@@ -180,6 +184,7 @@ impl Div<f64> for Dual {
 }
 
 impl Real for Dual {
+    const PLAIN: bool = false;
     #[inline]
     fn constant(value: f64) -> Self {
         Self {

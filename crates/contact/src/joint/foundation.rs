@@ -183,8 +183,31 @@ pub(super) struct OutlineBounds {
     bearing_min: f64,
     /// Largest pin radius (m; infinite when unknown).
     pin_max: f64,
+    /// Smallest pin radius at a node (m).
+    pin_min: f64,
     /// Outline length per node, `R_j0 2π/N` (m), `R_j0` the pin's largest radius.
     node_arc: f64,
+    /// Smallest bearing radius over each of [`BLOCKS`] equal sectors of its frame (m).
+    bearing_block_min: [f64; BLOCKS],
+    /// Largest pin radius at the nodes of each sector of the pin's frame (m).
+    pin_block_max: [f64; BLOCKS],
+}
+
+/// Sectors of 5.6° in which the outlines' radius bounds are kept, to skip the parts of the pin
+/// that cannot reach the bearing.
+const BLOCKS: usize = 64;
+/// Angle of a sector (rad).
+const BLOCK: f64 = TAU / BLOCKS as f64;
+/// At most this many separate runs of candidate sectors are visited one by one; beyond it the
+/// whole circle is visited.
+const MAX_RUNS: usize = 16;
+
+/// The node ranges that can touch (signed indices, each `first..=last`, wrapping), and a bound
+/// on the deepest overlap of the nodes outside them (≤ 0).
+struct Candidates {
+    runs: [(i64, i64); MAX_RUNS],
+    count: usize,
+    outside_bound: f64,
 }
 
 impl OutlineBounds {
@@ -204,11 +227,38 @@ impl OutlineBounds {
             },
             |(_, hi)| hi,
         );
+        let mut pin_block_max = [f64::NEG_INFINITY; BLOCKS];
+        let mut pin_min = f64::INFINITY;
+        for k in 0..cells {
+            let alpha = node_angle(k, cells);
+            let radius = pin.sample(alpha).radius;
+            let block = ((alpha / BLOCK) as usize).min(BLOCKS - 1);
+            pin_block_max[block] = pin_block_max[block].max(radius);
+            pin_min = pin_min.min(radius);
+        }
+        let bearing_block_min = std::array::from_fn(|b| {
+            let start = b as f64 * BLOCK;
+            bearing
+                .radius_bounds_between(start, start + BLOCK)
+                .map_or(0.0, |(lo, _)| lo)
+        });
         Self {
             bearing_min,
             pin_max: pin_bounds.map_or(f64::INFINITY, |(_, hi)| hi),
+            pin_min,
             node_arc: pin_reference * TAU / cells as f64,
+            bearing_block_min,
+            pin_block_max,
         }
+    }
+
+    /// Smallest bearing radius over bearing-frame angles `[start, end]` (from the sectors).
+    fn bearing_min_between(&self, start: f64, end: f64) -> f64 {
+        let first = (start / BLOCK).floor() as i64;
+        let last = ((end / BLOCK).floor() as i64).min(first + BLOCKS as i64 - 1);
+        (first..=last)
+            .map(|b| self.bearing_block_min[b.rem_euclid(BLOCKS as i64) as usize])
+            .fold(f64::INFINITY, f64::min)
     }
 }
 
@@ -237,6 +287,9 @@ struct Node<T> {
     bearing_arm: [T; 2],
     /// `ψ_k − θ_i` (rad, unwrapped).
     bearing_angle: f64,
+    /// The overlap as [`ClearanceJoint::overlap_at`] gives it (m): `g_k`, or the distance
+    /// below the bearing's smallest radius where the node cannot touch.
+    overlap: f64,
 }
 
 /// One body's position and velocity in the kernel's arithmetic.
@@ -328,7 +381,9 @@ struct Books {
     normal_resultant: [f64; 2],
     load: f64,
     load_sliding: f64,
-    deepest: Option<(f64, f64, f64)>,
+    /// The deepest overlap seen (m), and the rate `ġ` of its node once computed.
+    deepest: Option<f64>,
+    deepest_rate: f64,
     cells: u32,
     zones: u32,
     narrowest: u32,
@@ -337,9 +392,11 @@ struct Books {
 }
 
 impl Books {
-    fn see_overlap(&mut self, g: f64, rate: f64, bearing_angle: f64) {
-        if self.deepest.is_none_or(|(d, _, _)| g > d) {
-            self.deepest = Some((g, rate, bearing_angle));
+    /// Counts one node's overlap; `true` when it is the deepest so far.
+    fn see_overlap(&mut self, g: f64) -> bool {
+        let deepest = self.deepest.is_none_or(|d| g > d);
+        if deepest {
+            self.deepest = Some(g);
         }
         if g > 0.0 {
             self.cells += 1;
@@ -348,6 +405,7 @@ impl Books {
             self.close_run();
         }
         self.previous_positive = g > 0.0;
+        deepest
     }
 
     fn close_run(&mut self) {
@@ -372,40 +430,142 @@ impl Books {
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     ClearanceJoint<B, P, N, F>
 {
-    /// The range of nodes that can touch, as signed indices `first..=last` (wrapping), and
-    /// whether they cover the whole circle; `None` in free flight.
-    fn node_window(&self, cells: usize, e: [f64; 2], theta_pin: f64) -> Option<(i64, i64)> {
-        let b = self.bounds;
+    /// The nodes that can touch, sector by sector: a pin sector whose farthest reach from the
+    /// bearing centre (its largest radius, at the angle nearest the eccentricity) stays inside
+    /// the smallest bearing radius where it can land is skipped. In free flight (`|e| + R_j⁺ ≤
+    /// R_i⁻`) nothing is visited.
+    fn candidates(
+        &self,
+        cells: usize,
+        e: [f64; 2],
+        theta_pin: f64,
+        theta_bearing: f64,
+    ) -> Candidates {
+        let b = &self.bounds;
         let rho = e[0].hypot(e[1]);
-        if rho + b.pin_max <= b.bearing_min {
-            return None;
+        let mut found = Candidates {
+            runs: [(0, 0); MAX_RUNS],
+            count: 0,
+            outside_bound: rho + b.pin_max.min(1e300) - b.bearing_min,
+        };
+        if found.outside_bound <= 0.0 {
+            return found;
         }
-        let n = cells as i64;
-        let cos_limit = (b.bearing_min * b.bearing_min - b.pin_max * b.pin_max - rho * rho)
-            / (2.0 * b.pin_max * rho);
-        if cos_limit.is_nan() || cos_limit <= -1.0 || rho == 0.0 {
-            let start = if rho == 0.0 {
-                0
-            } else {
-                let away = (-e[1]).atan2(-e[0]) - theta_pin;
-                (away * cells as f64 / TAU - 0.5).round() as i64
-            };
-            return Some((start, start + n - 1));
+        let direction = e[1].atan2(e[0]);
+        // A pin point turns by at most this between its direction from the pin centre and its
+        // direction from the bearing centre.
+        let slack = if b.pin_min > rho {
+            (rho / (b.pin_min - rho)).min(1.0).asin()
+        } else {
+            std::f64::consts::PI
+        };
+        let mut candidate = [false; BLOCKS];
+        let mut bound = f64::NEG_INFINITY;
+        for (block, is_candidate) in candidate.iter_mut().enumerate() {
+            let reach = b.pin_block_max[block];
+            if reach == f64::NEG_INFINITY {
+                continue;
+            }
+            let start = block as f64 * BLOCK + theta_pin;
+            let mid = start + 0.5 * BLOCK;
+            let off = ((direction - mid + std::f64::consts::PI).rem_euclid(TAU)
+                - std::f64::consts::PI)
+                .abs();
+            let gap = (off - 0.5 * BLOCK).max(0.0);
+            // A sector turned away from the eccentricity is nearer the bearing centre than the
+            // pin's own radius can reach out, √(ρ² + r²) < R_i⁻ in practice: check that first.
+            if gap >= std::f64::consts::FRAC_PI_2
+                && rho * rho + reach * reach <= b.bearing_min * b.bearing_min
+            {
+                bound = bound.max((rho * rho + reach * reach).sqrt() - b.bearing_min);
+                continue;
+            }
+            let farthest = (rho * rho + reach * reach + 2.0 * reach * rho * gap.cos())
+                .max(0.0)
+                .sqrt();
+            let nearest_bearing = b.bearing_min_between(
+                start - slack - theta_bearing,
+                start + BLOCK + slack - theta_bearing,
+            );
+            let margin = farthest - nearest_bearing;
+            *is_candidate = margin > 0.0;
+            if !*is_candidate {
+                bound = bound.max(margin);
+            }
         }
-        let half = cos_limit.min(1.0).acos();
-        let centre = e[1].atan2(e[0]) - theta_pin;
-        let per_rad = cells as f64 / TAU;
-        // One node beyond each end: a node outside the window has g ≤ 0 but may still share a
-        // loaded segment with the first node inside.
-        let first = ((centre - half) * per_rad - 0.5).ceil() as i64 - 1;
-        let last = ((centre + half) * per_rad - 0.5).floor() as i64 + 1;
-        if last - first + 1 >= n {
-            // Start opposite the eccentricity: that node is `R_j − |e|` from the bearing
-            // centre at most, so it never overlaps and no zone runs through the start.
-            let start = ((centre + std::f64::consts::PI) * per_rad - 0.5).round() as i64;
-            return Some((start, start + n - 1));
+        found.outside_bound = bound;
+        let Some(quiet) = candidate.iter().position(|c| !c) else {
+            // Every sector may touch (unknown bounds): the whole circle, from opposite the
+            // eccentricity, which never overlaps.
+            let away = direction + std::f64::consts::PI - theta_pin;
+            let first = (away * cells as f64 / TAU - 0.5).round() as i64;
+            found.runs[0] = (first, first + cells as i64 - 1);
+            found.count = 1;
+            return found;
+        };
+        let node_at_block = |block: i64| -> i64 {
+            (block as f64 * cells as f64 / BLOCKS as f64 - 0.5).ceil() as i64
+        };
+        let mut open: Option<i64> = None;
+        for step in 1..=BLOCKS as i64 {
+            let block = quiet as i64 + step;
+            let here = candidate[block.rem_euclid(BLOCKS as i64) as usize];
+            match (here, open) {
+                (true, None) => open = Some(block),
+                (false, Some(first_block)) => {
+                    open = None;
+                    // One node beyond each end: it cannot overlap but may share a loaded
+                    // segment with the first node inside.
+                    let run = (node_at_block(first_block) - 1, node_at_block(block));
+                    if found.count == MAX_RUNS {
+                        // Too fragmented to list: the whole circle, from opposite the
+                        // eccentricity (never overlapping).
+                        let away = direction + std::f64::consts::PI - theta_pin;
+                        let first = (away * cells as f64 / TAU - 0.5).round() as i64;
+                        found.runs[0] = (first, first + cells as i64 - 1);
+                        found.count = 1;
+                        return found;
+                    }
+                    found.runs[found.count] = run;
+                    found.count += 1;
+                }
+                _ => {}
+            }
         }
-        Some((first, last))
+        found
+    }
+
+    /// The overlap of node `cell` alone (m), cheaply: a node nearer the bearing centre than the
+    /// bearing's smallest radius returns that (negative) distance without sampling the bearing.
+    #[inline]
+    fn overlap_at(
+        &self,
+        cell: usize,
+        cells: usize,
+        bearing: &Body<f64>,
+        pin: &Body<f64>,
+        bearing_centre_arm: &[f64; 2],
+        theta_bearing: f64,
+    ) -> f64 {
+        let alpha = node_angle(cell, cells);
+        let radius = self.pin_profile.sample(alpha).radius;
+        let (s, c) = alpha.sin_cos();
+        let arm = pin.rotate([
+            self.pin_centre.x + radius * c,
+            self.pin_centre.y + radius * s,
+        ]);
+        let d = [
+            pin.position[0] + arm[0] - bearing.position[0] - bearing_centre_arm[0],
+            pin.position[1] + arm[1] - bearing.position[1] - bearing_centre_arm[1],
+        ];
+        let rho = d[0].hypot(d[1]);
+        if rho <= self.bounds.bearing_min {
+            return rho - self.bounds.bearing_min;
+        }
+        rho - self
+            .bearing_profile
+            .sample(d[1].atan2(d[0]) - theta_bearing)
+            .radius
     }
 
     /// Node `cell` at the given bodies.
@@ -448,10 +608,17 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             [pin_velocity[0] - centre[0], pin_velocity[1] - centre[1]]
         };
         let bearing_velocity = bearing.point_velocity(&bearing_arm);
+        let g = rho - bearing_radius;
+        let overlap = if rho.value() <= self.bounds.bearing_min {
+            rho.value() - self.bounds.bearing_min
+        } else {
+            g.value()
+        };
         Node {
             cell,
             alpha,
-            g: rho - bearing_radius,
+            overlap,
+            g,
             m,
             g_rate: dot(&m, &d_rate) + bearing_slope * bearing.omega,
             relative_velocity: [
@@ -514,7 +681,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         };
         let mut books = Books::default();
         let weight = 0.5 * foundation.line_modulus * self.bounds.node_arc;
-        let window = self.node_window(cells, e_value, theta_pin);
+        let candidates = self.candidates(cells, e_value, theta_pin, theta_bearing.value());
 
         let mut emit =
             |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| {
@@ -580,9 +747,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 });
             };
 
-        if let Some((first, last)) = window {
+        for &(first, last) in &candidates.runs[..candidates.count] {
             let n = cells as i64;
-            let wrapped = last - first + 1 >= n;
             let node_at = |k: i64| {
                 self.node(
                     k.rem_euclid(n) as usize,
@@ -593,40 +759,64 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                     theta_bearing,
                 )
             };
-            // Stream the nodes, closing each node's load once both its segments are seen.
-            let mut head: Option<(Node<T>, T)> = None;
+            let plain = (
+                Body::new(bearing_state.map(Real::value)),
+                Body::new(pin_state.map(Real::value)),
+            );
+            let plain_arm = [bearing_centre_arm[0].value(), bearing_centre_arm[1].value()];
+            let overlap_at = |k: i64| {
+                self.overlap_at(
+                    k.rem_euclid(n) as usize,
+                    cells,
+                    &plain.0,
+                    &plain.1,
+                    &plain_arm,
+                    theta_bearing.value(),
+                )
+            };
+            // Stream the nodes, closing each node's load once both its segments are seen. A node
+            // whose overlap and both neighbours' are ≤ 0 carries nothing and touches no loaded
+            // segment: only its plain overlap is computed, not the node in `T`. (A whole-circle
+            // window starts opposite the contact, so no segment closes the circle.)
             let mut previous: Option<(Node<T>, T)> = None;
+            let mut overlap_before = f64::NEG_INFINITY;
+            // Plain arithmetic computes every node anyway: its overlap comes with it.
+            let lookahead = |k: i64| if T::PLAIN { 0.0 } else { overlap_at(k) };
+            let mut overlap_here = lookahead(first);
             for k in first..=last {
-                let node = node_at(k);
-                books.see_overlap(node.g.value(), node.g_rate.value(), node.bearing_angle);
-                let mut right_part = zero;
-                if let Some((prev, prev_part)) = previous.take() {
-                    let (q, dq_a, dq_b) = segment(prev.g, node.g);
-                    books.energy += weight * q.value();
-                    right_part = dq_b;
-                    let total = prev_part + dq_a;
-                    if wrapped && k == first + 1 {
-                        head = Some((prev, total));
-                    } else {
-                        emit(&prev, total, &mut books, &mut out);
+                let overlap_after = if k < last {
+                    lookahead(k + 1)
+                } else {
+                    f64::NEG_INFINITY
+                };
+                let early = (!(T::PLAIN)).then(|| books.see_overlap(overlap_here));
+                if (T::PLAIN) || overlap_before > 0.0 || overlap_here > 0.0 || overlap_after > 0.0 {
+                    let node = node_at(k);
+                    if early.unwrap_or_else(|| books.see_overlap(node.overlap)) {
+                        books.deepest_rate = node.g_rate.value();
                     }
+                    let mut right_part = zero;
+                    if let Some((prev, prev_part)) = previous.take() {
+                        let (q, dq_a, dq_b) = segment(prev.g, node.g);
+                        books.energy += weight * q.value();
+                        right_part = dq_b;
+                        emit(&prev, prev_part + dq_a, &mut books, &mut out);
+                    }
+                    previous = Some((node, right_part));
+                } else if let Some((prev, prev_part)) = previous.take() {
+                    emit(&prev, prev_part, &mut books, &mut out);
                 }
-                previous = Some((node, right_part));
+                overlap_before = overlap_here;
+                overlap_here = overlap_after;
             }
             if let Some((last_node, last_part)) = previous {
-                match head {
-                    Some((head_node, head_part)) => {
-                        // The closing segment from the last node back to the first.
-                        let (q, dq_a, dq_b) = segment(last_node.g, head_node.g);
-                        books.energy += weight * q.value();
-                        emit(&last_node, last_part + dq_a, &mut books, &mut out);
-                        emit(&head_node, head_part + dq_b, &mut books, &mut out);
-                    }
-                    None => emit(&last_node, last_part, &mut books, &mut out),
-                }
+                emit(&last_node, last_part, &mut books, &mut out);
             }
         }
         books.finish();
+        if books.deepest.is_none_or(|d| d < candidates.outside_bound) {
+            books.deepest = Some(candidates.outside_bound);
+        }
         out.diagnostics = self.foundation_diagnostics(
             &books,
             rho,
@@ -639,6 +829,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             [bearing_centre_arm[0].value(), bearing_centre_arm[1].value()],
             theta_pin,
             phi_rate.value(),
+            centre_rate,
         );
         out
     }
@@ -653,6 +844,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         bearing_centre_arm: [f64; 2],
         theta_pin: f64,
         phi_rate: f64,
+        centre_rate: f64,
     ) -> ContactDiagnostics {
         let loaded = books.load > 0.0;
         // The direction of the resultant normal force on the bearing when loaded, else the
@@ -672,12 +864,14 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             bearing_pose[0] + bearing_centre_arm[0],
             bearing_pose[1] + bearing_centre_arm[1],
         ];
+        // The deepest overlap and its rate; free, a negative distance between the outlines (or
+        // their bounds) and the rate of the centres' distance.
         let (penetration, normal_velocity) = match books.deepest {
-            Some((g, rate, _)) => (g, rate),
-            // Free flight: how far the outlines' bounds are apart (≤ 0).
+            Some(g) if g > 0.0 => (g, books.deepest_rate),
+            Some(g) => (g, centre_rate),
             None => (
                 rho + self.bounds.pin_max.min(1e300) - self.bounds.bearing_min,
-                0.0,
+                centre_rate,
             ),
         };
         ContactDiagnostics {
@@ -800,23 +994,21 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             pin.position[1] + pin_centre_arm[1] - bearing.position[1] - bearing_centre_arm[1],
         ];
         let cells = foundation.cells;
-        match self.node_window(cells, e, pin_body.theta) {
-            None => e[0].hypot(e[1]) + self.bounds.pin_max - self.bounds.bearing_min,
-            Some((first, last)) => (first..=last)
-                .map(|k| {
-                    let cell = k.rem_euclid(cells as i64) as usize;
-                    self.node(
-                        cell,
-                        cells,
-                        &bearing,
-                        &pin,
-                        &bearing_centre_arm,
-                        bearing_body.theta,
-                    )
-                    .g
-                })
-                .fold(f64::NEG_INFINITY, f64::max),
-        }
+        let candidates = self.candidates(cells, e, pin_body.theta, bearing_body.theta);
+        candidates.runs[..candidates.count]
+            .iter()
+            .flat_map(|&(first, last)| first..=last)
+            .map(|k| {
+                self.overlap_at(
+                    k.rem_euclid(cells as i64) as usize,
+                    cells,
+                    &bearing,
+                    &pin,
+                    &bearing_centre_arm,
+                    bearing_body.theta,
+                )
+            })
+            .fold(candidates.outside_bound, f64::max)
     }
 }
 
