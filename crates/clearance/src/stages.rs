@@ -127,7 +127,7 @@ pub fn run_wear_stages<R: StageRuns>(
     };
     for stage in 0..plan.stages {
         let mut runner = |context: RunContext, surfaces: &[WornJoint]| {
-            let (wear, difference) = run_once(runs, context, surfaces)?;
+            let (wear, difference) = run_once(runs, context, surfaces, plan.smoothing)?;
             out.halves_differences.push(difference);
             Ok(wear)
         };
@@ -150,6 +150,7 @@ fn run_once<R: StageRuns>(
     runs: &mut R,
     context: RunContext,
     surfaces: &[WornJoint],
+    smoothing: f64,
 ) -> Result<RunWear, WearStagesError<R::Error>> {
     let mut run = runs
         .build(context, surfaces)
@@ -167,8 +168,12 @@ fn run_once<R: StageRuns>(
             .system
             .element_mut::<WornClearanceForce>(id)
             .ok_or_else(not_wearing)?;
-        let first = element.take_first_half();
-        let total = element.take_stage_wear().ok_or_else(not_wearing)?;
+        let mut first = element.take_first_half();
+        let mut total = element.take_stage_wear().ok_or_else(not_wearing)?;
+        total.smooth(smoothing);
+        if let Some(first) = &mut first {
+            first.smooth(smoothing);
+        }
         if let Some(first) = first {
             let d = halves_difference(&first, &total);
             difference = Some(difference.map_or(d, |x| x.max(d)));

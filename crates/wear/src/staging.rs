@@ -131,6 +131,11 @@ pub struct StagePlan {
     /// report says how much was.
     #[serde(default)]
     pub geometry_limits: Option<GeometryLimits>,
+    /// Standard deviation, in cells, of the Gaussian that smooths each run's wear before it is
+    /// extrapolated ([`StageWear::smooth`]; 0: none). Applied by the caller that gathers the
+    /// wear (the `clearance` crate's driver), so its halves check sees the smoothed wear too.
+    #[serde(default)]
+    pub smoothing: f64,
 }
 
 /// Limits on the shape of the worn clearance `c = R_i − R_j` beyond which a line-of-centres
@@ -191,7 +196,14 @@ impl StagePlan {
             amplification,
             extrapolation,
             geometry_limits: None,
+            smoothing: 0.0,
         }
+    }
+
+    /// The same plan smoothing each run's wear over `sigma` cells (see [`StagePlan::smoothing`]).
+    pub fn with_smoothing(mut self, sigma: f64) -> Self {
+        self.smoothing = sigma;
+        self
     }
 
     /// `stages` stages of the paper's factor, extrapolated adaptively.
@@ -220,6 +232,12 @@ impl StagePlan {
     /// Checks amplification (> 0, finite) and the extrapolation's fraction and limit.
     pub fn validate(&self) -> Result<(), WearError> {
         positive("amplification", self.amplification)?;
+        require(
+            "smoothing",
+            self.smoothing,
+            self.smoothing >= 0.0 && self.smoothing.is_finite(),
+            ">= 0 cells",
+        )?;
         self.extrapolation.validate()
     }
 }

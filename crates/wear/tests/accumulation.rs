@@ -262,3 +262,30 @@ fn node_deposits_carry_the_archard_volume_exactly() {
     assert!(stage.accumulate_nodes(&[bad], &[], 1e-4).is_err());
     assert_eq!(stage.max_depth(), 0.0);
 }
+
+/// Smoothing a stage's wear keeps its volume, spreads a one-cell spike into a Gaussian of the
+/// given width (periodic across 0/2π), and leaves a uniform layer alone.
+#[test]
+fn smoothing_keeps_the_volume_and_spreads_a_spike() {
+    use wear::{StageWear, WearParams, WornJoint};
+    let params = WearParams::new(1.8e-13, 0.1, 200).unwrap();
+    let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
+    let mut spike = vec![0.0; 200];
+    spike[1] = 1e-6;
+    let mut wear = StageWear::from_depths(&joint, spike.clone(), vec![2e-7; 200]).unwrap();
+    let before = wear.worn_volume();
+    wear.smooth(3.0);
+    assert_relative_eq!(wear.worn_volume(), before, max_relative = 1e-12);
+    // Peak height 1/(σ√(2π)) of the spike, centred on its cell; the tail wraps through 0.
+    assert_relative_eq!(
+        wear.bearing()[1],
+        1e-6 / (3.0 * TAU.sqrt()),
+        max_relative = 1e-3
+    );
+    assert_relative_eq!(wear.bearing()[199], wear.bearing()[3], max_relative = 1e-12);
+    assert!(wear.pin().iter().all(|h| (h - 2e-7).abs() < 1e-18));
+    // No smoothing: unchanged.
+    let mut same = StageWear::from_depths(&joint, spike.clone(), vec![0.0; 200]).unwrap();
+    same.smooth(0.0);
+    assert_eq!(same.bearing(), &spike[..]);
+}

@@ -391,6 +391,16 @@ impl Validator {
         if self.number("run.max_clearance_change", f, true) && f > 1.0 {
             self.push("run.max_clearance_change", f, "must lie in (0, 1]");
         }
+        if self.number("run.wear_smoothing", r.wear_smoothing, false)
+            && !(0.0..=100.0).contains(&r.wear_smoothing)
+        {
+            self.push(
+                "run.wear_smoothing",
+                r.wear_smoothing,
+                "must lie in [0, 100] cells (0: no smoothing; a Gaussian wider than a contact \
+                 zone would erase the wear pattern)",
+            );
+        }
         if let Some(bound) = r.max_slope_change {
             self.number("run.max_slope_change", bound, true);
         }
