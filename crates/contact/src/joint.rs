@@ -49,7 +49,9 @@ pub mod foundation;
 mod general;
 
 use foundation::OutlineBounds;
-pub use foundation::{ContactModel, DEFAULT_FOUNDATION_CELLS, Foundation, NodeLoad};
+pub use foundation::{
+    ContactModel, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, NodeLoad,
+};
 
 /// Which relative velocity of the contact counts as sliding (for friction, and for wear).
 ///

@@ -343,10 +343,13 @@ impl ClearanceJoint {
                     .unwrap_or(f64::NAN);
                 contact::Foundation::with_layer(k, width)?
             }
-            None => contact::Foundation::calibrated(
+            None => contact::Foundation::hertz_matched(
                 &contact::Material::try_from(self.bearing_material)?,
                 &contact::Material::try_from(self.pin_material)?,
-            ),
+                self.bearing_radius,
+                self.pin_radius(),
+                contact::DEFAULT_REFERENCE_OVERLAP,
+            )?,
         };
         let cells = spec
             .cells
@@ -365,7 +368,8 @@ pub struct ContactSpec {
     #[serde(default)]
     pub model: ContactModelName,
     /// Foundation: layer modulus `k`, Pa/m (pressure per metre of overlap). Default: the layer
-    /// that reproduces the conformal Hertz stiffness on round surfaces, `k w = E*/√2`.
+    /// that reproduces the conformal Hertz force on round surfaces exactly at an overlap of 4 %
+    /// of the clearance (`contact::Foundation::hertz_matched`; `k w ≈ 1.03 E*/√2`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layer_modulus: Option<f64>,
     /// Foundation: hinge width `w` the layer modulus acts over, m. Default: `wear.width`.
