@@ -22,7 +22,8 @@ pub use force::{
     ClearanceForce, ClearanceProbe, RoundClearanceForce, WornClearanceForce, as_probe,
 };
 pub use stages::{
-    StageRuns, StageSimulation, WearStages, WearStagesError, halves_difference, run_wear_stages,
+    StageHalves, StageRuns, StageSimulation, WearStages, WearStagesError, halves_difference,
+    run_wear_stages,
 };
 
 // The crates a clearance joint is made of, and their names a mechanism with worn joints uses

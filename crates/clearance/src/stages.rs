@@ -109,6 +109,23 @@ pub struct WearStages {
     /// the joints whose elements kept the first half apart
     /// ([`WornClearanceForce::with_halves`]); `None` where none did.
     pub halves_differences: Vec<Option<f64>>,
+    /// Per stage (with even K): the stage's wear extrapolated from each half of the simulated
+    /// cycles alone, `Σ amplification × half`, compared: the larger relative difference of
+    /// their peak depths and of their worn volumes over all joints ([`StageHalves`]).
+    pub stage_halves: Vec<Option<StageHalves>>,
+}
+
+/// How far a whole stage's wear depends on which half of its simulated cycles it came from:
+/// each sub-step's first-half and second-half wear are amplified like the sub-step and summed
+/// over the stage, giving two estimates of half the stage's wear. Their difference is the
+/// sampling noise of the stage's result (the per-run [`halves_difference`] is that of a single
+/// sub-step, which averaging over the sub-steps reduces).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StageHalves {
+    /// Largest `|peak₁ − peak₂| / mean` over joints and surfaces.
+    pub peak_depth: f64,
+    /// Largest `|V₁ − V₂| / mean` of the worn volumes over joints.
+    pub worn_volume: f64,
 }
 
 /// Runs every stage of `plan` on `joints` (all wearing joints of the mechanism, updated
@@ -124,17 +141,22 @@ pub fn run_wear_stages<R: StageRuns>(
         reports: Vec::with_capacity(plan.stages),
         surfaces: Vec::with_capacity(plan.stages),
         halves_differences: Vec::new(),
+        stage_halves: Vec::new(),
     };
     for stage in 0..plan.stages {
+        let mut halves: Vec<Vec<(StageWear, StageWear)>> = Vec::new();
         let mut runner = |context: RunContext, surfaces: &[WornJoint]| {
-            let (wear, difference) = run_once(runs, context, surfaces, plan.smoothing)?;
+            let (wear, difference, split) = run_once(runs, context, surfaces, plan.smoothing)?;
             out.halves_differences.push(difference);
+            halves.push(split);
             Ok(wear)
         };
         let report = wear::run_stage(joints, stage, plan, &mut runner).map_err(|e| match e {
             StagingError::Wear(e) => WearStagesError::Wear(e),
             StagingError::Runner(e) => e,
         })?;
+        out.stage_halves
+            .push(stage_halves(&halves, &report, joints));
         out.reports.push(report);
         out.surfaces.push(joints.to_vec());
     }
@@ -142,7 +164,63 @@ pub fn run_wear_stages<R: StageRuns>(
 }
 
 /// One run's stage wear per joint and its largest halves difference.
-type RunWear = (Vec<StageWear>, Option<f64>);
+/// Each joint's wear, the largest halves difference, and each joint's (first half, second
+/// half) when the halves were kept.
+type RunWear = (Vec<StageWear>, Option<f64>, Vec<(StageWear, StageWear)>);
+
+/// The [`StageHalves`] of one stage from its runs' halves (one entry per run, in order; the
+/// runs whose wear was applied are the report's sub-steps).
+fn stage_halves(
+    halves: &[Vec<(StageWear, StageWear)>],
+    report: &StageReport,
+    joints: &[WornJoint],
+) -> Option<StageHalves> {
+    if report.substeps.is_empty() || halves.iter().take(report.substeps.len()).any(Vec::is_empty) {
+        return None;
+    }
+    let mut result = StageHalves {
+        peak_depth: 0.0,
+        worn_volume: 0.0,
+    };
+    let relative = |a: f64, b: f64| {
+        let mean = 0.5 * (a + b);
+        if mean > 0.0 {
+            (a - b).abs() / mean
+        } else {
+            0.0
+        }
+    };
+    for (j, joint) in joints.iter().enumerate() {
+        let cells = (joint.bearing().cells(), joint.pin().cells());
+        let mut sums = [
+            (vec![0.0; cells.0], vec![0.0; cells.1]),
+            (vec![0.0; cells.0], vec![0.0; cells.1]),
+        ];
+        for (run, substep) in halves.iter().zip(&report.substeps) {
+            let (first, second) = &run[j];
+            for (sum, half) in sums.iter_mut().zip([first, second]) {
+                for (s, h) in sum.0.iter_mut().zip(half.bearing()) {
+                    *s += substep.amplification * h;
+                }
+                for (s, h) in sum.1.iter_mut().zip(half.pin()) {
+                    *s += substep.amplification * h;
+                }
+            }
+        }
+        let peak = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+        let volume = |(b, p): &(Vec<f64>, Vec<f64>)| {
+            StageWear::from_depths(joint, b.clone(), p.clone()).map_or(0.0, |w| w.worn_volume())
+        };
+        result.peak_depth = result
+            .peak_depth
+            .max(relative(peak(&sums[0].0), peak(&sums[1].0)))
+            .max(relative(peak(&sums[0].1), peak(&sums[1].1)));
+        result.worn_volume = result
+            .worn_volume
+            .max(relative(volume(&sums[0]), volume(&sums[1])));
+    }
+    Some(result)
+}
 
 /// Builds, simulates and collects one run: each joint's stage wear and the largest halves
 /// difference.
@@ -159,6 +237,7 @@ fn run_once<R: StageRuns>(
         .map_err(|source| WearStagesError::Simulation { context, source })?;
     let mut wear = Vec::with_capacity(run.elements.len());
     let mut difference: Option<f64> = None;
+    let mut split = Vec::new();
     for &id in &run.elements {
         let not_wearing = || WearStagesError::NotWearing {
             context,
@@ -177,10 +256,16 @@ fn run_once<R: StageRuns>(
         if let Some(first) = first {
             let d = halves_difference(&first, &total);
             difference = Some(difference.map_or(d, |x| x.max(d)));
+            let mut second = total.clone();
+            second.subtract(&first);
+            split.push((first, second));
         }
         wear.push(total);
     }
-    Ok((wear, difference))
+    if split.len() != wear.len() {
+        split.clear();
+    }
+    Ok((wear, difference, split))
 }
 
 /// How far the two halves of a run's cycles wear apart: the largest per-cell difference

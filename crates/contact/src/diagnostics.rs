@@ -63,7 +63,8 @@ pub struct ContactDiagnostics {
     /// Foundation model: separate contact zones (runs of overlapping nodes).
     #[serde(default)]
     pub contact_zones: u32,
-    /// Foundation model: overlapping nodes across the narrowest contact zone (0 when free).
+    /// Foundation model: overlapping nodes across the narrowest contact zone that carries at
+    /// least a tenth of the load (0 when free).
     #[serde(default)]
     pub narrowest_zone_cells: u32,
 }

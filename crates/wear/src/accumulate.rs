@@ -193,6 +193,20 @@ impl StageWear {
         }
     }
 
+    /// Removes `other`'s depths from this record, cell by cell (clamped at 0 against round-off):
+    /// with `other` the first half of the same run, what remains is the second half.
+    pub fn subtract(&mut self, other: &StageWear) {
+        for (mine, theirs) in [
+            (&mut self.bearing, &other.bearing),
+            (&mut self.pin, &other.pin),
+        ] {
+            for (h, o) in mine.iter_mut().zip(theirs) {
+                *h = (*h - o).max(0.0);
+            }
+        }
+        self.archard_volume -= other.archard_volume;
+    }
+
     /// Bearing cell depths gathered so far (m, before amplification).
     pub fn bearing(&self) -> &[f64] {
         &self.bearing

@@ -437,44 +437,64 @@ struct Books {
     deepest_rate: f64,
     cells: u32,
     zones: u32,
-    narrowest: u32,
-    run: u32,
-    previous_positive: bool,
+    /// Nodes around the pin (for zones through cell 0).
+    grid: usize,
+    /// The open zone: its last cell, its cells and its load.
+    open: Option<(usize, u32, f64)>,
+    /// The first [`MAX_ZONES`] closed zones' cells and loads.
+    closed: [(u32, f64); MAX_ZONES],
 }
 
+/// Zones whose width and load are kept for the narrowest-zone measure.
+const MAX_ZONES: usize = 16;
+
 impl Books {
-    /// Counts one node's overlap; `true` when it is the deepest so far.
+    /// Counts one node's overlap for the deepest; `true` when it is the deepest so far.
     fn see_overlap(&mut self, g: f64) -> bool {
         let deepest = self.deepest.is_none_or(|d| g > d);
         if deepest {
             self.deepest = Some(g);
         }
-        if g > 0.0 {
-            self.cells += 1;
-            self.run += 1;
-        } else if self.previous_positive {
-            self.close_run();
-        }
-        self.previous_positive = g > 0.0;
         deepest
     }
 
-    fn close_run(&mut self) {
-        self.zones += 1;
-        self.narrowest = if self.zones == 1 {
-            self.run
-        } else {
-            self.narrowest.min(self.run)
-        };
-        self.run = 0;
+    /// Adds node `cell` (overlap `g`, normal load `load`) to the zone bookkeeping; nodes come
+    /// in order, and a zone is a run of consecutive overlapping cells.
+    fn see_zone(&mut self, cell: usize, g: f64, load: f64) {
+        let grid = self.grid.max(1);
+        let continues = self
+            .open
+            .is_some_and(|(last, _, _)| (last + 1) % grid == cell);
+        if g <= 0.0 || !continues {
+            self.close_zone();
+        }
+        if g > 0.0 {
+            self.cells += 1;
+            let (_, width, carried) = self.open.unwrap_or((cell, 0, 0.0));
+            self.open = Some((cell, width + 1, carried + load));
+        }
     }
 
-    /// Ends the scan. A whole-circle scan starts at the node facing away from the contact,
-    /// which never overlaps, so no zone runs through the start.
-    fn finish(&mut self) {
-        if self.previous_positive {
-            self.close_run();
+    fn close_zone(&mut self) {
+        if let Some((_, width, load)) = self.open.take() {
+            if (self.zones as usize) < MAX_ZONES {
+                self.closed[self.zones as usize] = (width, load);
+            }
+            self.zones += 1;
         }
+    }
+
+    /// Cells across the narrowest zone among those carrying at least a tenth of the load (all
+    /// zones when none carries load); 0 without contact.
+    fn narrowest(&mut self) -> u32 {
+        self.close_zone();
+        let kept = &self.closed[..(self.zones as usize).min(MAX_ZONES)];
+        let total: f64 = kept.iter().map(|(_, load)| load).sum();
+        kept.iter()
+            .filter(|(_, load)| total <= 0.0 || *load >= 0.1 * total)
+            .map(|(width, _)| *width)
+            .min()
+            .unwrap_or(0)
     }
 }
 
@@ -730,21 +750,24 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             pin: [zero; 3],
             diagnostics: ContactDiagnostics::default(),
         };
-        let mut books = Books::default();
+        let mut books = Books {
+            grid: cells,
+            ..Books::default()
+        };
         let weight = 0.5 * foundation.line_modulus * self.bounds.node_arc;
         let candidates = self.candidates(cells, e_value, theta_pin, theta_bearing.value());
 
-        let mut emit =
-            |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| {
+        let mut carry =
+            |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| -> f64 {
                 let g_k = load_gradient * weight;
                 if g_k.value() <= 0.0 {
-                    return;
+                    return 0.0;
                 }
                 let (factor, d_factor) = self.normal_law.hysteresis(node.g_rate.value(), onset);
                 if factor <= 0.0 {
                     // Clamped: the layer does not pull; its elastic load is released as damping.
                     books.damping_power -= g_k.value() * node.g_rate.value();
-                    return;
+                    return 0.0;
                 }
                 let load = g_k * node.g_rate.chain(factor, d_factor);
                 let m_norm = dot(&node.m, &node.m).sqrt();
@@ -796,6 +819,13 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                     material_sliding: material_v,
                     paper_sliding: paper.value(),
                 });
+                normal_v
+            };
+        // Every computed node passes here in order: its load, and the zone it belongs to.
+        let mut emit =
+            |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| {
+                let normal = carry(node, load_gradient, books, out);
+                books.see_zone(node.cell, node.overlap, normal);
             };
 
         for &(first, last) in &candidates.runs[..candidates.count] {
@@ -864,12 +894,11 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 emit(&last_node, last_part, &mut books, &mut out);
             }
         }
-        books.finish();
         if books.deepest.is_none_or(|d| d < candidates.outside_bound) {
             books.deepest = Some(candidates.outside_bound);
         }
         out.diagnostics = self.foundation_diagnostics(
-            &books,
+            &mut books,
             rho,
             e_value,
             [
@@ -888,7 +917,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     #[allow(clippy::too_many_arguments)]
     fn foundation_diagnostics(
         &self,
-        books: &Books,
+        books: &mut Books,
         rho: f64,
         e: [f64; 2],
         bearing_pose: [f64; 3],
@@ -956,7 +985,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             pin_curvature: pin_sample.curvature,
             contact_cells: books.cells,
             contact_zones: books.zones,
-            narrowest_zone_cells: books.narrowest,
+            narrowest_zone_cells: books.narrowest(),
         }
     }
 

@@ -311,11 +311,16 @@ pub struct WearSummary {
     /// Every sub-step: stage, amplification applied, deepest cell after it (m) and the bound
     /// on the relative clearance change it caused.
     pub substeps: Vec<SubstepSummary>,
-    /// Convergence of each sub-step's wear estimate: the largest disagreement of the two
-    /// halves of its K cycles (absent for odd K), against [`HALVES_TOLERANCE`](crate::run::HALVES_TOLERANCE).
+    /// Noise of each sub-step's wear estimate: the largest per-cell disagreement of the two
+    /// halves of its K cycles (absent for odd K). Informative only: a stage averages many
+    /// sub-steps, and `stage_halves` measures what reaches its result.
     pub max_halves_difference: Option<f64>,
-    /// Whether every sub-step's two halves agree within [`HALVES_TOLERANCE`](crate::run::HALVES_TOLERANCE) (false for odd K:
-    /// not checked).
+    /// Per stage (even K): the stage's wear extrapolated from each half of the simulated
+    /// cycles alone, their peak depths' and worn volumes' relative difference
+    /// (`clearance::StageHalves`), against [`STAGE_HALVES_TOLERANCE`](crate::run::STAGE_HALVES_TOLERANCE).
+    pub stage_halves: Vec<Option<StageHalvesSummary>>,
+    /// Whether every stage's halves agree within [`STAGE_HALVES_TOLERANCE`](crate::run::STAGE_HALVES_TOLERANCE) (false for
+    /// odd K: not checked).
     pub converged: bool,
     /// Per stage: the drive cycles it applied when it ended early at the contact model's
     /// validity limits (`run.stop_at_validity_limits`), else `None` (all of them).
@@ -387,4 +392,13 @@ pub struct RunOutcome {
     pub worn_response: Option<Response>,
     /// Wear per wearing joint.
     pub wear: Vec<JointWearHistory>,
+}
+
+/// [`WearSummary::stage_halves`] of one stage.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct StageHalvesSummary {
+    /// Largest `|peak₁ − peak₂|/mean` of the two halves' extrapolated peak depths.
+    pub peak_depth: f64,
+    /// Largest `|V₁ − V₂|/mean` of their worn volumes.
+    pub worn_volume: f64,
 }

@@ -8,8 +8,9 @@ use multibody::{OutputTimes, SimulationError, SimulationResult};
 use wear::{Extrapolation, GeometryLimits, RunContext, StagePlan, WornJoint};
 
 use super::life::{clearance_limit, life_curves};
+use super::outcome::StageHalvesSummary;
 use super::record::{Recorder, assemble};
-use super::summary::HALVES_TOLERANCE;
+use super::summary::STAGE_HALVES_TOLERANCE;
 use super::{
     JointWearHistory, JointWearSummary, Motion, Progress, RunError, SubstepSummary, WearSummary,
     simulation_options,
@@ -251,18 +252,34 @@ pub(super) fn stages(
         .iter()
         .filter_map(|d| d.halves_difference)
         .reduce(f64::max);
-    let converged = max_halves_difference.is_some_and(|d| d <= HALVES_TOLERANCE);
-    match max_halves_difference {
+    let stage_halves: Vec<Option<StageHalvesSummary>> = staged
+        .stage_halves
+        .iter()
+        .map(|h| {
+            h.map(|h| StageHalvesSummary {
+                peak_depth: h.peak_depth,
+                worn_volume: h.worn_volume,
+            })
+        })
+        .collect();
+    let worst = stage_halves
+        .iter()
+        .map(|h| h.map(|h| h.peak_depth.max(h.worn_volume)))
+        .collect::<Option<Vec<f64>>>()
+        .and_then(|all| all.into_iter().reduce(f64::max));
+    let converged = worst.is_some_and(|d| d <= STAGE_HALVES_TOLERANCE);
+    match worst {
         None => warnings.push(format!(
-            "warning: K = {k} simulated cycle(s) per sub-step: the wear of one chaotic cycle is \
-             not a converged estimate, and with odd K it cannot be checked; give an even K \
-             (--cycles-per-stage 2 or more)"
+            "warning: K = {k} simulated cycle(s) per sub-step: with odd K the convergence of \
+             the stage's wear in K cannot be checked; give an even K (--cycles-per-stage 2 or \
+             more)"
         )),
-        Some(d) if d > HALVES_TOLERANCE => warnings.push(format!(
-            "warning: the two halves of a sub-step's K = {k} cycles wear differently by up to \
-             {:.0} % of the peak (tolerance {:.0} %): the stage's wear is not converged in K",
+        Some(d) if d > STAGE_HALVES_TOLERANCE => warnings.push(format!(
+            "warning: the stage's wear extrapolated from each half of its K = {k} cycles alone \
+             differs by up to {:.0} % in peak depth or worn volume (tolerance {:.0} %): the \
+             stage's wear is not converged in K",
             100.0 * d,
-            100.0 * HALVES_TOLERANCE
+            100.0 * STAGE_HALVES_TOLERANCE
         )),
         Some(_) => {}
     }
@@ -331,6 +348,7 @@ pub(super) fn stages(
         substeps_per_stage: substeps,
         substeps: details,
         max_halves_difference,
+        stage_halves,
         converged,
         cycles_applied_at_limits: ended_at_limits,
         warnings,

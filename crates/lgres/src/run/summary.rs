@@ -210,6 +210,8 @@ pub(super) fn deviation(r: &Response, from: f64) -> Deviation {
     }
 }
 
-/// Largest disagreement of the two halves of a sub-step's cycles, per cell relative to the
-/// peak, for which a stage's wear counts as converged in K.
-pub const HALVES_TOLERANCE: f64 = 0.25;
+/// Largest disagreement of the two halves of a stage's simulated cycles, each extrapolated
+/// alone (their peak depths and worn volumes, relative to the mean), for which the stage's
+/// wear counts as converged in K. The stage's result averages both halves, so its own sampling
+/// noise is about `1/√2` of this.
+pub const STAGE_HALVES_TOLERANCE: f64 = 0.1;

@@ -639,7 +639,7 @@ fn transient_window() -> f64 {
     0.1
 }
 /// Default [`RunSettings::wear_smoothing`], cells.
-pub const DEFAULT_WEAR_SMOOTHING: f64 = 4.0;
+pub const DEFAULT_WEAR_SMOOTHING: f64 = 8.0;
 
 fn wear_smoothing() -> f64 {
     DEFAULT_WEAR_SMOOTHING
