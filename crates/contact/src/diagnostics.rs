@@ -67,4 +67,8 @@ pub struct ContactDiagnostics {
     /// least a tenth of the load (0 when free).
     #[serde(default)]
     pub narrowest_zone_cells: u32,
+    /// Foundation model: the estimated relative error of the normal load from the grid's
+    /// resolution of the contact zones, `Σ share · 0.96/n²` over zones of `n` nodes.
+    #[serde(default)]
+    pub resolution_error: f64,
 }

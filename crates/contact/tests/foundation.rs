@@ -550,6 +550,9 @@ fn a_dent_splits_the_contact_into_two_zones_and_nodes_carry_the_load() {
     );
     assert_eq!(d.contact_zones, 2);
     assert!(d.narrowest_zone_cells >= 3);
+    // Two symmetric zones of n nodes: the resolution estimate is 0.96/n².
+    let n = f64::from(d.narrowest_zone_cells);
+    assert!((d.resolution_error - 0.96 / (n * n)).abs() < 1e-3 * d.resolution_error);
     // The node loads add up to the resultant's magnitude along x (symmetric zones).
     let total: f64 = loads.iter().map(|n| n.normal_force).sum();
     assert!(

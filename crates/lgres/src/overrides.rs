@@ -19,7 +19,7 @@ use crate::scene::{Scene, SceneError};
 
 /// Simulated cycles per wear stage `K` when none is given: quick (the amplification is
 /// rescaled so a stage still stands for as many cycles, see [`RunOptions::cycles_per_stage`]).
-pub const QUICK_CYCLES_PER_STAGE: u32 = 1;
+pub const QUICK_CYCLES_PER_STAGE: u32 = 2;
 
 /// Overrides of a scene's run settings; `None` keeps the scene's value.
 #[derive(Debug, Clone, Default, PartialEq)]

@@ -297,7 +297,7 @@ fn outcome_to_py<'py>(py: Python<'py>, o: &RunOutcome) -> PyResult<Bound<'py, Py
     Ok(d)
 }
 
-/// Run a scene like `wearsim run` (the same defaults: `cycles_per_stage` 1); returns a dict
+/// Run a scene like `wearsim run` (the same defaults: `cycles_per_stage` 2); returns a dict
 /// of the summary (JSON text), response and contact columns and wear grids. `out` also
 /// writes the files `wearsim run --out` writes. Releases the GIL while it runs.
 #[pyfunction]

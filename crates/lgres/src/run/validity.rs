@@ -7,10 +7,12 @@
 //!   clearance. The layer is calibrated on round surfaces, where its force stays within 4 % of
 //!   Hertz up to `d = 0.06 c0` and within 11 % at `0.2 c0` (docs/model.md §10); beyond that a
 //!   thin linear layer no longer stands for the bodies' elasticity. Limit 0.2.
-//! - **zone resolution**: nodes across the narrowest contact zone that carries at least a tenth
-//!   of the joint's load, over frames whose overlap exceeds 1 % of the clearance (a light touch
-//!   always begins with one node). A loaded zone of a few nodes means the grid cannot resolve
-//!   the worn shape that carries the load. Limit 5.
+//! - **zone resolution**: the error of the normal load that the grid's resolution of the
+//!   contact zones implies, `Σ share · 0.96/n²` over zones of `n` nodes (the linear
+//!   interpolation between nodes misses `0.96/n²` of a smooth cap's load: measured on round
+//!   surfaces, docs/model.md §10.2), over frames whose overlap exceeds 1 % of the clearance (a
+//!   light touch always begins with one node). Limit 2 %; the narrowest zone carrying a tenth
+//!   of the load is reported beside it.
 //! - **unloaded penetration** is counted as below but has no limit here: on the foundation it
 //!   only shows the damped law's own clamp (the pin leaving faster than `δ̇⁻/χ`), which the
 //!   line-of-centres model shares on round surfaces, not a shape the model misreads.
@@ -50,9 +52,9 @@ pub struct Limits {
     pub missed_contact_fraction: f64,
     /// Foundation: largest overlap of the outlines over the nominal clearance.
     pub overlap_ratio: f64,
-    /// Foundation: fewest nodes across a contact zone at frames overlapping by more than 1 %
-    /// of the clearance.
-    pub zone_cells: u32,
+    /// Foundation: largest estimated relative error of the normal load from the grid's
+    /// resolution of the contact zones, at frames overlapping by more than 1 % of the clearance.
+    pub resolution_error: f64,
 }
 
 impl Default for Limits {
@@ -64,7 +66,7 @@ impl Default for Limits {
             overlap_error: 0.1,
             missed_contact_fraction: 0.01,
             overlap_ratio: 0.2,
-            zone_cells: 5,
+            resolution_error: 0.02,
         }
     }
 }
@@ -101,6 +103,10 @@ pub struct Validity {
     pub narrowest_zone_cells: Option<u32>,
     /// Foundation: most separate contact zones seen at one frame.
     pub max_contact_zones: u32,
+    /// Foundation: the largest estimated load error from the zones' resolution (see
+    /// `contact::ContactDiagnostics::resolution_error`), at frames overlapping by more than 1 %
+    /// of the clearance.
+    pub max_resolution_error: f64,
     /// The limits applied.
     pub limits: Limits,
 }
@@ -139,6 +145,7 @@ impl Tally {
                 max_overlap_ratio: 0.0,
                 narrowest_zone_cells: None,
                 max_contact_zones: 0,
+                max_resolution_error: 0.0,
                 limits,
             },
         }
@@ -151,6 +158,7 @@ impl Tally {
             v.max_overlap_ratio = v.max_overlap_ratio.max(d.penetration / self.clearance);
             v.max_contact_zones = v.max_contact_zones.max(d.contact_zones);
             if d.penetration > 0.01 * self.clearance && d.contact_zones > 0 {
+                v.max_resolution_error = v.max_resolution_error.max(d.resolution_error);
                 v.narrowest_zone_cells = Some(
                     v.narrowest_zone_cells
                         .map_or(d.narrowest_zone_cells, |n| n.min(d.narrowest_zone_cells)),
@@ -207,12 +215,13 @@ impl Tally {
                 ),
             ),
             (
-                v.narrowest_zone_cells.is_some_and(|n| n < l.zone_cells),
+                v.max_resolution_error > l.resolution_error,
                 format!(
-                    "a loaded contact zone spans only {} cells of the grid (limit {}): the \
-                     worn shape is finer than the grid resolves",
+                    "contact zones as narrow as {} cells carry the load: the grid resolves it \
+                     to about {:.1} % (limit {:.0} %)",
                     v.narrowest_zone_cells.unwrap_or(0),
-                    l.zone_cells
+                    100.0 * v.max_resolution_error,
+                    100.0 * l.resolution_error
                 ),
             ),
         ];
@@ -351,6 +360,8 @@ mod tests {
             normal_force: if penetration > 0.0 { 1e4 } else { 0.0 },
             contact_zones: zones,
             narrowest_zone_cells: narrowest,
+            // One zone of that width carrying the whole load.
+            resolution_error: 0.96 / f64::from(narrowest).powi(2),
             ..ContactDiagnostics::default()
         };
         let mut fine = Tally::new(clearance, Limits::default(), true);

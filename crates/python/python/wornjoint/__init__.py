@@ -124,7 +124,7 @@ def run(
     """Simulate a scene like ``wearsim run`` with the same options (``None``: the scene's).
 
     ``scene`` is a built-in name, a TOML file or a dict (from :func:`load`, edited).
-    ``cycles_per_stage`` defaults to 1 as on the command line. ``out`` also writes the files
+    ``cycles_per_stage`` defaults to 2 as on the command line. ``out`` also writes the files
     ``wearsim run --out`` writes. Raises :class:`SceneError` for bad input, :class:`RunError`
     when the run fails. The GIL is released while the simulation runs.
     """
