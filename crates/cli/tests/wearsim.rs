@@ -144,7 +144,10 @@ fn transient_window_longer_than_the_run_prints_n_a() {
     let dir = scratch("window");
     let scene = write_scene(
         &dir,
-        "extends = \"slider-crank\"\n[run]\ntransient_window = 0.05\n",
+        // The benchmark's 5000 rpm overlaps reach 0.45 of the clearance, beyond the foundation's
+        // thin-layer limit (its forces would be withheld): the one-point model shows the peaks.
+        "extends = \"slider-crank\"\n[run]\ntransient_window = 0.05\n\
+         [[clearance_joints]]\nname = \"rod-slider\"\ncontact = { model = \"line-of-centres\" }\n",
     );
     let out = dir.join("out");
     let o = run_into(scene.to_str().unwrap(), &out);

@@ -14,6 +14,12 @@ fn short_sweep() -> PrecisionReport {
     // references agree to 2.8e-9 m and BDF at 1e-8 is off by 1.0e-8 m: resolved, but not by
     // the factor 10 asserted here.
     scene.solver.formulation = lgres::scene::Formulation::Cartesian;
+    // And on the line-of-centres contact: on the foundation the two 1e-11 references agree
+    // only to 2e-7 m over this window (not yet understood; docs/convergence.md), which would
+    // hide the errors this test checks.
+    for joint in &mut scene.clearance_joints {
+        joint.contact.model = lgres::scene::ContactModelName::LineOfCentres;
+    }
     let options = PrecisionOptions {
         methods: vec![Integrator::Bdf, Integrator::Esdirk34],
         rtols: vec![1e-5, 1e-8],
@@ -93,6 +99,12 @@ fn an_explicit_method_over_a_step_budget_fails_and_skips_its_tighter_tolerances(
     // references agree to 2.8e-9 m and BDF at 1e-8 is off by 1.0e-8 m: resolved, but not by
     // the factor 10 asserted here.
     scene.solver.formulation = lgres::scene::Formulation::Cartesian;
+    // And on the line-of-centres contact: on the foundation the two 1e-11 references agree
+    // only to 2e-7 m over this window (not yet understood; docs/convergence.md), which would
+    // hide the errors this test checks.
+    for joint in &mut scene.clearance_joints {
+        joint.contact.model = lgres::scene::ContactModelName::LineOfCentres;
+    }
     let options = PrecisionOptions {
         methods: vec![Integrator::Tsit45],
         rtols: vec![1e-6, 1e-7],

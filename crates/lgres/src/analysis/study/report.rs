@@ -329,17 +329,30 @@ fn validity_lines(md: &mut String, scenes: &[&str], results: &StudyResults) {
             } else {
                 format!("**OUTSIDE** ({})", v.reasons.join("; "))
             };
+            let measures = if v.model == "foundation" {
+                format!(
+                    "foundation: overlap ≤ {:.3} c0, load error from the grid ≤ {:.2} %, \
+                     narrowest loaded zone {} cells",
+                    v.max_overlap_ratio,
+                    100.0 * v.max_resolution_error,
+                    v.narrowest_zone_cells.unwrap_or(0)
+                )
+            } else {
+                format!(
+                    "line of centres: slope |c'|/|e| ≤ {:.2}, conformity ≤ {:.2}",
+                    v.max_slope_ratio, v.max_conformity_ratio
+                )
+            };
             lines.push(format!(
-                "- `{scene}` worn response, joint {}: {verdict}; slope |c'|/|e| ≤ {:.2}, \
-                 conformity ≤ {:.2}",
-                j.name, v.max_slope_ratio, v.max_conformity_ratio
+                "- `{scene}` worn response, joint {}: {verdict}; {measures}",
+                j.name
             ));
         }
     }
     if !lines.is_empty() {
         md.push_str(
-            "Validity of the worn geometry (docs/model.md §9; a worn response outside it is not a \
-             result: its forces and deviations above only show what the model does there):\n\n",
+            "Validity of the worn geometry (docs/model.md §9–10; a worn response outside it is not \
+             a result: its forces and deviations above only show what the model does there):\n\n",
         );
         for line in lines {
             let _ = writeln!(md, "{line}");
@@ -452,9 +465,9 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
          again on the worn surfaces after the stages.\n\
          - Wear, physical formulation (material sliding): **K = {} simulated cycles per \
          stage**, the amplification rescaled so a stage stands for {:.3e} cycles, applied in \
-         adaptive sub-steps; a stage ends early where the worn geometry reaches the contact \
-         model's slope limit (docs/model.md §9.3; the cycles it applied are listed with the \
-         validity). Paper's formulation (`*-paper` studies, wear on δφ̇): the paper's own \
+         adaptive sub-steps on the elastic-foundation contact over the true outlines \
+         (docs/model.md §10; a stage on the line-of-centres contact would end early at its slope \
+         limit, and the cycles it applied would be listed with the validity). Paper's formulation (`*-paper` studies, wear on δφ̇): the paper's own \
          staging, K = 100 and one jump ×20 000. Wear is gathered after the start-up window.\n\
          - Judging (docs/model.md §8, the dynamics are chaotic): per-cycle medians of peak force after \
          the start-up window (noise: mean IQR), rod-3 maximum deviation after the window, \
