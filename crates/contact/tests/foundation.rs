@@ -124,8 +124,34 @@ where
     joint_centres(0.5 * (lo + hi))
 }
 
-fn with_velocity(state: BodyState, v: [f64; 3]) -> BodyState {
-    BodyState::new([state.x, state.y, state.theta], v)
+/// `state` moving like `moving` (its position kept).
+fn with_velocity(state: BodyState, moving: BodyState) -> BodyState {
+    BodyState::new(
+        [state.x, state.y, state.theta],
+        [moving.vx, moving.vy, moving.omega],
+    )
+}
+
+/// A body anywhere within 0.1 m and ±3 rad, moving at up to `speed` m/s and `10 speed` rad/s
+/// (at rest for `speed = 0`).
+fn random_body(rng: &mut ChaCha8Rng, speed: f64) -> BodyState {
+    let spin = 10.0 * speed;
+    let mut rate = |limit: f64| {
+        if limit > 0.0 {
+            rng.random_range(-limit..limit)
+        } else {
+            0.0
+        }
+    };
+    let velocity = [rate(speed), rate(speed), rate(spin)];
+    BodyState::new(
+        [
+            rng.random_range(-0.1..0.1),
+            rng.random_range(-0.1..0.1),
+            rng.random_range(-3.0..3.0),
+        ],
+        velocity,
+    )
 }
 
 /// The force on the pin of a linear layer over a round pin offset by `e` in a round bearing, by
@@ -239,11 +265,7 @@ fn elastic_force_is_the_gradient_of_the_stored_energy_on_worn_outlines() {
     let mut rng = ChaCha8Rng::seed_from_u64(20);
     let mut worst: f64 = 0.0;
     for sample in 0..40 {
-        let bearing = BodyState::at_rest(
-            rng.random_range(-0.1..0.1),
-            rng.random_range(-0.1..0.1),
-            rng.random_range(-3.0..3.0),
-        );
+        let bearing = random_body(&mut rng, 0.0);
         // Deep in the groove at times (eccentricity of millimetres), on the flanks at others.
         let phi = bearing.theta + 250f64.to_radians() + rng.random_range(-0.8..0.8);
         let pin = place(
@@ -297,18 +319,7 @@ where
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut worst: f64 = 0.0;
     for sample in 0..30 {
-        let bearing = BodyState::new(
-            [
-                rng.random_range(-0.1..0.1),
-                rng.random_range(-0.1..0.1),
-                rng.random_range(-3.0..3.0),
-            ],
-            [
-                rng.random_range(-0.2..0.2),
-                rng.random_range(-0.2..0.2),
-                rng.random_range(-2.0..2.0),
-            ],
-        );
+        let bearing = random_body(&mut rng, 0.2);
         let phi = bearing.theta + phi_offset + rng.random_range(-0.8..0.8);
         let pin = place(
             joint,
@@ -317,14 +328,7 @@ where
             phi,
             rng.random_range(2e-6..3e-5),
         );
-        let pin = with_velocity(
-            pin,
-            [
-                rng.random_range(-0.2..0.2),
-                rng.random_range(-0.2..0.2),
-                rng.random_range(-2.0..2.0),
-            ],
-        );
+        let pin = with_velocity(pin, random_body(&mut rng, 0.2));
         let onset = rng.random_range(0.05..0.5);
         let z = common::state_vector(&bearing, &pin);
         let (forces, analytic) = joint.forces_and_jacobian(&bearing, &pin, Some(onset));
@@ -414,18 +418,7 @@ fn forces_and_moments_balance_and_never_generate_energy() {
     let joint = worn(normal, friction);
     let mut rng = ChaCha8Rng::seed_from_u64(4);
     for _ in 0..200 {
-        let bearing = BodyState::new(
-            [
-                rng.random_range(-0.1..0.1),
-                rng.random_range(-0.1..0.1),
-                rng.random_range(-3.0..3.0),
-            ],
-            [
-                rng.random_range(-0.5..0.5),
-                rng.random_range(-0.5..0.5),
-                rng.random_range(-3.0..3.0),
-            ],
-        );
+        let bearing = random_body(&mut rng, 0.5);
         let phi = bearing.theta + 250f64.to_radians() + rng.random_range(-1.5..1.5);
         let pin = place(
             &joint,
@@ -434,14 +427,7 @@ fn forces_and_moments_balance_and_never_generate_energy() {
             phi,
             rng.random_range(1e-7..4e-5),
         );
-        let pin = with_velocity(
-            pin,
-            [
-                rng.random_range(-0.5..0.5),
-                rng.random_range(-0.5..0.5),
-                rng.random_range(-3.0..3.0),
-            ],
-        );
+        let pin = with_velocity(pin, random_body(&mut rng, 0.5));
         let f = joint.forces(&bearing, &pin, Some(rng.random_range(1e-4..0.5)));
         let scale = f.pin.x.hypot(f.pin.y).max(1e-9);
         assert!((f.pin.x + f.bearing.x).abs() < 1e-12 * scale);

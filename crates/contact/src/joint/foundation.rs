@@ -379,6 +379,21 @@ impl<T: Real> Body<T> {
     }
 }
 
+/// The point at `pin_arm` from the pin body's centroid, seen from the point at `bearing_arm`
+/// from the bearing body's.
+#[inline]
+fn offset<T: Real>(
+    pin: &Body<T>,
+    pin_arm: &[T; 2],
+    bearing: &Body<T>,
+    bearing_arm: &[T; 2],
+) -> [T; 2] {
+    [
+        pin.position[0] + pin_arm[0] - bearing.position[0] - bearing_arm[0],
+        pin.position[1] + pin_arm[1] - bearing.position[1] - bearing_arm[1],
+    ]
+}
+
 #[inline]
 fn dot<T: Real>(a: &[T; 2], b: &[T; 2]) -> T {
     a[0] * b[0] + a[1] * b[1]
@@ -637,17 +652,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         bearing_centre_arm: &[f64; 2],
         theta_bearing: f64,
     ) -> f64 {
-        let alpha = node_angle(cell, cells);
-        let radius = self.pin_profile.sample(alpha).radius;
-        let (s, c) = alpha.sin_cos();
-        let arm = pin.rotate([
-            self.pin_centre.x + radius * c,
-            self.pin_centre.y + radius * s,
-        ]);
-        let d = [
-            pin.position[0] + arm[0] - bearing.position[0] - bearing_centre_arm[0],
-            pin.position[1] + arm[1] - bearing.position[1] - bearing_centre_arm[1],
-        ];
+        let (_, _, d) = self.node_point(cell, cells, bearing, pin, bearing_centre_arm);
         let rho = d[0].hypot(d[1]);
         if rho <= self.bounds.bearing_min {
             return rho - self.bounds.bearing_min;
@@ -656,6 +661,28 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             .bearing_profile
             .sample(d[1].atan2(d[0]) - theta_bearing)
             .radius
+    }
+
+    /// Node `cell`'s angle on the pin, its arm from the pin body's centroid, and its offset
+    /// `D_k` from the bearing centre.
+    #[inline]
+    fn node_point<T: Real>(
+        &self,
+        cell: usize,
+        cells: usize,
+        bearing: &Body<T>,
+        pin: &Body<T>,
+        bearing_centre_arm: &[T; 2],
+    ) -> (f64, [T; 2], [T; 2]) {
+        let alpha = node_angle(cell, cells);
+        let radius = self.pin_profile.sample(alpha).radius;
+        let (s, c) = alpha.sin_cos();
+        let pin_arm = pin.rotate([
+            self.pin_centre.x + radius * c,
+            self.pin_centre.y + radius * s,
+        ]);
+        let d = offset(pin, &pin_arm, bearing, bearing_centre_arm);
+        (alpha, pin_arm, d)
     }
 
     /// Node `cell` at the given bodies.
@@ -669,18 +696,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         bearing_centre_arm: &[T; 2],
         theta_bearing: T,
     ) -> Node<T> {
-        let alpha = node_angle(cell, cells);
-        let radius = self.pin_profile.sample(alpha).radius;
-        let (s, c) = alpha.sin_cos();
-        let local = [
-            self.pin_centre.x + radius * c,
-            self.pin_centre.y + radius * s,
-        ];
-        let pin_arm = pin.rotate(local);
-        let d = [
-            pin.position[0] + pin_arm[0] - bearing.position[0] - bearing_centre_arm[0],
-            pin.position[1] + pin_arm[1] - bearing.position[1] - bearing_centre_arm[1],
-        ];
+        let (alpha, pin_arm, d) = self.node_point(cell, cells, bearing, pin, bearing_centre_arm);
         let rho = dot(&d, &d).sqrt();
         let psi = d[1].atan2(d[0]);
         let angle = psi - theta_bearing;
@@ -735,10 +751,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let pin = Body::new(pin_state);
         let bearing_centre_arm = bearing.rotate([self.bearing_centre.x, self.bearing_centre.y]);
         let pin_centre_arm = pin.rotate([self.pin_centre.x, self.pin_centre.y]);
-        let e = [
-            pin.position[0] + pin_centre_arm[0] - bearing.position[0] - bearing_centre_arm[0],
-            pin.position[1] + pin_centre_arm[1] - bearing.position[1] - bearing_centre_arm[1],
-        ];
+        let e = offset(&pin, &pin_centre_arm, &bearing, &bearing_centre_arm);
         let e_value = [e[0].value(), e[1].value()];
         let rho = e_value[0].hypot(e_value[1]);
         // The line of centres: the direction of the free joint's diagnostics, and the paper's
@@ -1089,10 +1102,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let pin = Body::new(state_array(pin_body));
         let bearing_centre_arm = bearing.rotate([self.bearing_centre.x, self.bearing_centre.y]);
         let pin_centre_arm = pin.rotate([self.pin_centre.x, self.pin_centre.y]);
-        let e = [
-            pin.position[0] + pin_centre_arm[0] - bearing.position[0] - bearing_centre_arm[0],
-            pin.position[1] + pin_centre_arm[1] - bearing.position[1] - bearing_centre_arm[1],
-        ];
+        let e = offset(&pin, &pin_centre_arm, &bearing, &bearing_centre_arm);
         let cells = foundation.cells;
         let candidates = self.candidates(cells, e, pin_body.theta, bearing_body.theta);
         candidates.runs[..candidates.count]
