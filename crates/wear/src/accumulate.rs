@@ -178,8 +178,8 @@ impl StageWear {
     }
 
     /// Smooths the gathered depths of both surfaces with a periodic Gaussian of standard
-    /// deviation `sigma` cells (normalised, so the worn volume is unchanged; `sigma ≤ 0` does
-    /// nothing).
+    /// deviation `sigma` radians of the surface (normalised, so the worn volume is unchanged;
+    /// `sigma ≤ 0` does nothing). An angle, so the smoothing is the same on any grid.
     ///
     /// Why: the wear of K simulated cycles of a chaotic mechanism is a noisy sample of the
     /// expected wear field of the millions of cycles a stage stands for; amplified, its
@@ -188,8 +188,10 @@ impl StageWear {
     /// and the convergence study measure how well.
     pub fn smooth(&mut self, sigma: f64) {
         if sigma > 0.0 && sigma.is_finite() {
-            smooth_periodic(&mut self.bearing, sigma);
-            smooth_periodic(&mut self.pin, sigma);
+            for cells in [&mut self.bearing, &mut self.pin] {
+                let per_cell = TAU / cells.len() as f64;
+                smooth_periodic(cells, sigma / per_cell);
+            }
         }
     }
 

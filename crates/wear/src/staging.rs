@@ -131,8 +131,8 @@ pub struct StagePlan {
     /// report says how much was.
     #[serde(default)]
     pub geometry_limits: Option<GeometryLimits>,
-    /// Standard deviation, in cells, of the Gaussian that smooths each run's wear before it is
-    /// extrapolated ([`StageWear::smooth`]; 0: none). Applied by the caller that gathers the
+    /// Standard deviation, in radians, of the Gaussian that smooths each run's wear before it
+    /// is extrapolated ([`StageWear::smooth`]; 0: none). Applied by the caller that gathers the
     /// wear (the `clearance` crate's driver), so its halves check sees the smoothed wear too.
     #[serde(default)]
     pub smoothing: f64,
@@ -200,7 +200,8 @@ impl StagePlan {
         }
     }
 
-    /// The same plan smoothing each run's wear over `sigma` cells (see [`StagePlan::smoothing`]).
+    /// The same plan smoothing each run's wear over `sigma` radians (see
+    /// [`StagePlan::smoothing`]).
     pub fn with_smoothing(mut self, sigma: f64) -> Self {
         self.smoothing = sigma;
         self
@@ -236,7 +237,7 @@ impl StagePlan {
             "smoothing",
             self.smoothing,
             self.smoothing >= 0.0 && self.smoothing.is_finite(),
-            ">= 0 cells",
+            ">= 0 rad",
         )?;
         self.extrapolation.validate()
     }

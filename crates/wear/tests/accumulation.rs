@@ -274,7 +274,7 @@ fn smoothing_keeps_the_volume_and_spreads_a_spike() {
     spike[1] = 1e-6;
     let mut wear = StageWear::from_depths(&joint, spike.clone(), vec![2e-7; 200]).unwrap();
     let before = wear.worn_volume();
-    wear.smooth(3.0);
+    wear.smooth(3.0 * TAU / 200.0); // three cells
     assert_relative_eq!(wear.worn_volume(), before, max_relative = 1e-12);
     // Peak height 1/(σ√(2π)) of the spike, centred on its cell; the tail wraps through 0.
     assert_relative_eq!(

@@ -593,12 +593,13 @@ pub struct RunSettings {
     /// `|Δc''|/(c0 + |c''|)`; default as for `max_slope_change`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_curvature_change: Option<f64>,
-    /// Standard deviation, in wear-grid cells, of the Gaussian that smooths each sub-step's
-    /// simulated wear before it is extrapolated (0: none): the wear of K chaotic cycles is a
-    /// noisy estimate of the expected wear, and amplified its cell-scale noise would become
-    /// ridges. Default [`DEFAULT_WEAR_SMOOTHING`] cells (docs/convergence.md).
-    #[serde(default = "wear_smoothing")]
-    pub wear_smoothing: f64,
+    /// Standard deviation, in degrees of the surfaces, of the Gaussian that smooths each
+    /// sub-step's simulated wear before it is extrapolated (0: none): the wear of K chaotic
+    /// cycles is a noisy estimate of the expected wear, and amplified its cell-scale noise
+    /// would become ridges. Default [`DEFAULT_WEAR_SMOOTHING_DEG`] (8 cells of the paper's
+    /// 1000; docs/model.md §10.4).
+    #[serde(default = "wear_smoothing_deg")]
+    pub wear_smoothing_deg: f64,
     /// Most extrapolation sub-steps per stage; a stage that needs more fails, naming this.
     #[serde(default = "max_substeps")]
     pub max_substeps: u32,
@@ -638,11 +639,11 @@ fn max_clearance_change() -> f64 {
 fn transient_window() -> f64 {
     0.1
 }
-/// Default [`RunSettings::wear_smoothing`], cells.
-pub const DEFAULT_WEAR_SMOOTHING: f64 = 8.0;
+/// Default [`RunSettings::wear_smoothing_deg`], degrees: 8 cells of a 1000-cell grid.
+pub const DEFAULT_WEAR_SMOOTHING_DEG: f64 = 2.88;
 
-fn wear_smoothing() -> f64 {
-    DEFAULT_WEAR_SMOOTHING
+fn wear_smoothing_deg() -> f64 {
+    DEFAULT_WEAR_SMOOTHING_DEG
 }
 fn max_substeps() -> u32 {
     400
@@ -674,7 +675,7 @@ impl Default for RunSettings {
             max_clearance_change: max_clearance_change(),
             max_slope_change: None,
             max_curvature_change: None,
-            wear_smoothing: wear_smoothing(),
+            wear_smoothing_deg: wear_smoothing_deg(),
             max_substeps: max_substeps(),
             stop_at_validity_limits: true,
             transient_window: transient_window(),

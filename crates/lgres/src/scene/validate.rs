@@ -391,13 +391,13 @@ impl Validator {
         if self.number("run.max_clearance_change", f, true) && f > 1.0 {
             self.push("run.max_clearance_change", f, "must lie in (0, 1]");
         }
-        if self.number("run.wear_smoothing", r.wear_smoothing, false)
-            && !(0.0..=100.0).contains(&r.wear_smoothing)
+        if self.number("run.wear_smoothing_deg", r.wear_smoothing_deg, false)
+            && !(0.0..=30.0).contains(&r.wear_smoothing_deg)
         {
             self.push(
-                "run.wear_smoothing",
-                r.wear_smoothing,
-                "must lie in [0, 100] cells (0: no smoothing; a Gaussian wider than a contact \
+                "run.wear_smoothing_deg",
+                r.wear_smoothing_deg,
+                "must lie in [0, 30] degrees (0: no smoothing; a Gaussian wider than a contact \
                  zone would erase the wear pattern)",
             );
         }
