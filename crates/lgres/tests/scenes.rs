@@ -321,3 +321,61 @@ fn slider_crank_counts() {
         assert!(distance(a, b) < 1e-12, "{}", j.name);
     }
 }
+
+#[test]
+fn contact_model_fields_are_validated_naming_the_field() {
+    let with = |contact: &str| {
+        edited(
+            "wear = { k_d = 1.8e-13, hardness = 1.716e9, width = 0.1, cells = 1000 }",
+            &format!(
+                "wear = {{ k_d = 1.8e-13, hardness = 1.716e9, width = 0.1, cells = 1000 }}\n\
+                 contact = {contact}"
+            ),
+        )
+    };
+    let one = |contact: &str| issues(scene::load_str(&with(contact), "t").unwrap_err());
+    assert_eq!(
+        one("{ layer_modulus = -5e14 }"),
+        ["clearance_joints[0].contact.layer_modulus = -500000000000000.0: must be positive"]
+    );
+    let msg = one("{ cells = 2000 }");
+    assert!(
+        msg[0].starts_with("clearance_joints[0].contact.cells = 2000: must equal wear.cells"),
+        "{msg:?}"
+    );
+    let msg = one("{ cells = 4 }");
+    assert!(msg[0].starts_with("clearance_joints[0].contact.cells = 4: must lie in 8.."));
+    let msg = one("{ model = \"line-of-centres\", layer_modulus = 5e14 }");
+    assert!(
+        msg[0].starts_with("clearance_joints[0].contact.layer_modulus")
+            && msg[0].contains("only the foundation model"),
+        "{msg:?}"
+    );
+    // An unknown model is a type error naming the field.
+    let err = scene::load_str(&with("{ model = \"winkler\" }"), "t").unwrap_err();
+    assert!(err.to_string().contains("model"), "{err}");
+    // A valid layer loads and round-trips; the default scene uses the foundation.
+    let s = scene::load_str(&with("{ layer_modulus = 8e11, width = 0.1 }"), "t").unwrap();
+    assert_eq!(s.clearance_joints[0].contact.layer_modulus, Some(8e11));
+    let again = scene::load_str(&s.to_toml(), "t").unwrap();
+    assert_eq!(
+        again.clearance_joints[0].contact,
+        s.clearance_joints[0].contact
+    );
+    assert!(matches!(
+        scenes::builtin("lgres").unwrap().clearance_joints[0].contact_model(),
+        Ok(contact::ContactModel::Foundation(_))
+    ));
+    // The wear smoothing is an angle within [0, 30]°.
+    let text = edited(
+        "transient_window = 0.1",
+        "transient_window = 0.1\nwear_smoothing_deg = -1.0",
+    );
+    assert_eq!(
+        issues(scene::load_str(&text, "t").unwrap_err()),
+        [
+            "run.wear_smoothing_deg = -1.0: must lie in [0, 30] degrees (0: no smoothing; a \
+          Gaussian wider than a contact zone would erase the wear pattern)"
+        ]
+    );
+}
