@@ -24,6 +24,13 @@
 //! - [`NormalLawKind`] and [`FrictionLawKind`]: serde enums for scene files (validated on load);
 //!   they implement the traits by dispatch. Concrete law types give static dispatch.
 //!
+//! Contact models ([`ContactModel`], set with [`ClearanceJoint::with_model`]): the
+//! line-of-centres model (the default here; one contact point, below) and the elastic
+//! foundation over the true outlines ([`joint::foundation`], [`Foundation`]): a Winkler layer
+//! pressed by every node of the pin's outline, exact geometry at any eccentricity, several
+//! contact zones, its loads per node ([`NodeLoad`], [`ClearanceJoint::forces_visiting_nodes`])
+//! for Archard wear. Both return forces, the exact Jacobian and [`ContactDiagnostics`].
+//!
 //! Worn surfaces: the local radii in the contact direction replace the nominal ones in the
 //! penetration and in the conformal Hertz stiffness, and the force is the gradient of the stored
 //! energy `K(q) δ(q)ⁿ⁺¹/(n+1)`, so an elastic worn joint conserves energy; see [`joint`] for

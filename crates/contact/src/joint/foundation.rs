@@ -42,13 +42,17 @@
 //! integral gives to leading order `F = (4√2/3) k w √(R R_j) δ^{3/2}/√(c + δ)`. With
 //! `k w = E*/√2`, `E* = 1/(σ_i + σ_j)`, this is the model's conformal Hertz force
 //! `K δ^{3/2}`, `K = (4/3) E* √(R_i R_j/c)`, times `√(c/(c + δ))` ([`Foundation::calibrated`]);
-//! the tests check it against an independent quadrature.
+//! the tests check it against an independent quadrature. [`Foundation::hertz_matched`] makes
+//! it exact at a chosen overlap instead (the scenes' default: 4 % of the clearance).
 //!
 //! # Cost
-//! Only nodes that can touch are visited: with the bearing's smallest radius `R_i⁻` and the
-//! pin's largest `R_j⁺`, node `k` can overlap only if the angle between its direction and the
-//! eccentricity `e` has cosine above `(R_i⁻² − R_j⁺² − |e|²)/(2R_j⁺|e|)`. In free flight
-//! (`|e| + R_j⁺ ≤ R_i⁻`) no node is visited. The Jacobian runs the same code on dual numbers.
+//! Only nodes that can touch are visited. The pin's nodes are grouped in 64 sectors; a sector
+//! is skipped when its farthest reach from the bearing centre (its largest radius, at the angle
+//! nearest the eccentricity `e`) stays inside the bearing's smallest radius over the sector of
+//! the bearing it can land on ([`SurfaceProfile::radius_bounds_between`], exact for worn
+//! profiles). In free flight (`|e| + R_j⁺ ≤ R_i⁻`) no node is visited, and the deepest overlap
+//! (the event function) is then the skipped sectors' bound. The Jacobian runs the same code on
+//! dual numbers, only on the nodes next to an overlap.
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
