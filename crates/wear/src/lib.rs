@@ -13,8 +13,11 @@
 //!   `K_d = 0`, so a caller holding `Option<WornJoint>` with wear off allocates no grid and
 //!   calls no wear code.
 //! - [`StageWear`]: the depth one stage gathers from **accepted** integration steps
-//!   ([`StageWear::accumulate_step`], allocation-free), kept apart from the surfaces so the
-//!   geometry stays frozen within the stage; [`WornJoint::apply`] moves it in, amplified.
+//!   ([`StageWear::accumulate_step`] for a one-point contact, [`StageWear::accumulate_nodes`]
+//!   from the pressure of the elastic-foundation contact's nodes; allocation-free), kept apart
+//!   from the surfaces so the geometry stays frozen within the stage; [`StageWear::smooth`]
+//!   turns a few chaotic cycles' wear into an estimate of its expectation, and
+//!   [`WornJoint::apply`] moves it in, amplified.
 //! - [`run_stages`]: the staged extrapolation (K cycles → ×factor → update → next stage),
 //!   adaptive by default so no sub-step grows a local clearance by more than 10 %; the
 //!   caller's integrator is a closure.
