@@ -1,8 +1,11 @@
-//! Files in and out: atomic writers and number formats ([`output`]), a run's CSV, JSON and PNG
-//! files ([`artifacts`]), figures ([`plot`]) and worn surfaces read back from an earlier run
-//! ([`surfaces`]).
+//! Files in and out: atomic writers and number formats ([`output`], which also re-exports the
+//! staged, locked output folders of runs and studies), a run's CSV, JSON and PNG files
+//! ([`artifacts`]), figures ([`plot`], with the life curve) and worn surfaces read back from
+//! an earlier run ([`surfaces`]).
 
 pub mod artifacts;
+mod life_plot;
 pub mod output;
 pub mod plot;
+mod staged;
 pub mod surfaces;

@@ -26,14 +26,18 @@
 //! (`law = "hertz-lankarani-nikravesh"`, `impact_velocity_floor`, `v0`, `v1`) and checks their
 //! ranges, which validation reports under the parameter's field path.
 
+mod contact_spec;
 mod error;
 mod extends;
 pub mod limits;
+mod run_settings;
 mod types;
 mod validate;
 
+pub use contact_spec::{ContactModelName, ContactSpec};
 pub use error::{Issue, SceneError};
 pub use extends::{from_table, load_path, load_str, merged_table, merged_table_of_file};
+pub use run_settings::{DEFAULT_WEAR_SMOOTHING_DEG, RunSettings};
 pub use types::*;
 pub(crate) use validate::Validator;
 

@@ -1,0 +1,320 @@
+//! Output folders of runs and studies in progress: written into a hidden staging folder that
+//! replaces the target whole at the end, and locked against a second writer (re-exported by
+//! [`super::output`]).
+
+use std::fs::{self, OpenOptions};
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use super::output::{OutputError, io_err};
+
+/// Staging folders and lock files of runs in progress, for [`abandon_staged`].
+static ACTIVE: Mutex<Vec<(Option<PathBuf>, PathBuf)>> = Mutex::new(Vec::new());
+
+fn active() -> std::sync::MutexGuard<'static, Vec<(Option<PathBuf>, PathBuf)>> {
+    ACTIVE
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Extensions of the files a run writes; a folder holding anything else is not replaced.
+const RUN_FILE_EXTENSIONS: [&str; 4] = ["csv", "png", "json", "toml"];
+
+/// A run's output folder being written. Files go into a hidden staging folder next to the
+/// target, which replaces the target whole on [`StagedDir::commit`], so a reader never sees
+/// the new run's CSVs next to the previous run's `summary.json`. A lock file next to the
+/// target refuses a second run into the same folder meanwhile. Dropped without a commit (the
+/// run failed) or abandoned on a signal ([`abandon_staged`]), it leaves the target as it was.
+pub struct StagedDir {
+    target: PathBuf,
+    staging: PathBuf,
+    lock: PathBuf,
+    done: bool,
+}
+
+impl StagedDir {
+    /// Lock `target` and create its empty staging folder. Fails if `target` is not a folder,
+    /// holds files a run does not write (it would be replaced), or another live run holds it.
+    pub fn begin(target: &Path) -> Result<Self, OutputError> {
+        Self::begin_holding(target, Holds::RunFiles)
+    }
+
+    /// [`begin`](Self::begin) for a study's folder: besides run files it may hold markdown
+    /// reports and one level of sub-folders of run files (one per scene), all replaced.
+    pub fn begin_study(target: &Path) -> Result<Self, OutputError> {
+        Self::begin_holding(target, Holds::StudyFiles)
+    }
+
+    fn begin_holding(target: &Path, holds: Holds) -> Result<Self, OutputError> {
+        let OutputFolder {
+            target,
+            parent,
+            name,
+        } = OutputFolder::new(target)?;
+        let parent = parent.as_path();
+        let folder_err = |reason: &str| OutputError::Folder {
+            path: target.clone(),
+            reason: reason.to_string(),
+        };
+        if target.exists() {
+            if !target.is_dir() {
+                return Err(folder_err("exists and is not a folder"));
+            }
+            if let Some(foreign) = foreign_entry(&target, holds)? {
+                return Err(folder_err(&format!(
+                    "holds {foreign:?}, which wearsim does not write there; the output \
+                     replaces the whole folder, so choose a new or empty folder"
+                )));
+            }
+        }
+        let lock = OutputFolder::lock_file(parent, &name);
+        take_lock(&target, &lock)?;
+        remove_dead_staging(parent, &name);
+        let staging = parent.join(format!(".{name}.staging-{}", std::process::id()));
+        let created = fs::remove_dir_all(&staging)
+            .or_else(|e| match e.kind() {
+                io::ErrorKind::NotFound => Ok(()),
+                _ => Err(e),
+            })
+            .and_then(|()| fs::create_dir(&staging));
+        if let Err(e) = created {
+            let _ = fs::remove_file(&lock);
+            return Err(io_err(&staging)(e));
+        }
+        active().push((Some(staging.clone()), lock.clone()));
+        Ok(Self {
+            target,
+            staging,
+            lock,
+            done: false,
+        })
+    }
+
+    /// The staging folder to write the run's files into.
+    pub fn path(&self) -> &Path {
+        &self.staging
+    }
+
+    /// The folder the run ends up in.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Move the staging folder into place (the previous folder is removed) and unlock.
+    pub fn commit(mut self) -> Result<PathBuf, OutputError> {
+        // Hold the registry so a signal arriving now waits until the folder is whole.
+        let mut registry = active();
+        let previous = self.staging.with_file_name(format!(
+            ".{}.previous-{}",
+            self.target
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            std::process::id()
+        ));
+        let had_previous = self.target.exists();
+        if had_previous {
+            fs::rename(&self.target, &previous).map_err(io_err(&self.target))?;
+        }
+        if let Err(e) = fs::rename(&self.staging, &self.target) {
+            if had_previous {
+                let _ = fs::rename(&previous, &self.target);
+            }
+            return Err(io_err(&self.target)(e));
+        }
+        if had_previous {
+            // Best effort: the new run is in place; an old copy left hidden is harmless.
+            let _ = fs::remove_dir_all(&previous);
+        }
+        let _ = fs::remove_file(&self.lock);
+        registry.retain(|(s, _)| s.as_ref() != Some(&self.staging));
+        self.done = true;
+        Ok(self.target.clone())
+    }
+}
+
+impl Drop for StagedDir {
+    fn drop(&mut self) {
+        if !self.done {
+            let mut registry = active();
+            let _ = fs::remove_dir_all(&self.staging);
+            let _ = fs::remove_file(&self.lock);
+            registry.retain(|(s, _)| s.as_ref() != Some(&self.staging));
+        }
+    }
+}
+
+/// A lock on an output folder whose reports are written in place, file by file at the end
+/// (`wearsim precision`, `wearsim stress`: their folders may hold other reports' sub-folders,
+/// which a staged replacement would delete). A second writer into the same folder is refused
+/// meanwhile. Released on drop, and by [`abandon_staged`] on a signal.
+pub struct FolderLock {
+    lock: PathBuf,
+}
+
+impl FolderLock {
+    /// Takes the lock of `target` (the folder need not exist yet).
+    pub fn take(target: &Path) -> Result<Self, OutputError> {
+        let OutputFolder {
+            target,
+            parent,
+            name,
+        } = OutputFolder::new(target)?;
+        let lock = OutputFolder::lock_file(&parent, &name);
+        take_lock(&target, &lock)?;
+        active().push((None, lock.clone()));
+        Ok(Self { lock })
+    }
+}
+
+impl Drop for FolderLock {
+    fn drop(&mut self) {
+        let mut registry = active();
+        let _ = fs::remove_file(&self.lock);
+        registry.retain(|(_, lock)| lock != &self.lock);
+    }
+}
+
+/// An output folder's absolute path, its parent (created) and its name.
+struct OutputFolder {
+    target: PathBuf,
+    parent: PathBuf,
+    name: String,
+}
+
+impl OutputFolder {
+    fn new(target: &Path) -> Result<Self, OutputError> {
+        let target = std::path::absolute(target).map_err(io_err(target))?;
+        let folder_err = |reason: &str| OutputError::Folder {
+            path: target.clone(),
+            reason: reason.to_string(),
+        };
+        let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
+            return Err(folder_err("needs a folder name (not `/`, `.` or `..`)"));
+        };
+        let (parent, name) = (parent.to_path_buf(), name.to_string_lossy().into_owned());
+        if target
+            .components()
+            .any(|c| c == std::path::Component::ParentDir)
+        {
+            return Err(folder_err("must not contain `..`"));
+        }
+        fs::create_dir_all(&parent).map_err(io_err(&parent))?;
+        Ok(Self {
+            target,
+            parent,
+            name,
+        })
+    }
+
+    /// The lock file of folder `name` in `parent`, beside the folder.
+    fn lock_file(parent: &Path, name: &str) -> PathBuf {
+        parent.join(format!(".{name}.lock"))
+    }
+}
+
+/// Remove every staging folder and lock of this process (for a SIGINT/SIGTERM handler, which
+/// then exits): the targets stay as they were before the interrupted runs.
+pub fn abandon_staged() {
+    let mut registry = active();
+    for (staging, lock) in registry.drain(..) {
+        if let Some(staging) = staging {
+            let _ = fs::remove_dir_all(&staging);
+        }
+        let _ = fs::remove_file(&lock);
+    }
+}
+
+/// What an existing output folder may hold for [`StagedDir`] to replace it.
+#[derive(Clone, Copy, PartialEq)]
+enum Holds {
+    /// A run's files only.
+    RunFiles,
+    /// Run files, markdown reports and sub-folders of run files (a study).
+    StudyFiles,
+}
+
+/// The first entry of `dir` that the output does not write (as `sub/name` inside a
+/// sub-folder): another extension, or a sub-folder where none belongs.
+fn foreign_entry(dir: &Path, holds: Holds) -> Result<Option<String>, OutputError> {
+    for entry in fs::read_dir(dir).map_err(io_err(dir))? {
+        let entry = entry.map_err(io_err(dir))?;
+        let path = entry.path();
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let file_type = entry.file_type().map_err(io_err(&path))?;
+        if file_type.is_dir() && holds == Holds::StudyFiles {
+            if let Some(inner) = foreign_entry(&path, Holds::RunFiles)? {
+                return Ok(Some(format!("{name}/{inner}")));
+            }
+            continue;
+        }
+        let extension = path.extension().and_then(|e| e.to_str());
+        let ours = file_type.is_file()
+            && extension.is_some_and(|e| {
+                RUN_FILE_EXTENSIONS.contains(&e) || (holds == Holds::StudyFiles && e == "md")
+            });
+        if !ours {
+            return Ok(Some(name));
+        }
+    }
+    Ok(None)
+}
+
+/// Create `lock` holding our process id; a lock of a process that no longer runs is taken over.
+fn take_lock(target: &Path, lock: &Path) -> Result<(), OutputError> {
+    for _ in 0..2 {
+        match OpenOptions::new().write(true).create_new(true).open(lock) {
+            Ok(mut f) => {
+                return write!(f, "{}", std::process::id()).map_err(io_err(lock));
+            }
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
+                let holder = fs::read_to_string(lock)
+                    .ok()
+                    .and_then(|s| s.trim().parse::<u32>().ok());
+                match holder {
+                    Some(pid) if process_alive(pid) => {
+                        return Err(OutputError::Locked {
+                            path: target.to_path_buf(),
+                            lock: lock.to_path_buf(),
+                            pid,
+                        });
+                    }
+                    // Stale (its run was killed) or half-written: take it over.
+                    _ => {
+                        let _ = fs::remove_file(lock);
+                    }
+                }
+            }
+            Err(e) => return Err(io_err(lock)(e)),
+        }
+    }
+    Err(OutputError::Folder {
+        path: target.to_path_buf(),
+        reason: format!("cannot take the lock file {}", lock.display()),
+    })
+}
+
+/// Staging folders `.<name>.staging-<pid>` of runs that were killed without cleaning up.
+fn remove_dead_staging(parent: &Path, name: &str) {
+    let prefix = format!(".{name}.staging-");
+    let Ok(entries) = fs::read_dir(parent) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let file = entry.file_name().to_string_lossy().into_owned();
+        if let Some(pid) = file
+            .strip_prefix(&prefix)
+            .and_then(|p| p.parse::<u32>().ok())
+            && !process_alive(pid)
+        {
+            let _ = fs::remove_dir_all(entry.path());
+        }
+    }
+}
+
+/// Whether process `pid` runs (Linux: `/proc/<pid>`; elsewhere assumed, to be safe).
+fn process_alive(pid: u32) -> bool {
+    let proc = Path::new("/proc");
+    !proc.is_dir() || proc.join(pid.to_string()).exists()
+}

@@ -1,0 +1,135 @@
+//! The `[run]` table of a scene: cycles, wear stages and their extrapolation, the start-up
+//! window and the maintenance limit.
+
+use serde::{Deserialize, Serialize};
+
+use super::types::yes;
+
+/// How long to run and how to stage wear.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RunSettings {
+    /// Drive cycles of the response run (before any wear).
+    #[serde(default = "one")]
+    pub cycles: u32,
+    /// Duration of one cycle, s; default: from the drivers' time law (2π/ω).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub period: Option<f64>,
+    /// Wear stages `S` (0: no wear update).
+    #[serde(default = "one")]
+    pub wear_stages: u32,
+    /// Simulated cycles per wear stage `K`.
+    #[serde(default = "cycles_per_stage")]
+    pub cycles_per_stage: u32,
+    /// Factor scaling the wear of one stage's simulated cycles (a stage stands for
+    /// `cycles_per_stage × amplification` cycles).
+    #[serde(default = "amplification")]
+    pub amplification: f64,
+    /// Split a stage's extrapolation into steps, re-simulating in between.
+    #[serde(default = "yes")]
+    pub adaptive_extrapolation: bool,
+    /// Largest clearance change per extrapolation step, as a fraction of the current clearance.
+    #[serde(default = "max_clearance_change")]
+    pub max_clearance_change: f64,
+    /// Largest relative change of the clearance's slope per extrapolation step,
+    /// `|Δc'|/(c0 + |c'|)`: bounds how fast a sub-step reshapes the worn profile. Default: 0.25
+    /// when a clearance joint uses the line-of-centres contact (whose validity the shape
+    /// limits), unbounded when all use the foundation, which follows any shape
+    /// ([`RunSettings::shape_change_bounds`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_slope_change: Option<f64>,
+    /// Largest relative change of the clearance's curvature per extrapolation step,
+    /// `|Δc''|/(c0 + |c''|)`; default as for `max_slope_change`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_curvature_change: Option<f64>,
+    /// Standard deviation, in degrees of the surfaces, of the Gaussian that smooths each
+    /// sub-step's simulated wear before it is extrapolated (0: none): the wear of K chaotic
+    /// cycles is a noisy estimate of the expected wear, and amplified its cell-scale noise
+    /// would become ridges. Default [`DEFAULT_WEAR_SMOOTHING_DEG`] (8 cells of the paper's
+    /// 1000; docs/model.md §10.4).
+    #[serde(default = "wear_smoothing_deg")]
+    pub wear_smoothing_deg: f64,
+    /// Most extrapolation sub-steps per stage; a stage that needs more fails, naming this.
+    #[serde(default = "max_substeps")]
+    pub max_substeps: u32,
+    /// With adaptive extrapolation, end a stage early where the worn geometry would leave the
+    /// contact model's validity (slope 0.3, conformity 1; docs/model.md §9): beyond it the
+    /// line-of-centres contact, and so the wear it drives, is not credible. The summary says how
+    /// many of the stage's cycles were applied.
+    #[serde(default = "yes")]
+    pub stop_at_validity_limits: bool,
+    /// Start-up window excluded from peak statistics, s.
+    #[serde(default = "transient_window")]
+    pub transient_window: f64,
+    /// Maintenance limit on the largest local clearance, m (optional; above every clearance
+    /// joint's initial `clearance`). The summary then says, per wearing joint, after how many
+    /// drive cycles its largest local clearance `c0 + (max h_i + max h_j)/2` reaches it,
+    /// interpolated linearly between the wear sub-steps, or that the run does not reach it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clearance_limit: Option<f64>,
+    /// Body whose centroid response is recorded and compared with the ideal mechanism;
+    /// default: `rod3` if the scene has one, else the last body.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub response_body: Option<String>,
+}
+
+fn one() -> u32 {
+    1
+}
+fn cycles_per_stage() -> u32 {
+    100
+}
+fn amplification() -> f64 {
+    20_000.0
+}
+fn max_clearance_change() -> f64 {
+    0.1
+}
+fn transient_window() -> f64 {
+    0.1
+}
+/// Default [`RunSettings::wear_smoothing_deg`], degrees: 8 cells of a 1000-cell grid.
+pub const DEFAULT_WEAR_SMOOTHING_DEG: f64 = 2.88;
+
+fn wear_smoothing_deg() -> f64 {
+    DEFAULT_WEAR_SMOOTHING_DEG
+}
+fn max_substeps() -> u32 {
+    400
+}
+
+impl RunSettings {
+    /// The slope and curvature bounds per extrapolation sub-step: the scene's, else 0.25 each
+    /// when `line_of_centres` (some joint uses that contact) and unbounded otherwise.
+    pub fn shape_change_bounds(&self, line_of_centres: bool) -> (f64, f64) {
+        let default = |line: f64| if line_of_centres { line } else { f64::INFINITY };
+        (
+            self.max_slope_change
+                .unwrap_or(default(wear::Extrapolation::DEFAULT_SLOPE_CHANGE)),
+            self.max_curvature_change
+                .unwrap_or(default(wear::Extrapolation::DEFAULT_CURVATURE_CHANGE)),
+        )
+    }
+}
+
+impl Default for RunSettings {
+    fn default() -> Self {
+        Self {
+            cycles: one(),
+            period: None,
+            wear_stages: one(),
+            cycles_per_stage: cycles_per_stage(),
+            amplification: amplification(),
+            adaptive_extrapolation: true,
+            max_clearance_change: max_clearance_change(),
+            max_slope_change: None,
+            max_curvature_change: None,
+            wear_smoothing_deg: wear_smoothing_deg(),
+            max_substeps: max_substeps(),
+            stop_at_validity_limits: true,
+            transient_window: transient_window(),
+            clearance_limit: None,
+            response_body: None,
+        }
+    }
+}
