@@ -132,6 +132,39 @@ fn with_velocity(state: BodyState, moving: BodyState) -> BodyState {
     )
 }
 
+/// A bearing anywhere (moving at up to `speed`, see [`random_body`]) and a pin overlapping it by
+/// a depth drawn from `overlap` (m), in a direction within ±`spread` rad of `offset` from the
+/// bearing's frame, turned anyhow, and moving at up to `speed` too (at rest for `speed = 0`).
+fn random_contact<B, P, N, F>(
+    joint: &ClearanceJoint<B, P, N, F>,
+    rng: &mut ChaCha8Rng,
+    speed: f64,
+    offset: f64,
+    spread: f64,
+    overlap: std::ops::Range<f64>,
+) -> (BodyState, BodyState)
+where
+    B: SurfaceProfile,
+    P: SurfaceProfile,
+    N: NormalLaw,
+    F: FrictionLaw,
+{
+    let bearing = random_body(rng, speed);
+    let phi = bearing.theta + offset + rng.random_range(-spread..spread);
+    let pin = place(
+        joint,
+        bearing,
+        rng.random_range(-3.0..3.0),
+        phi,
+        rng.random_range(overlap),
+    );
+    if speed > 0.0 {
+        (bearing, with_velocity(pin, random_body(rng, speed)))
+    } else {
+        (bearing, pin)
+    }
+}
+
 /// A body anywhere within 0.1 m and ±3 rad, moving at up to `speed` m/s and `10 speed` rad/s
 /// (at rest for `speed = 0`).
 fn random_body(rng: &mut ChaCha8Rng, speed: f64) -> BodyState {
@@ -265,16 +298,8 @@ fn elastic_force_is_the_gradient_of_the_stored_energy_on_worn_outlines() {
     let mut rng = ChaCha8Rng::seed_from_u64(20);
     let mut worst: f64 = 0.0;
     for sample in 0..40 {
-        let bearing = random_body(&mut rng, 0.0);
-        // Deep in the groove at times (eccentricity of millimetres), on the flanks at others.
-        let phi = bearing.theta + 250f64.to_radians() + rng.random_range(-0.8..0.8);
-        let pin = place(
-            &joint,
-            bearing,
-            rng.random_range(-3.0..3.0),
-            phi,
-            rng.random_range(2e-6..4e-5),
-        );
+        let (bearing, pin) =
+            random_contact(&joint, &mut rng, 0.0, 250f64.to_radians(), 0.8, 2e-6..4e-5);
         let z = common::state_vector(&bearing, &pin);
         let forces = joint.forces(&bearing, &pin, None);
         let energy = |z: &[f64; 12]| {
@@ -319,16 +344,7 @@ where
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut worst: f64 = 0.0;
     for sample in 0..30 {
-        let bearing = random_body(&mut rng, 0.2);
-        let phi = bearing.theta + phi_offset + rng.random_range(-0.8..0.8);
-        let pin = place(
-            joint,
-            bearing,
-            rng.random_range(-3.0..3.0),
-            phi,
-            rng.random_range(2e-6..3e-5),
-        );
-        let pin = with_velocity(pin, random_body(&mut rng, 0.2));
+        let (bearing, pin) = random_contact(joint, &mut rng, 0.2, phi_offset, 0.8, 2e-6..3e-5);
         let onset = rng.random_range(0.05..0.5);
         let z = common::state_vector(&bearing, &pin);
         let (forces, analytic) = joint.forces_and_jacobian(&bearing, &pin, Some(onset));
@@ -418,16 +434,8 @@ fn forces_and_moments_balance_and_never_generate_energy() {
     let joint = worn(normal, friction);
     let mut rng = ChaCha8Rng::seed_from_u64(4);
     for _ in 0..200 {
-        let bearing = random_body(&mut rng, 0.5);
-        let phi = bearing.theta + 250f64.to_radians() + rng.random_range(-1.5..1.5);
-        let pin = place(
-            &joint,
-            bearing,
-            rng.random_range(-3.0..3.0),
-            phi,
-            rng.random_range(1e-7..4e-5),
-        );
-        let pin = with_velocity(pin, random_body(&mut rng, 0.5));
+        let (bearing, pin) =
+            random_contact(&joint, &mut rng, 0.5, 250f64.to_radians(), 1.5, 1e-7..4e-5);
         let f = joint.forces(&bearing, &pin, Some(rng.random_range(1e-4..0.5)));
         let scale = f.pin.x.hypot(f.pin.y).max(1e-9);
         assert!((f.pin.x + f.bearing.x).abs() < 1e-12 * scale);
