@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use lgres::analysis::study::judge::{self, Verdict};
+use lgres::analysis::study::judge;
 use lgres::analysis::study::{self, StudyError, StudyOptions};
 
 use crate::progress::StudyBars;
@@ -76,14 +76,9 @@ pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
         );
     }
     for (t, _, _) in judge::trends(&results) {
-        let mark = match t.verdict {
-            Verdict::Holds => "HOLDS",
-            Verdict::DoesNotHold => "DOES NOT HOLD",
-            Verdict::Inconclusive => "INCONCLUSIVE",
-        };
         println!(
-            "  {}: {} — {mark} ({}/{} quantities grew)",
-            t.study, t.claim, t.grew, t.total
+            "  {}: {} — {} ({} of {} quantities grew, {} shrank)",
+            t.study, t.claim, t.verdict, t.grew, t.total, t.shrank
         );
     }
     println!(

@@ -359,7 +359,7 @@ clearance_limit = 0.000505
     // limits: the curve ends at exactly the cycles the stage applied.
     far.run.amplification = 20_000.0;
     for joint in &mut far.clearance_joints {
-        joint.contact.model = lgres::scene::ContactModelName::LineOfCentres;
+        joint.contact = lgres::scene::ContactSpec::line_of_centres();
     }
     let outcome = lgres::run_scene("far", &far, &Default::default(), &mut ()).unwrap();
     let wear = outcome.summary.wear.as_ref().unwrap();

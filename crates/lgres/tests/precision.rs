@@ -18,7 +18,7 @@ fn short_sweep() -> PrecisionReport {
     // only to 2e-7 m over this window (not yet understood; docs/convergence.md), which would
     // hide the errors this test checks.
     for joint in &mut scene.clearance_joints {
-        joint.contact.model = lgres::scene::ContactModelName::LineOfCentres;
+        joint.contact = lgres::scene::ContactSpec::line_of_centres();
     }
     let options = PrecisionOptions {
         methods: vec![Integrator::Bdf, Integrator::Esdirk34],
@@ -103,7 +103,7 @@ fn an_explicit_method_over_a_step_budget_fails_and_skips_its_tighter_tolerances(
     // only to 2e-7 m over this window (not yet understood; docs/convergence.md), which would
     // hide the errors this test checks.
     for joint in &mut scene.clearance_joints {
-        joint.contact.model = lgres::scene::ContactModelName::LineOfCentres;
+        joint.contact = lgres::scene::ContactSpec::line_of_centres();
     }
     let options = PrecisionOptions {
         methods: vec![Integrator::Tsit45],

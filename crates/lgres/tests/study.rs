@@ -27,18 +27,32 @@ fn judge_known_answers() {
         judge_trend(&[c(1.0, 2.0, 0.0), c(3.0, 5.0, 0.0)]),
         Verdict::Holds
     );
-    // Most grow, one ties: still holds; one shrinks: mixed.
+    // Most grow, one ties: still holds; one of three shrinks: holds in part.
     assert_eq!(
         judge_trend(&[c(1.0, 2.0, 0.0), c(3.0, 5.0, 0.0), c(1.0, 1.0, 0.0)]),
         Verdict::Holds
     );
     assert_eq!(
         judge_trend(&[c(1.0, 2.0, 0.0), c(3.0, 5.0, 0.0), c(2.0, 1.0, 0.0)]),
-        Verdict::Inconclusive
+        Verdict::HoldsInPart
+    );
+    // As many against as with: does not hold; all against: does not hold.
+    assert_eq!(
+        judge_trend(&[c(1.0, 2.0, 0.0), c(2.0, 1.0, 0.0)]),
+        Verdict::DoesNotHold
     );
     assert_eq!(
         judge_trend(&[c(2.0, 1.0, 0.0), c(5.0, 3.0, 0.0)]),
         Verdict::DoesNotHold
+    );
+    // Half or more within noise: the noise decides, whatever moved.
+    assert_eq!(
+        judge_trend(&[c(1.0, 2.0, 0.0), c(1.0, 1.01, 0.0)]),
+        Verdict::Inconclusive
+    );
+    assert_eq!(
+        judge_trend(&[c(1.0, 2.0, 0.0), c(10.0, 14.0, 5.0), c(1.0, 1.0, 0.0)]),
+        Verdict::Inconclusive
     );
     assert_eq!(judge_trend(&[]), Verdict::Inconclusive);
 }
@@ -90,7 +104,7 @@ fn tiny_study_writes_a_report_listing_every_scene() {
     assert!(md.contains("K = 1 simulated cycles per stage"));
     assert!(md.contains("15.86 kN"), "paper values cited");
     assert!(
-        ["HOLDS", "DOES NOT HOLD", "INCONCLUSIVE"]
+        ["HOLDS", "HOLDS IN PART", "DOES NOT HOLD", "INCONCLUSIVE"]
             .iter()
             .any(|v| md.contains(&format!("**{v}**")))
     );

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use lgres::io::surfaces::SurfacesError;
 use lgres::run::{RunError, RunOptions, run_scene};
-use lgres::scene::ContactModelName;
+use lgres::scene::{ContactModelName, ContactSpec};
 
 /// A Gaussian dent `depth · exp(−((θ − centre)/width)²)` on `cells` cells (wrapped).
 fn dent(cells: usize, centre_deg: f64, depth: f64) -> Vec<f64> {
@@ -109,7 +109,13 @@ fn elastic_contact_conserves_energy(model: ContactModelName) {
 
 fn set_model(scene: &mut lgres::scene::Scene, model: ContactModelName) {
     for joint in &mut scene.clearance_joints {
-        joint.contact.model = model;
+        joint.contact = match model {
+            ContactModelName::LineOfCentres => ContactSpec::line_of_centres(),
+            ContactModelName::Foundation => ContactSpec {
+                model,
+                ..joint.contact
+            },
+        };
     }
 }
 

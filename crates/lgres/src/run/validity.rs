@@ -217,8 +217,9 @@ impl Tally {
             (
                 v.max_resolution_error > l.resolution_error,
                 format!(
-                    "contact zones as narrow as {} cells carry the load: the grid resolves it \
-                     to about {:.1} % (limit {:.0} %)",
+                    "contact zones as narrow as {} nodes carry the load: the nodes resolve it \
+                     to about {:.1} % (limit {:.0} %; a finer contact.cells, a multiple of \
+                     wear.cells, resolves it better)",
                     v.narrowest_zone_cells.unwrap_or(0),
                     100.0 * v.max_resolution_error,
                     100.0 * l.resolution_error

@@ -21,12 +21,21 @@ pub struct ContactSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub width: Option<f64>,
     /// Foundation: nodes on the pin's outline. Default: `wear.cells` (each node a pin cell),
-    /// else 1000; with wear it must equal `wear.cells`.
+    /// else 1000; with wear a whole multiple of `wear.cells` (finer nodes resolve narrow
+    /// contact zones; the outline between cell centres is linear).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cells: Option<usize>,
 }
 
 impl ContactSpec {
+    /// The line-of-centres model (it takes no other field).
+    pub fn line_of_centres() -> Self {
+        Self {
+            model: ContactModelName::LineOfCentres,
+            ..Self::default()
+        }
+    }
+
     pub(super) fn is_default(&self) -> bool {
         *self == Self::default()
     }

@@ -310,13 +310,13 @@ impl Validator {
                     n,
                     format!("must lie in 8..={MAX_WEAR_CELLS}"),
                 );
-            } else if let Some(w) = c.wear.filter(|w| w.cells != n) {
+            } else if let Some(w) = c.wear.filter(|w| n % w.cells != 0) {
                 self.push(
                     format!("{q}.cells"),
                     n,
                     format!(
-                        "must equal wear.cells ({}): each node of the foundation is a cell of \
-                         the pin's wear grid",
+                        "must be a whole multiple of wear.cells ({}): the foundation's nodes \
+                         subdivide the pin's wear cells",
                         w.cells
                     ),
                 );

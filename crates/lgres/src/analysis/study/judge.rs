@@ -27,9 +27,12 @@ pub const RELATIVE_MARGIN: f64 = 0.05;
 pub enum Verdict {
     /// The quantities change the way the paper says.
     Holds,
-    /// They change the other way (or not at all while some go the other way).
+    /// More of the quantities that change go the paper's way than the other, but some go the
+    /// other way: the trend holds for some of what the paper claims, not all.
+    HoldsInPart,
+    /// They change the other way (at least as many against the paper as with it).
     DoesNotHold,
-    /// Within noise, or mixed.
+    /// Most stay within their noise (and the relative margin): the runs cannot tell.
     Inconclusive,
 }
 
@@ -37,6 +40,7 @@ impl fmt::Display for Verdict {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
             Verdict::Holds => "HOLDS",
+            Verdict::HoldsInPart => "HOLDS IN PART",
             Verdict::DoesNotHold => "DOES NOT HOLD",
             Verdict::Inconclusive => "INCONCLUSIVE",
         })
@@ -80,19 +84,22 @@ pub fn judge_increase(low: f64, high: f64, noise: f64) -> Verdict {
     }
 }
 
-/// A trend over several quantities: holds when most grow and none shrinks, does not hold when
-/// most shrink and none grows, else inconclusive (also for no quantities).
+/// A trend over several quantities. Inconclusive when at most half of them move beyond their
+/// noise (or there are none): only the noise decides that. Otherwise it holds when none moves
+/// against the paper, holds in part when more move with it than against, and does not hold
+/// when at least as many move against it.
 pub fn judge_trend(comparisons: &[Comparison]) -> Verdict {
     let verdicts: Vec<Verdict> = comparisons.iter().map(Comparison::verdict).collect();
     let count = |v| verdicts.iter().filter(|x| **x == v).count();
     let (up, down) = (count(Verdict::Holds), count(Verdict::DoesNotHold));
-    let half = verdicts.len() / 2;
-    if up > half && down == 0 {
-        Verdict::Holds
-    } else if down > half && up == 0 {
-        Verdict::DoesNotHold
-    } else {
+    if 2 * (up + down) <= verdicts.len() {
         Verdict::Inconclusive
+    } else if down == 0 {
+        Verdict::Holds
+    } else if up > down {
+        Verdict::HoldsInPart
+    } else {
+        Verdict::DoesNotHold
     }
 }
 
@@ -315,6 +322,8 @@ pub struct TrendVerdict {
     pub verdict: Verdict,
     /// Quantities: how many grew, of how many.
     pub grew: usize,
+    /// How many shrank (moved against the paper).
+    pub shrank: usize,
     /// Number of quantities.
     pub total: usize,
 }
@@ -325,6 +334,10 @@ fn trend_verdict(study: &'static str, claim: &str, c: &[Comparison]) -> TrendVer
         claim: claim.to_string(),
         verdict: judge_trend(c),
         grew: c.iter().filter(|c| c.verdict() == Verdict::Holds).count(),
+        shrank: c
+            .iter()
+            .filter(|c| c.verdict() == Verdict::DoesNotHold)
+            .count(),
         total: c.len(),
     }
 }

@@ -136,7 +136,8 @@ fn comparison_table(md: &mut String, low: &str, high: &str, comparisons: &[Compa
             match c.verdict() {
                 Verdict::Holds => "grows",
                 Verdict::DoesNotHold => "shrinks",
-                Verdict::Inconclusive => "within noise",
+                // A single quantity is never judged in part.
+                Verdict::Inconclusive | Verdict::HoldsInPart => "within noise",
             }
         );
     }
@@ -332,7 +333,7 @@ fn validity_lines(md: &mut String, scenes: &[&str], results: &StudyResults) {
             let measures = if v.model == "foundation" {
                 format!(
                     "foundation: overlap ≤ {:.3} c0, load error from the grid ≤ {:.2} %, \
-                     narrowest loaded zone {} cells",
+                     narrowest loaded zone {} nodes",
                     v.max_overlap_ratio,
                     100.0 * v.max_resolution_error,
                     v.narrowest_zone_cells.unwrap_or(0)
@@ -472,9 +473,10 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
          - Judging (docs/model.md §8, the dynamics are chaotic): per-cycle medians of peak force after \
          the start-up window (noise: mean IQR), rod-3 maximum deviation after the window, \
          energy dissipated per cycle, worn volume and worn arc (depth ≥ {ARC_FRACTION}·peak). A \
-         quantity changes when it moves by more than its noise and {:.0} %; a trend HOLDS when \
-         most of its quantities move the paper's way and none the other way, DOES NOT HOLD in \
-         the mirror case, else INCONCLUSIVE.\n",
+         quantity changes when it moves by more than its noise and {:.0} %. A trend is \
+         INCONCLUSIVE when at most half of its quantities change; otherwise it HOLDS when none \
+         moves against the paper, HOLDS IN PART when more move with it than against, and DOES \
+         NOT HOLD when at least as many move against it.\n",
         names.join(", "),
         results.runs.len(),
         results.wall_time_s,
@@ -486,12 +488,15 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
 
     let trend_list = trends(results);
     if !trend_list.is_empty() {
-        md.push_str("## Verdicts\n\n| study | paper's trend | ours | quantities grown |\n|---|---|---|---|\n");
+        md.push_str(
+            "## Verdicts\n\n| study | paper's trend | ours | quantities grown / shrunk / of |\n\
+             |---|---|---|---|\n",
+        );
         for (t, _, _) in &trend_list {
             let _ = writeln!(
                 md,
-                "| {} | {} | **{}** | {}/{} |",
-                t.study, t.claim, t.verdict, t.grew, t.total
+                "| {} | {} | **{}** | {} / {} / {} |",
+                t.study, t.claim, t.verdict, t.grew, t.shrank, t.total
             );
         }
         md.push('\n');
@@ -514,6 +519,14 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
             trend_list.iter().find(|(t, _, _)| t.study == study.name)
         {
             let _ = writeln!(md, "**Trend: {}: {}.**\n", t.claim, t.verdict);
+            let against: Vec<&str> = comparisons
+                .iter()
+                .filter(|c| c.verdict() == Verdict::DoesNotHold)
+                .map(|c| c.quantity.as_str())
+                .collect();
+            if !against.is_empty() {
+                let _ = writeln!(md, "Against the paper: {}.\n", against.join("; "));
+            }
             comparison_table(&mut md, low, high, comparisons);
             md.push('\n');
         }
