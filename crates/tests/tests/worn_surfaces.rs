@@ -278,3 +278,85 @@ fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
     }
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// A worn-surface file is read only when it is a regular file of bounded size whose rows are
+/// the grid's cells in order with finite, physically possible depths; anything else is a
+/// named error (file, line, value), at once: no abort on a device that never ends, no wait on
+/// a FIFO, no silent surface from shuffled rows or a depth of 1e300 m.
+#[test]
+fn corrupt_or_special_wear_files_are_refused_by_name() {
+    use lgres::build::unworn_joints;
+    let dir = worn_folder("corrupt");
+    let scene = lgres::scenes::builtin("lgres").expect("built-in");
+    let unworn = unworn_joints(&scene).expect("joints");
+    let file = dir.join("wear_B_stage1.csv");
+    let good = std::fs::read_to_string(&file).expect("reads");
+    let refused = |what: &str| -> String {
+        match lgres::io::surfaces::load_last_stage(&dir, &scene, &unworn) {
+            Err(e) => {
+                let text = e.to_string();
+                assert!(text.contains("wear_B_stage1.csv"), "{what}: {text}");
+                text
+            }
+            Ok(_) => panic!("{what}: accepted"),
+        }
+    };
+    let rows: Vec<&str> = good.lines().collect();
+    let with_rows = |edit: &dyn Fn(&mut Vec<String>)| {
+        let mut lines: Vec<String> = rows.iter().map(|l| l.to_string()).collect();
+        edit(&mut lines);
+        std::fs::write(&file, lines.join("\n") + "\n").expect("writes");
+    };
+
+    // Rows out of order (two cells swapped), a duplicated angle, angles shifted by 720°.
+    with_rows(&|l| l.swap(10, 11));
+    let e = refused("swapped rows");
+    assert!(e.contains("line 11") && e.contains("angle"), "{e}");
+    with_rows(&|l| l[11] = l[10].clone());
+    assert!(refused("duplicated angle").contains("line 12"));
+    with_rows(&|l| {
+        for line in l.iter_mut().skip(1) {
+            let (angle, rest) = line.split_once(',').expect("three columns");
+            let shifted = angle.parse::<f64>().expect("number") + 720.0;
+            *line = format!("{shifted},{rest}");
+        }
+    });
+    assert!(refused("angles + 720°").contains("line 2"));
+    // Depths that are not physical: 1e300 m, more than the bearing's radius, negative, NaN.
+    for (depth, word) in [("1e300", "line 501"), ("0.17", "below 0.16 m")] {
+        with_rows(&|l| {
+            let parts: Vec<&str> = l[500].split(',').collect();
+            l[500] = format!("{},{depth},{}", parts[0], parts[2]);
+        });
+        let e = refused(depth);
+        assert!(e.contains(word), "{depth}: {e}");
+    }
+    for depth in ["-1e-6", "NaN", "inf"] {
+        with_rows(&|l| {
+            let parts: Vec<&str> = l[7].split(',').collect();
+            l[7] = format!("{},{},{depth}", parts[0], parts[1]);
+        });
+        let e = refused(depth);
+        assert!(
+            e.contains("line 8") && e.contains("pin_depth"),
+            "{depth}: {e}"
+        );
+    }
+    // A link to a device that never ends, and a FIFO nobody writes: refused at once.
+    std::fs::remove_file(&file).expect("removes");
+    #[cfg(unix)]
+    {
+        std::os::unix::fs::symlink("/dev/zero", &file).expect("links");
+        assert!(refused("/dev/zero").contains("not a regular file"));
+        std::fs::remove_file(&file).expect("removes");
+        let made = std::process::Command::new("mkfifo").arg(&file).status();
+        if made.is_ok_and(|s| s.success()) {
+            assert!(refused("FIFO").contains("not a regular file"));
+            std::fs::remove_file(&file).expect("removes");
+        }
+    }
+    // The good file loads again.
+    std::fs::write(&file, &good).expect("writes");
+    assert!(lgres::io::surfaces::load_last_stage(&dir, &scene, &unworn).is_ok());
+    std::fs::remove_dir_all(dir).ok();
+}

@@ -58,6 +58,16 @@ pub enum WearError {
         /// Largest pin wear depth `h/2` after the update (m).
         depth: f64,
     },
+    /// A bearing worn deeper than its own radius: no longer a joint (e.g. a corrupt wear file).
+    #[error(
+        "bearing of radius {radius} m worn deeper than its own radius: its depth reaches {depth} m"
+    )]
+    BearingTooDeep {
+        /// Nominal bearing radius (m).
+        radius: f64,
+        /// Largest bearing wear depth `h/2` (m).
+        depth: f64,
+    },
     /// The stage runner returned a different number of wear records than there are joints.
     #[error("stage runner returned {found} wear records for {expected} joints")]
     JointCount {

@@ -121,7 +121,10 @@ impl WornProfile {
         Self::from_depths(side, nominal_radius, vec![0.0; cells])
     }
 
-    /// A surface with given cell depths `h_k` (m), e.g. a resumed stage.
+    /// A surface with given cell depths `h_k` (m), e.g. a resumed stage. Each must be finite
+    /// and non-negative, and half the deepest (the radius it removes) below the nominal radius
+    /// on either side: a pin worn through, or a bearing dug deeper than its own radius, is
+    /// not a joint.
     pub fn from_depths(
         side: Side,
         nominal_radius: f64,
@@ -133,10 +136,11 @@ impl WornProfile {
         }
         check_depths("depth", &depth)?;
         let max = depth.iter().copied().fold(0.0, f64::max);
-        if side == Side::Pin && 0.5 * max >= nominal_radius {
-            return Err(WearError::PinWornThrough {
-                radius: nominal_radius,
-                depth: 0.5 * max,
+        if 0.5 * max >= nominal_radius {
+            let (radius, depth) = (nominal_radius, 0.5 * max);
+            return Err(match side {
+                Side::Pin => WearError::PinWornThrough { radius, depth },
+                Side::Bearing => WearError::BearingTooDeep { radius, depth },
             });
         }
         let cells_per_rad = depth.len() as f64 / TAU;

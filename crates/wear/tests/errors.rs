@@ -135,6 +135,20 @@ fn amplification_and_pin_worn_through() {
 }
 
 #[test]
+fn profiles_deeper_than_their_radius_are_refused() {
+    use wear::{Side, WornProfile};
+    // A surface loses half the depth from its radius: 0.1 m of depth on a 0.05 m radius leaves
+    // none, on either side; 0.099 m leaves 0.5 mm.
+    let deep = |side| WornProfile::from_depths(side, 0.05, vec![0.0, 0.1, 0.0, 0.0]).unwrap_err();
+    assert!(matches!(deep(Side::Pin), WearError::PinWornThrough { .. }));
+    assert!(matches!(
+        deep(Side::Bearing),
+        WearError::BearingTooDeep { .. }
+    ));
+    assert!(WornProfile::from_depths(Side::Bearing, 0.05, vec![0.0, 0.099, 0.0, 0.0]).is_ok());
+}
+
+#[test]
 fn plans() {
     let with = |x| StagePlan::paper(1).with_extrapolation(x);
     let adaptive = |f| {

@@ -6,11 +6,17 @@
 //! [`WornJoint`], so a run can start (and stage on) from there: a worn mechanism can be
 //! re-simulated under other settings, and a long life computation resumed stage by stage.
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use wear::{Side, WearError, WornJoint, WornProfile};
 
-use crate::scene::Scene;
+use crate::io::plot::cell_angle_deg;
+use crate::scene::{MAX_WEAR_CELLS, Scene};
+
+/// How far a row's angle may sit from its cell's centre, as a fraction of a cell: room for a
+/// file re-saved with fewer digits, none for a row out of place.
+const ANGLE_TOLERANCE_CELLS: f64 = 1e-3;
 
 /// Why the surfaces could not be loaded; every variant names the joint and the file.
 #[derive(Debug, thiserror::Error)]
@@ -116,12 +122,43 @@ fn stage_of(file_name: &str, joint: &str) -> Option<u32> {
         .ok()
 }
 
+/// Bytes a wear file may hold: a row of three full-precision numbers is under 80 bytes, and a
+/// grid has at most [`MAX_WEAR_CELLS`] rows.
+const MAX_FILE_BYTES: u64 = 128 * MAX_WEAR_CELLS as u64 + 1024;
+
+/// The whole text of `file`, which must be a regular file (not a FIFO that blocks, nor a
+/// device that never ends) of at most [`MAX_FILE_BYTES`].
+fn read_bounded(file: &Path) -> Result<Vec<u8>, String> {
+    let metadata = std::fs::metadata(file).map_err(|e| e.to_string())?;
+    if !metadata.is_file() {
+        return Err("not a regular file (a folder, FIFO or device cannot hold a wear grid)".into());
+    }
+    let too_large = || {
+        format!(
+            "larger than {MAX_FILE_BYTES} bytes: more than a wear grid of {MAX_WEAR_CELLS} cells \
+             holds"
+        )
+    };
+    if metadata.len() > MAX_FILE_BYTES {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::new();
+    std::fs::File::open(file)
+        .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_large());
+    }
+    Ok(bytes)
+}
+
 fn load_joint(file: &Path, joint: &str, base: &WornJoint) -> Result<WornJoint, SurfacesError> {
     let unreadable = |reason: String| SurfacesError::Unreadable {
         file: file.to_path_buf(),
         reason,
     };
-    let mut reader = csv::Reader::from_path(file).map_err(|e| unreadable(e.to_string()))?;
+    let bytes = read_bounded(file).map_err(unreadable)?;
+    let mut reader = csv::Reader::from_reader(bytes.as_slice());
     let header: Vec<String> = reader
         .headers()
         .map_err(|e| unreadable(e.to_string()))?
@@ -134,31 +171,62 @@ fn load_joint(file: &Path, joint: &str, base: &WornJoint) -> Result<WornJoint, S
             "header {header:?}, expected {expected:?} (a wear file written by `wearsim run`)"
         )));
     }
-    let (mut bearing, mut pin) = (Vec::new(), Vec::new());
+    // Parse every row first (the file's size bounds them), so a grid of another size is named
+    // as such before any row is judged against this one.
+    let mut rows: Vec<[f64; 3]> = Vec::new();
     for (row, record) in reader.records().enumerate() {
         let record = record.map_err(|e| unreadable(e.to_string()))?;
-        let value = |column: usize| -> Result<f64, SurfacesError> {
+        let mut values = [0.0; 3];
+        for (column, value) in values.iter_mut().enumerate() {
             let text = record.get(column).unwrap_or("");
-            text.trim().parse::<f64>().map_err(|_| {
+            *value = text.trim().parse::<f64>().map_err(|_| {
                 unreadable(format!(
                     "line {}: {} = {text:?} is not a number",
                     row + 2,
                     expected[column]
                 ))
-            })
-        };
-        bearing.push(value(1)?);
-        pin.push(value(2)?);
+            })?;
+        }
+        rows.push(values);
     }
     let cells = base.bearing().cells();
-    if bearing.len() != cells {
+    if rows.len() != cells {
         return Err(SurfacesError::GridMismatch {
             file: file.to_path_buf(),
             joint: joint.to_string(),
             expected: cells,
-            found: bearing.len(),
+            found: rows.len(),
         });
     }
+    for (row, values) in rows.iter().enumerate() {
+        // The angle column must be the grid's own: rows in order, one per cell centre.
+        let (angle, centre) = (values[0], cell_angle_deg(row, cells));
+        if !((angle - centre).abs() <= ANGLE_TOLERANCE_CELLS * 360.0 / cells as f64) {
+            return Err(unreadable(format!(
+                "line {}: angle [deg] = {angle} is not cell {row}'s centre {centre} of a grid of \
+                 {cells} cells (rows must list the cells in order, as `wearsim run` writes them)",
+                row + 2
+            )));
+        }
+        let radii = [base.bearing().nominal_radius(), base.pin().nominal_radius()];
+        for (column, radius) in [(1, radii[0]), (2, radii[1])] {
+            // Each surface loses half the depth from its radius (wear::WornProfile).
+            if !(values[column].is_finite() && values[column] >= 0.0)
+                || values[column] >= 2.0 * radius
+            {
+                return Err(unreadable(format!(
+                    "line {}: {} = {} must be a finite depth ≥ 0 that leaves the surface \
+                     (nominal radius {radius} m) a radius: below {} m",
+                    row + 2,
+                    expected[column],
+                    values[column],
+                    2.0 * radius
+                )));
+            }
+        }
+    }
+    let bearing = rows.iter().map(|r| r[1]).collect();
+    let pin = rows.iter().map(|r| r[2]).collect();
     let invalid = |source| SurfacesError::Invalid {
         file: file.to_path_buf(),
         joint: joint.to_string(),
