@@ -125,8 +125,9 @@ enum Command {
         /// Relative tolerances, comma-separated (default: 1e-3 to 1e-10 by decades).
         #[arg(long, value_delimiter = ',')]
         rtols: Vec<f64>,
-        /// Timed repeats per run and variant; the median is reported.
-        #[arg(long, default_value_t = 3)]
+        /// Timed repeats per run and variant, 1 to 1000; the median is reported.
+        #[arg(long, default_value_t = 3,
+              value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=1000))]
         repeats: usize,
         /// Simulated time, s (default: one drive period).
         #[arg(long)]
@@ -209,6 +210,12 @@ impl CliError {
                 | lgres::analysis::precision::PrecisionError::Unsuitable(_),
             ) => 2,
             CliError::Sweep(e) if e.is_bad_input() => 2,
+            CliError::Output(e) if e.is_bad_input() => 2,
+            CliError::Precision(lgres::analysis::precision::PrecisionError::Output(e))
+                if e.is_bad_input() =>
+            {
+                2
+            }
             CliError::Run(_)
             | CliError::Sweep(_)
             | CliError::Output(_)

@@ -204,7 +204,7 @@ fn folder_with_foreign_files_is_refused_and_kept() {
     std::fs::create_dir_all(out.join("sub")).unwrap();
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
     let o = run_into("lgres-ideal", &out);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(stderr(&o).contains("does not write"), "{}", stderr(&o));
     assert_eq!(listing(&out), ["notes.txt", "sub"]);
     assert_eq!(listing(&dir), ["out"]);
@@ -503,5 +503,67 @@ fn run_prints_when_each_joint_reaches_the_clearance_limit() {
         text.contains("joint rod-slider does not reach 1.00 mm clearance within 7.5e2 cycles"),
         "{text}"
     );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An `--out` that cannot be a run's folder is bad input (exit 2, the folder named), for every
+/// command that writes one; nothing is left behind. And the analysis commands' flags are
+/// checked before any work: `precision --duration 1e300` panicked on a capacity overflow and
+/// `--repeats 0` reported NaN run times.
+#[test]
+fn bad_out_folders_and_analysis_flags_are_bad_input() {
+    let dir = scratch("bad-out");
+    let file = dir.join("a-file");
+    std::fs::write(&file, "mine").unwrap();
+    let through = format!("{}/x/../y", dir.display());
+    for out in [
+        file.to_str().unwrap(),
+        "/",
+        through.as_str(),
+        "/proc/wearsim-out",
+    ] {
+        for command in [
+            &["run", "lgres-ideal"][..],
+            &["precision", "--repeats", "1"][..],
+        ] {
+            let mut args = command.to_vec();
+            args.extend(["--out", out]);
+            let o = wearsim(&args);
+            assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+            assert!(
+                stderr(&o).contains("output folder"),
+                "{args:?}: {}",
+                stderr(&o)
+            );
+        }
+    }
+    assert_eq!(listing(&dir), ["a-file"], "nothing left behind");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
+
+    let o = wearsim(&["precision", "--duration", "1e300"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("duration"), "{}", stderr(&o));
+    let o = wearsim(&["precision", "--repeats", "0"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--repeats"), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A run that replaces an existing folder keeps the folder's permissions (a read-only folder
+/// stayed 555 only until the first run made it 755).
+#[cfg(unix)]
+#[test]
+fn replaced_folder_keeps_its_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = scratch("mode");
+    let out = dir.join("out");
+    let o = run_into("lgres-ideal", &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o555)).unwrap();
+    let o = run_into("lgres-ideal", &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mode = std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o555);
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o755)).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -25,7 +25,10 @@
 //! ```
 //!
 //! A grid gives every input `values = [...]` and runs every combination (the last input
-//! varies fastest). A random sample's values depend on the seed and the sample's index only
+//! varies fastest). An integer field of the scene (`run.cycles`, `clearance_joints.A.wear.cells`)
+//! takes whole numbers in its type's range only: another grid value, or a distribution on it,
+//! makes the sweep file bad input; nothing is rounded. A sample whose metric is NaN or infinite
+//! is a failed row, and `--resume` runs again an `ok` row holding one. A random sample's values depend on the seed and the sample's index only
 //! (a ChaCha stream per sample), so any engine, thread or worker count gives the same rows.
 //! [`Sweep::run_sample`] runs one sample (what a Dask task calls); [`run_local`] runs all on
 //! local threads and writes `samples.csv` after every finished sample (atomically), so an
@@ -53,6 +56,7 @@ pub mod path;
 mod spec;
 pub mod table;
 
+use std::collections::HashMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -154,6 +158,17 @@ pub enum SampleError {
         /// Why.
         reason: String,
     },
+    /// A drawn value does not fit its field (a fraction or an out-of-range number for an
+    /// integer field, a non-finite number): refused, never rounded or saturated.
+    #[error("{path} = {value}: {reason}")]
+    Value {
+        /// The field path.
+        path: String,
+        /// The value, as the rows file writes it.
+        value: String,
+        /// Why it is refused.
+        reason: String,
+    },
     /// The edited scene is invalid (field named).
     #[error(transparent)]
     Scene(#[from] SceneError),
@@ -167,6 +182,14 @@ pub enum SampleError {
         path: String,
         /// Why.
         reason: String,
+    },
+    /// A metric is NaN or infinite: the run's result is not a number to keep.
+    #[error("metric {path} is not finite ({value})")]
+    NotFinite {
+        /// The metric path.
+        path: String,
+        /// Its value.
+        value: f64,
     },
     /// The summary could not be turned into JSON.
     #[error("summary: {0}")]
@@ -239,6 +262,117 @@ pub struct Input {
     pub sampler: Sampler,
 }
 
+/// The whole numbers an integer scene field holds: its Rust type's range (within TOML's `i64`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Whole {
+    min: i64,
+    max: i64,
+}
+
+impl Whole {
+    /// `value` as the field's integer. Err: why not, for "`path = value: why`"; a fraction or
+    /// an out-of-range value is refused, not rounded or saturated (a sweep of `run.cycles =
+    /// 2.5` must not quietly run 3 cycles, nor `1e19` cells become `i64::MAX`).
+    fn of(self, value: f64) -> Result<i64, String> {
+        /// 2⁶³: the first float beyond `i64` (`i64::MAX as f64` rounds up to it).
+        const LIMIT: f64 = 9_223_372_036_854_775_808.0;
+        if value.fract() != 0.0 {
+            return Err("must be a whole number".into());
+        }
+        if (-LIMIT..LIMIT).contains(&value) {
+            // Exact: whole and inside i64.
+            let n = value as i64;
+            if (self.min..=self.max).contains(&n) {
+                return Ok(n);
+            }
+        }
+        Err(format!(
+            "beyond the range of the integer field ({} to {})",
+            self.min, self.max
+        ))
+    }
+}
+
+/// Whether the scene deserializes with `value` at `path` and the rest as in `base`.
+fn accepts(base: &toml::Table, path: &str, value: toml::Value) -> bool {
+    let mut table = base.clone();
+    path::set(&mut table, path, value).is_ok()
+        && toml::Value::Table(table)
+            .try_into::<lgres::scene::Scene>()
+            .is_ok()
+}
+
+/// The range of the integer scene field at `path`; `None` for a float (or not a number) field.
+/// The scene's deserialization decides, not the base scene's TOML: a field left to its default
+/// has no value to look at, and `inertia = 1` is a float field spelled as an integer. A field
+/// is an integer one if it takes an integer but not the same value as a float (probing a few
+/// values, as validation inside the deserialization may refuse one); its range is the widest
+/// of the Rust integer types' it takes.
+fn whole_range(base: &toml::Table, path: &str) -> Option<Whole> {
+    use toml::Value::{Float, Integer};
+    let taken = [1, 0, 2].into_iter().find_map(|v| {
+        if accepts(base, path, Float(v as f64)) {
+            Some(None)
+        } else {
+            accepts(base, path, Integer(v)).then_some(Some(v))
+        }
+    })??;
+    let widest = |bounds: [i64; 6]| {
+        bounds
+            .into_iter()
+            .find(|b| accepts(base, path, Integer(*b)))
+            .unwrap_or(taken)
+    };
+    Some(Whole {
+        min: widest([
+            i64::MIN,
+            i32::MIN.into(),
+            i16::MIN.into(),
+            i8::MIN.into(),
+            0,
+            1,
+        ]),
+        max: widest([
+            i64::MAX,
+            u32::MAX.into(),
+            i32::MAX.into(),
+            u16::MAX.into(),
+            i16::MAX.into(),
+            u8::MAX.into(),
+        ]),
+    })
+}
+
+/// Check input `k`'s values for its integer field `path` before any sample runs: every grid
+/// value must be a whole number in range, and a distribution (whose draws are fractions) is
+/// refused.
+fn check_whole(k: usize, input: &Input, path: &str, w: Whole) -> Result<(), SweepError> {
+    let draws = match &input.sampler {
+        Sampler::Grid(values) => {
+            for (j, v) in values.iter().enumerate() {
+                w.of(*v).map_err(|why| SweepError::Field {
+                    field: format!("vary[{k}].values[{j}]"),
+                    value: table::number(*v),
+                    reason: format!("{path} = {}: {why}", table::number(*v)),
+                })?;
+            }
+            return Ok(());
+        }
+        Sampler::Uniform { .. } => "uniform",
+        Sampler::Normal { .. } => "normal",
+        Sampler::LogNormal { .. } => "log-normal",
+    };
+    Err(SweepError::Field {
+        field: format!("vary[{k}].distribution"),
+        value: format!("{draws:?}"),
+        reason: format!(
+            "{path} is an integer field ({} to {}) and a {draws} draw is not a whole number: \
+             give its values as a grid",
+            w.min, w.max
+        ),
+    })
+}
+
 /// Grid or random.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Mode {
@@ -283,6 +417,8 @@ pub struct Sweep {
     pub overrides: RunOverrides,
     base: toml::Table,
     text: String,
+    /// Each varied path's integer range (`None`: a float field), found when the sweep is built.
+    wholes: HashMap<String, Option<Whole>>,
 }
 
 /// Top-level keys of `summary.json`: a metric must start with one.
@@ -390,6 +526,16 @@ impl Sweep {
                 });
             }
         }
+        let mut wholes = HashMap::new();
+        for (k, input) in inputs.iter().enumerate() {
+            for p in &input.paths {
+                let whole = whole_range(&base, p);
+                if let Some(w) = whole {
+                    check_whole(k, input, p, w)?;
+                }
+                wholes.insert(p.clone(), whole);
+            }
+        }
         let sweep = Sweep {
             name,
             scene_name,
@@ -399,6 +545,7 @@ impl Sweep {
             overrides,
             base,
             text,
+            wholes,
         };
         // Every varied path must exist in the scene: set typical values and deserialize.
         for (k, input) in sweep.inputs.iter().enumerate() {
@@ -432,9 +579,9 @@ impl Sweep {
     }
 
     /// Input values of sample `index`, in input order; they depend on the file and `index`
-    /// only. A value written into an integer field is rounded (see [`Sweep::run_sample`]).
+    /// only. They are not rounded: a fraction drawn for an integer field fails its sample.
     pub fn input_values(&self, index: usize) -> Vec<f64> {
-        let raw: Vec<f64> = match self.mode {
+        match self.mode {
             Mode::Grid { .. } => {
                 let mut rest = index;
                 let mut values = vec![0.0; self.inputs.len()];
@@ -454,28 +601,33 @@ impl Sweep {
                     .map(|i| i.sampler.draw(&mut rng))
                     .collect()
             }
-        };
-        raw.iter()
-            .zip(&self.inputs)
-            .map(|(v, input)| {
-                let integer = input
-                    .paths
-                    .first()
-                    .and_then(|p| path::get(&self.base, p))
-                    .is_some_and(toml::Value::is_integer);
-                if integer { v.round() } else { *v }
-            })
-            .collect()
+        }
     }
 
+    /// The integer range of the field at `path`, or `None` for a float field. A path the sweep
+    /// was not built with (the inputs are public, so a caller may change them) is probed now.
+    fn whole(&self, path: &str) -> Option<Whole> {
+        match self.wholes.get(path) {
+            Some(w) => *w,
+            None => whole_range(&self.base, path),
+        }
+    }
+
+    /// Set `value` at every path of `input`: an integer field gets the integer it is (a
+    /// fraction or an out-of-range value is refused, naming the field and the value).
     fn edit(&self, table: &mut toml::Table, input: &Input, value: f64) -> Result<(), SampleError> {
         for p in &input.paths {
-            let integer = path::get(&self.base, p).is_some_and(toml::Value::is_integer);
-            let v = if integer {
-                // Saturating: a value beyond i64 fails the scene's range checks, named.
-                toml::Value::Integer(value.round() as i64)
-            } else {
-                toml::Value::Float(value)
+            let refuse = |reason: String| SampleError::Value {
+                path: p.clone(),
+                value: table::number(value),
+                reason,
+            };
+            if !value.is_finite() {
+                return Err(refuse("must be finite".into()));
+            }
+            let v = match self.whole(p) {
+                Some(w) => toml::Value::Integer(w.of(value).map_err(refuse)?),
+                None => toml::Value::Float(value),
             };
             path::set(table, p, v).map_err(|reason| SampleError::Edit {
                 path: p.clone(),
@@ -541,14 +693,30 @@ impl Sweep {
             &self.overrides.run_options(),
             &mut (),
         )?;
-        let summary = serde_json::to_value(&outcome.summary)?;
+        self.metrics_of_summary(&outcome.summary)
+    }
+
+    /// The metrics of a run's `summary` (as in `summary.json`), in metric order; `None` where
+    /// the summary holds no number (`null`). A NaN or infinity is an error naming the metric,
+    /// so its sample is a failed row, never `ok` with a number that is none (serde_json would
+    /// make it `null`, read as "no value").
+    pub fn metrics_of_summary<T: Serialize + ?Sized>(
+        &self,
+        summary: &T,
+    ) -> Result<Vec<Option<f64>>, SampleError> {
+        let summary = path::summary_json(summary)?;
         self.metrics
             .iter()
-            .map(|m| {
-                path::number(&summary, m).map_err(|reason| SampleError::Metric {
+            .map(|m| match path::number(&summary, m) {
+                Ok(Some(value)) if !value.is_finite() => Err(SampleError::NotFinite {
+                    path: m.clone(),
+                    value,
+                }),
+                Ok(v) => Ok(v),
+                Err(reason) => Err(SampleError::Metric {
                     path: m.clone(),
                     reason,
-                })
+                }),
             })
             .collect()
     }
@@ -588,19 +756,22 @@ pub fn rows_path(out: &Path) -> PathBuf {
     out.join(table::ROWS_FILE)
 }
 
-/// Samples still to run: all, or with `resume` those without a row in `out`'s rows file
-/// (which must have this sweep's columns). Also returns the rows kept.
+/// Samples still to run: all, or with `resume` those without a finished row in `out`'s rows
+/// file (which must have this sweep's columns). Also returns the rows kept. A row `ok` with a
+/// NaN or infinite metric (an older version's, or an edited file's) is not finished: it is
+/// dropped and its sample run again.
 pub fn pending(
     sweep: &Sweep,
     out: &Path,
     resume: bool,
 ) -> Result<(Vec<usize>, Vec<Row>), SweepError> {
     let path = rows_path(out);
-    let kept = if resume && path.is_file() {
+    let mut kept = if resume && path.is_file() {
         table::read_rows(sweep, &path)?
     } else {
         Vec::new()
     };
+    kept.retain(Row::is_done);
     let mut done = vec![false; sweep.samples()];
     for r in &kept {
         if let Some(d) = done.get_mut(r.sample) {

@@ -3,6 +3,9 @@
 //! picks the element whose `name` it is, else the element at that index (`bodies.0.mass`);
 //! `key[2]` is the same as `key.2`.
 
+use serde::ser::{self, Serialize};
+use serde_json::{Map, Value};
+
 /// Split a path into segments (`a.b[2].c` → `a`, `b`, `2`, `c`); `None` if a segment is empty.
 pub fn segments(path: &str) -> Option<Vec<String>> {
     let mut out = Vec::new();
@@ -134,7 +137,8 @@ fn step_mut<'a>(
     }
 }
 
-/// The number at `path` in a JSON summary: `Ok(None)` for `null`, `true`/`false` as 1/0.
+/// The number at `path` in a JSON summary: `Ok(None)` for `null`, `true`/`false` as 1/0, a NaN
+/// or infinity kept by [`summary_json`] as itself (for the caller to refuse, naming it).
 pub fn number(value: &serde_json::Value, path: &str) -> Result<Option<f64>, String> {
     let segs = segments(path).ok_or_else(|| "not a dotted field path".to_string())?;
     let mut here = value;
@@ -163,6 +167,9 @@ pub fn number(value: &serde_json::Value, path: &str) -> Result<Option<f64>, Stri
             format!("{walked}.{seg}")
         };
     }
+    if let Some(v) = non_finite(here) {
+        return Ok(Some(v));
+    }
     match here {
         serde_json::Value::Number(n) => Ok(n.as_f64()),
         serde_json::Value::Bool(b) => Ok(Some(f64::from(u8::from(*b)))),
@@ -176,5 +183,332 @@ fn show(walked: &str) -> &str {
         "the top level"
     } else {
         walked
+    }
+}
+
+/// Key of the one-entry object [`summary_json`] puts where a number is NaN or infinite (a NUL
+/// byte: no summary field or scene name is spelled so).
+const NON_FINITE_KEY: &str = "\u{0}non-finite";
+
+/// The NaN or infinity `value` stands for, if it is [`summary_json`]'s marker.
+fn non_finite(value: &serde_json::Value) -> Option<f64> {
+    let serde_json::Value::Object(m) = value else {
+        return None;
+    };
+    if m.len() != 1 {
+        return None;
+    }
+    let v: f64 = m.get(NON_FINITE_KEY)?.as_str()?.parse().ok()?;
+    (!v.is_finite()).then_some(v)
+}
+
+/// `value` (a run's summary) as JSON for [`number`], like `serde_json::to_value` except that a
+/// NaN or infinite number becomes a marker [`number`] reads back as that number. serde_json
+/// writes them as `null`, which reads as "no number here": a NaN metric would pass as a sample
+/// that ran (`ok`, empty cell) instead of one whose result is not finite.
+pub fn summary_json<T: Serialize + ?Sized>(
+    value: &T,
+) -> Result<serde_json::Value, serde_json::Error> {
+    value.serialize(KeepNonFinite)
+}
+
+/// The serializer of [`summary_json`]: builds a [`Value`], non-finite numbers as markers.
+struct KeepNonFinite;
+
+type Error = serde_json::Error;
+
+fn marker(v: f64) -> Value {
+    let mut m = Map::new();
+    m.insert(NON_FINITE_KEY.to_string(), Value::String(v.to_string()));
+    Value::Object(m)
+}
+
+fn tagged(variant: &str, value: Value) -> Value {
+    let mut m = Map::new();
+    m.insert(variant.to_string(), value);
+    Value::Object(m)
+}
+
+impl ser::Serializer for KeepNonFinite {
+    type Ok = Value;
+    type Error = Error;
+    type SerializeSeq = Seq;
+    type SerializeTuple = Seq;
+    type SerializeTupleStruct = Seq;
+    type SerializeTupleVariant = Seq;
+    type SerializeMap = Object;
+    type SerializeStruct = Object;
+    type SerializeStructVariant = Object;
+
+    fn serialize_bool(self, v: bool) -> Result<Value, Error> {
+        Ok(Value::Bool(v))
+    }
+    fn serialize_i8(self, v: i8) -> Result<Value, Error> {
+        Ok(Value::from(v))
+    }
+    fn serialize_i16(self, v: i16) -> Result<Value, Error> {
+        Ok(Value::from(v))
+    }
+    fn serialize_i32(self, v: i32) -> Result<Value, Error> {
+        Ok(Value::from(v))
+    }
+    fn serialize_i64(self, v: i64) -> Result<Value, Error> {
+        Ok(Value::from(v))
+    }
+    fn serialize_u8(self, v: u8) -> Result<Value, Error> {
+        Ok(Value::from(v))
+    }
+    fn serialize_u16(self, v: u16) -> Result<Value, Error> {
+        Ok(Value::from(v))
+    }
+    fn serialize_u32(self, v: u32) -> Result<Value, Error> {
+        Ok(Value::from(v))
+    }
+    fn serialize_u64(self, v: u64) -> Result<Value, Error> {
+        Ok(Value::from(v))
+    }
+    fn serialize_f32(self, v: f32) -> Result<Value, Error> {
+        self.serialize_f64(f64::from(v))
+    }
+    fn serialize_f64(self, v: f64) -> Result<Value, Error> {
+        Ok(if v.is_finite() {
+            Value::from(v)
+        } else {
+            marker(v)
+        })
+    }
+    fn serialize_char(self, v: char) -> Result<Value, Error> {
+        Ok(Value::String(v.to_string()))
+    }
+    fn serialize_str(self, v: &str) -> Result<Value, Error> {
+        Ok(Value::String(v.to_string()))
+    }
+    fn serialize_bytes(self, v: &[u8]) -> Result<Value, Error> {
+        Ok(Value::Array(v.iter().map(|b| Value::from(*b)).collect()))
+    }
+    fn serialize_none(self) -> Result<Value, Error> {
+        Ok(Value::Null)
+    }
+    fn serialize_some<T: Serialize + ?Sized>(self, value: &T) -> Result<Value, Error> {
+        value.serialize(self)
+    }
+    fn serialize_unit(self) -> Result<Value, Error> {
+        Ok(Value::Null)
+    }
+    fn serialize_unit_struct(self, _: &'static str) -> Result<Value, Error> {
+        Ok(Value::Null)
+    }
+    fn serialize_unit_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        variant: &'static str,
+    ) -> Result<Value, Error> {
+        Ok(Value::String(variant.to_string()))
+    }
+    fn serialize_newtype_struct<T: Serialize + ?Sized>(
+        self,
+        _: &'static str,
+        value: &T,
+    ) -> Result<Value, Error> {
+        value.serialize(self)
+    }
+    fn serialize_newtype_variant<T: Serialize + ?Sized>(
+        self,
+        _: &'static str,
+        _: u32,
+        variant: &'static str,
+        value: &T,
+    ) -> Result<Value, Error> {
+        Ok(tagged(variant, value.serialize(self)?))
+    }
+    fn serialize_seq(self, len: Option<usize>) -> Result<Seq, Error> {
+        Ok(Seq {
+            variant: None,
+            items: Vec::with_capacity(len.unwrap_or(0)),
+        })
+    }
+    fn serialize_tuple(self, len: usize) -> Result<Seq, Error> {
+        self.serialize_seq(Some(len))
+    }
+    fn serialize_tuple_struct(self, _: &'static str, len: usize) -> Result<Seq, Error> {
+        self.serialize_seq(Some(len))
+    }
+    fn serialize_tuple_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        variant: &'static str,
+        len: usize,
+    ) -> Result<Seq, Error> {
+        Ok(Seq {
+            variant: Some(variant),
+            items: Vec::with_capacity(len),
+        })
+    }
+    fn serialize_map(self, _: Option<usize>) -> Result<Object, Error> {
+        Ok(Object {
+            variant: None,
+            map: Map::new(),
+            key: None,
+        })
+    }
+    fn serialize_struct(self, _: &'static str, _: usize) -> Result<Object, Error> {
+        self.serialize_map(None)
+    }
+    fn serialize_struct_variant(
+        self,
+        _: &'static str,
+        _: u32,
+        variant: &'static str,
+        _: usize,
+    ) -> Result<Object, Error> {
+        Ok(Object {
+            variant: Some(variant),
+            map: Map::new(),
+            key: None,
+        })
+    }
+}
+
+/// A sequence (or tuple) under construction; `variant` wraps it as `{variant: [...]}`.
+struct Seq {
+    variant: Option<&'static str>,
+    items: Vec<Value>,
+}
+
+impl Seq {
+    fn push<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
+        self.items.push(value.serialize(KeepNonFinite)?);
+        Ok(())
+    }
+
+    fn done(self) -> Value {
+        let items = Value::Array(self.items);
+        match self.variant {
+            Some(v) => tagged(v, items),
+            None => items,
+        }
+    }
+}
+
+impl ser::SerializeSeq for Seq {
+    type Ok = Value;
+    type Error = Error;
+    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
+        self.push(value)
+    }
+    fn end(self) -> Result<Value, Error> {
+        Ok(self.done())
+    }
+}
+
+impl ser::SerializeTuple for Seq {
+    type Ok = Value;
+    type Error = Error;
+    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
+        self.push(value)
+    }
+    fn end(self) -> Result<Value, Error> {
+        Ok(self.done())
+    }
+}
+
+impl ser::SerializeTupleStruct for Seq {
+    type Ok = Value;
+    type Error = Error;
+    fn serialize_field<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
+        self.push(value)
+    }
+    fn end(self) -> Result<Value, Error> {
+        Ok(self.done())
+    }
+}
+
+impl ser::SerializeTupleVariant for Seq {
+    type Ok = Value;
+    type Error = Error;
+    fn serialize_field<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
+        self.push(value)
+    }
+    fn end(self) -> Result<Value, Error> {
+        Ok(self.done())
+    }
+}
+
+/// A map (or struct) under construction; `variant` wraps it as `{variant: {...}}`.
+struct Object {
+    variant: Option<&'static str>,
+    map: Map<String, Value>,
+    key: Option<String>,
+}
+
+impl Object {
+    fn insert<T: Serialize + ?Sized>(&mut self, key: String, value: &T) -> Result<(), Error> {
+        self.map.insert(key, value.serialize(KeepNonFinite)?);
+        Ok(())
+    }
+
+    fn done(self) -> Value {
+        let map = Value::Object(self.map);
+        match self.variant {
+            Some(v) => tagged(v, map),
+            None => map,
+        }
+    }
+}
+
+impl ser::SerializeMap for Object {
+    type Ok = Value;
+    type Error = Error;
+    fn serialize_key<T: Serialize + ?Sized>(&mut self, key: &T) -> Result<(), Error> {
+        // As serde_json: string keys as they are, numbers and booleans as their text.
+        self.key = Some(match key.serialize(KeepNonFinite)? {
+            Value::String(s) => s,
+            Value::Number(n) => n.to_string(),
+            Value::Bool(b) => b.to_string(),
+            _ => return Err(ser::Error::custom("a map key must be a string or a number")),
+        });
+        Ok(())
+    }
+    fn serialize_value<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
+        let key = self
+            .key
+            .take()
+            .ok_or_else(|| <Error as ser::Error>::custom("a map value without its key"))?;
+        self.insert(key, value)
+    }
+    fn end(self) -> Result<Value, Error> {
+        Ok(self.done())
+    }
+}
+
+impl ser::SerializeStruct for Object {
+    type Ok = Value;
+    type Error = Error;
+    fn serialize_field<T: Serialize + ?Sized>(
+        &mut self,
+        key: &'static str,
+        value: &T,
+    ) -> Result<(), Error> {
+        self.insert(key.to_string(), value)
+    }
+    fn end(self) -> Result<Value, Error> {
+        Ok(self.done())
+    }
+}
+
+impl ser::SerializeStructVariant for Object {
+    type Ok = Value;
+    type Error = Error;
+    fn serialize_field<T: Serialize + ?Sized>(
+        &mut self,
+        key: &'static str,
+        value: &T,
+    ) -> Result<(), Error> {
+        self.insert(key.to_string(), value)
+    }
+    fn end(self) -> Result<Value, Error> {
+        Ok(self.done())
     }
 }

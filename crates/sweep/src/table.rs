@@ -63,6 +63,21 @@ impl Row {
     pub fn from_json(text: &str) -> Result<Row, SweepError> {
         Ok(serde_json::from_str(text)?)
     }
+
+    /// The first metric that is NaN or infinite, as (metric index, value).
+    pub fn non_finite_metric(&self) -> Option<(usize, f64)> {
+        self.metrics
+            .iter()
+            .enumerate()
+            .find_map(|(k, m)| m.filter(|v| !v.is_finite()).map(|v| (k, v)))
+    }
+
+    /// Whether a resumed sweep keeps this row: a failed row, or an `ok` one whose metrics are
+    /// all finite. An `ok` row with a NaN metric (an older version's, or an edited file's) is
+    /// not a result: its sample runs again.
+    pub fn is_done(&self) -> bool {
+        self.status == Status::Failed || self.non_finite_metric().is_none()
+    }
 }
 
 /// A number in the shorter of `{}` and `{:e}` (both round-trip exactly).
@@ -80,7 +95,9 @@ pub fn header(sweep: &Sweep) -> Vec<String> {
     h
 }
 
-/// Write `rows` (in the order given) to `path`, atomically.
+/// Write `rows` (in the order given) to `path`, atomically. No NaN or infinity is written as a
+/// metric: such a cell is left empty and an `ok` row holding one is written as failed, naming
+/// the metric (whatever engine made the row, the file never shows `ok` beside a non-number).
 pub fn write_rows(sweep: &Sweep, rows: &[Row], path: &Path) -> Result<PathBuf, OutputError> {
     let csv_err = |source| OutputError::Csv {
         path: path.to_path_buf(),
@@ -91,9 +108,22 @@ pub fn write_rows(sweep: &Sweep, rows: &[Row], path: &Path) -> Result<PathBuf, O
     for r in rows {
         let mut cells = vec![r.sample.to_string()];
         cells.extend(r.inputs.iter().map(|v| number(*v)));
-        cells.extend(r.metrics.iter().map(|m| m.map(number).unwrap_or_default()));
-        cells.push(r.status.as_str().to_string());
-        cells.push(r.error.clone());
+        cells.extend(
+            r.metrics
+                .iter()
+                .map(|m| m.filter(|v| v.is_finite()).map(number).unwrap_or_default()),
+        );
+        match r.non_finite_metric().filter(|_| r.status == Status::Ok) {
+            Some((k, v)) => {
+                let name = sweep.metrics.get(k).map_or("?", String::as_str);
+                cells.push(Status::Failed.as_str().to_string());
+                cells.push(format!("metric {name} is not finite ({v})"));
+            }
+            None => {
+                cells.push(r.status.as_str().to_string());
+                cells.push(r.error.clone());
+            }
+        }
         cells.push(format!("{:.3}", r.wall_time_s));
         w.write_record(&cells).map_err(csv_err)?;
     }

@@ -100,6 +100,19 @@ pub enum OutputError {
     },
 }
 
+impl OutputError {
+    /// Whether the output folder the user chose cannot be used (exit 2), as opposed to a
+    /// write that failed on the way (exit 1).
+    pub fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            OutputError::Folder { .. }
+                | OutputError::Locked { .. }
+                | OutputError::UnsafeName { .. }
+        )
+    }
+}
+
 pub(crate) fn io_err(path: &Path) -> impl Fn(io::Error) -> OutputError + '_ {
     move |source| OutputError::Io {
         path: path.to_path_buf(),

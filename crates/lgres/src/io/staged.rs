@@ -58,9 +58,6 @@ impl StagedDir {
             reason: reason.to_string(),
         };
         if target.exists() {
-            if !target.is_dir() {
-                return Err(folder_err("exists and is not a folder"));
-            }
             if let Some(foreign) = foreign_entry(&target, holds)? {
                 return Err(folder_err(&format!(
                     "holds {foreign:?}, which wearsim does not write there; the output \
@@ -80,7 +77,10 @@ impl StagedDir {
             .and_then(|()| fs::create_dir(&staging));
         if let Err(e) = created {
             let _ = fs::remove_file(&lock);
-            return Err(io_err(&staging)(e));
+            return Err(folder_err(&format!(
+                "cannot create the staging folder {} beside it: {e}",
+                staging.display()
+            )));
         }
         active().push((Some(staging.clone()), lock.clone()));
         Ok(Self {
@@ -114,6 +114,9 @@ impl StagedDir {
             std::process::id()
         ));
         let had_previous = self.target.exists();
+        // The replaced folder's permissions carry over to the new one (a folder a user made
+        // read-only stays read-only).
+        let permissions = fs::metadata(&self.target).ok().map(|m| m.permissions());
         if had_previous {
             fs::rename(&self.target, &previous).map_err(io_err(&self.target))?;
         }
@@ -122,6 +125,9 @@ impl StagedDir {
                 let _ = fs::rename(&previous, &self.target);
             }
             return Err(io_err(&self.target)(e));
+        }
+        if let Some(permissions) = permissions {
+            let _ = fs::set_permissions(&self.target, permissions);
         }
         if had_previous {
             // Best effort: the new run is in place; an old copy left hidden is harmless.
@@ -200,7 +206,15 @@ impl OutputFolder {
         {
             return Err(folder_err("must not contain `..`"));
         }
-        fs::create_dir_all(&parent).map_err(io_err(&parent))?;
+        if target.exists() && !target.is_dir() {
+            return Err(folder_err("exists and is not a folder"));
+        }
+        fs::create_dir_all(&parent).map_err(|e| {
+            folder_err(&format!(
+                "cannot create its parent folder {}: {e}",
+                parent.display()
+            ))
+        })?;
         Ok(Self {
             target,
             parent,
@@ -286,7 +300,15 @@ fn take_lock(target: &Path, lock: &Path) -> Result<(), OutputError> {
                     }
                 }
             }
-            Err(e) => return Err(io_err(lock)(e)),
+            Err(e) => {
+                return Err(OutputError::Folder {
+                    path: target.to_path_buf(),
+                    reason: format!(
+                        "cannot write its lock file {} beside it: {e}",
+                        lock.display()
+                    ),
+                });
+            }
         }
     }
     Err(OutputError::Folder {

@@ -201,7 +201,8 @@ fn load_joint(file: &Path, joint: &str, base: &WornJoint) -> Result<WornJoint, S
     for (row, values) in rows.iter().enumerate() {
         // The angle column must be the grid's own: rows in order, one per cell centre.
         let (angle, centre) = (values[0], cell_angle_deg(row, cells));
-        if !((angle - centre).abs() <= ANGLE_TOLERANCE_CELLS * 360.0 / cells as f64) {
+        let off_centre = (angle - centre).abs();
+        if off_centre.is_nan() || off_centre > ANGLE_TOLERANCE_CELLS * 360.0 / cells as f64 {
             return Err(unreadable(format!(
                 "line {}: angle [deg] = {angle} is not cell {row}'s centre {centre} of a grid of \
                  {cells} cells (rows must list the cells in order, as `wearsim run` writes them)",

@@ -344,6 +344,11 @@ fn check_options(o: &PrecisionOptions) -> Result<(), PrecisionError> {
     Ok(())
 }
 
+/// Output frames a run may keep: each holds every coordinate, so more than this is memory a
+/// machine may not have (1e7 frames of the LGRES, 15 coordinates: ~2.4 GB of positions and
+/// velocities).
+const MAX_OUTPUT_FRAMES: f64 = 1e7;
+
 /// Progress of a sweep, for a caller that shows it.
 pub enum Event<'a> {
     /// A run starts: (method, rtol, what: "reference" / "measure" / "time").
@@ -378,6 +383,16 @@ pub fn run_sweep(
         ));
     }
     let t_end = options.duration.unwrap_or(period);
+    if t_end / options.output_interval > MAX_OUTPUT_FRAMES {
+        return Err(PrecisionError::Options {
+            field: "duration",
+            reason: format!(
+                "{t_end:e} s at an output interval of {:e} s is more than {MAX_OUTPUT_FRAMES:e} \
+                 output frames",
+                options.output_interval
+            ),
+        });
+    }
     if options.start_up > t_end {
         return Err(PrecisionError::Options {
             field: "start_up",

@@ -75,9 +75,9 @@ impl PrecisionReport {
                 r.rejected_steps,
                 r.rhs_evaluations,
                 r.factorizations,
-                r.measured_wall_s,
-                r.wall_s,
-                r.wall_wear_s,
+                available(r.measured_wall_s),
+                available(r.wall_s),
+                available(r.wall_wear_s),
                 r.timed_runs_identical
             );
             match &r.outcome {
@@ -449,5 +449,14 @@ impl PrecisionReport {
         crate::io::output::write_json(&json, self)?;
         paths.push(json);
         Ok(paths)
+    }
+}
+
+/// A value, or `n/a` where it was not measured (a failed run, no timed repeats): never `NaN`.
+fn available(value: f64) -> String {
+    if value.is_finite() {
+        value.to_string()
+    } else {
+        "n/a".into()
     }
 }

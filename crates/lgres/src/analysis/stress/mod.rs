@@ -15,6 +15,11 @@
 //! - **`v0 = v1`** in Ambrósio friction is rejected by validation (`v1: must exceed v0`), not
 //!   turned into plain Coulomb friction (which the scene format rejects: the integrator cannot
 //!   step over its jump). The case expects that error.
+//! - **Non-finite numbers**: finite states are not enough; a case that measures a NaN or
+//!   infinite number (smallest step, drift, energy residual, a peak force, a wear depth or
+//!   volume ratio) is FAILED (`NonFinite`, the number named), never `ok`. A number the case
+//!   does not measure (the energy books with the audit off) is NaN in [`CaseResult`] and an
+//!   empty cell in the CSV.
 //! - **Long run** (1000 cycles) is skipped with `--quick`; when run, it samples once per cycle
 //!   and turns the energy audit off (its quadrature costs about a third of a run), so it reports
 //!   no energy residual.
@@ -42,7 +47,7 @@ pub const LONG_CYCLES: u32 = 1000;
 /// What a case is expected to do.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub enum Expect {
-    /// Integrate to the end, finite.
+    /// Integrate to the end, finite (states and every reported number).
     Completes,
     /// Be rejected by scene validation with an issue on a field whose path ends with this.
     Rejected(String),
@@ -86,7 +91,7 @@ pub struct StressCase {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum Outcome {
-    /// Integrated to the end; every sampled state finite.
+    /// Integrated to the end; every sampled state and every measured number finite.
     Completed,
     /// Rejected with the expected named error.
     ExpectedError {
@@ -134,7 +139,8 @@ impl Outcome {
     }
 }
 
-/// Numbers of one case (NaN where not measured).
+/// Numbers of one case (NaN where not measured: an empty CSV cell). A case is
+/// [`Outcome::Completed`] only if every number it measured is finite.
 #[derive(Debug, Clone, Serialize)]
 pub struct CaseResult {
     /// Case name.

@@ -6,6 +6,16 @@ use std::path::{Path, PathBuf};
 use super::{CaseResult, Outcome};
 use crate::io::output::{OutputError, sci, write_atomic};
 
+/// A number for the CSV: NaN means "not measured" (see [`CaseResult`]) and is left empty, so
+/// no `ok` row reads `NaN`; an infinity (only in a failed case) stays visible.
+fn cell(x: f64) -> String {
+    if x.is_nan() {
+        String::new()
+    } else {
+        x.to_string()
+    }
+}
+
 fn peaks(r: &CaseResult, sep: &str) -> String {
     if r.peak_normal_force_n.is_empty() {
         return "-".into();
@@ -23,7 +33,8 @@ fn peaks(r: &CaseResult, sep: &str) -> String {
         .join(sep)
 }
 
-/// The results as CSV (one row a case; peaks in N, one column per joint name seen).
+/// The results as CSV (one row a case; peaks in N, one column per joint name seen; a number
+/// not measured is an empty cell).
 pub fn csv(results: &[CaseResult]) -> String {
     let mut joints: Vec<String> = Vec::new();
     for r in results {
@@ -48,16 +59,16 @@ pub fn csv(results: &[CaseResult]) -> String {
             "{},{},{},{},{},{},{},{},{},{},{},{}",
             quote(&r.name),
             r.outcome.label(),
-            r.duration_s,
+            cell(r.duration_s),
             r.steps,
             r.rejected_steps,
             r.newton_failures,
-            r.smallest_step_s,
+            cell(r.smallest_step_s),
             r.events,
-            r.drift_position,
-            r.energy_residual_j,
-            r.energy_relative_residual,
-            r.atol_position_m
+            cell(r.drift_position),
+            cell(r.energy_residual_j),
+            cell(r.energy_relative_residual),
+            cell(r.atol_position_m)
         );
         for j in &joints {
             let f = r
@@ -65,7 +76,7 @@ pub fn csv(results: &[CaseResult]) -> String {
                 .iter()
                 .find(|(n, _)| n == j)
                 .map_or(f64::NAN, |(_, f)| *f);
-            let _ = write!(out, ",{f}");
+            let _ = write!(out, ",{}", cell(f));
         }
         let _ = writeln!(out, ",{:.3},{}", r.wall_time_s, quote(&r.outcome.detail()));
     }

@@ -169,7 +169,7 @@ impl StudyError {
             | StudyError::BadOption { .. }
             | StudyError::Scene(_) => true,
             StudyError::Run { source, .. } => source.is_bad_input(),
-            StudyError::Output(_) => false,
+            StudyError::Output(e) => e.is_bad_input(),
         }
     }
 }
