@@ -381,3 +381,20 @@ fn contact_model_fields_are_validated_naming_the_field() {
         ]
     );
 }
+
+/// Output files are named after the clearance joints: `A` and `A_worn` would both write
+/// `contact_force_A_worn.png` (the run said 26 files and the folder had 24), so the second
+/// name is refused, naming both. Names that only share a prefix stay allowed.
+#[test]
+fn joint_names_whose_files_collide_are_refused() {
+    let e = scene::load_str(&edited("name = \"B\"", "name = \"A_worn\""), "t").unwrap_err();
+    let msg = issues(e);
+    assert_eq!(msg.len(), 1, "{msg:?}");
+    assert!(
+        msg[0].starts_with("clearance_joints[1].name = \"A_worn\": both it and")
+            && msg[0].contains("clearance_joints[0].name = \"A\"")
+            && msg[0].contains("contact_force_A_worn.png"),
+        "{msg:?}"
+    );
+    assert!(scene::load_str(&edited("name = \"B\"", "name = \"A_2\""), "t").is_ok());
+}

@@ -41,7 +41,7 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
             let angle: Vec<f64> = (0..bearing.len())
                 .map(|c| plot::cell_angle_deg(c, bearing.len()))
                 .collect();
-            let path = dir.join(format!("wear_{}_stage{}.csv", joint.name, k + 1));
+            let path = dir.join(JointFile::StageWear(k + 1).name(&joint.name));
             files.push(write_csv(
                 &path,
                 &[
@@ -66,7 +66,7 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
             })
             .collect();
         let surfaces: Vec<(&str, &[f64])> = labels.iter().map(|(l, d)| (l.as_str(), *d)).collect();
-        let path = dir.join(format!("wear_{}.png", joint.name));
+        let path = dir.join(JointFile::Wear.name(&joint.name));
         plot::wear_depth(
             &path,
             &format!("Wear depth at joint {} (body frames)", joint.name),
@@ -83,7 +83,7 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
             } else {
                 1.0
             };
-            let path = dir.join(format!("worn_outline_{}.png", joint.name));
+            let path = dir.join(JointFile::Outline.name(&joint.name));
             plot::worn_outline(
                 &path,
                 &format!("Worn surfaces at joint {} after the last stage", joint.name),
@@ -163,7 +163,7 @@ fn life_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
             .and_then(|js| js.iter().find(|j| j.name == joint.name))
             .and_then(|j| j.clearance_limit.as_ref())
             .map(|l| (l.limit_m, l.cycles));
-        let path = dir.join(format!("wear_life_{}.png", joint.name));
+        let path = dir.join(JointFile::Life.name(&joint.name));
         plot::life_curve(
             &path,
             &format!("Wear of joint {} over its life", joint.name),
@@ -287,7 +287,7 @@ fn response_files(
         }
     }
     for c in &r.contact {
-        let path = dir.join(format!("contact_force_{}{suffix}.png", c.name));
+        let path = dir.join(JointFile::Force(!suffix.is_empty()).name(&c.name));
         let title = format!("Contact force at joint {}{worn}", c.name);
         let kn: Vec<f64> = c.normal_force.iter().map(|f| f * 1e-3).collect();
         let kt: Vec<f64> = c.friction_force.iter().map(|f| f * 1e-3).collect();
@@ -313,7 +313,7 @@ fn response_files(
             ],
         )?;
         files.push(path);
-        let path = dir.join(format!("journal_{}{suffix}.png", c.name));
+        let path = dir.join(JointFile::Journal(!suffix.is_empty()).name(&c.name));
         plot::journal_path(
             &path,
             &format!(
@@ -328,4 +328,56 @@ fn response_files(
         files.push(path);
     }
     Ok(files)
+}
+
+/// The files a run writes for one clearance joint, named after it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum JointFile {
+    /// `wear_<joint>_stage<k>.csv`.
+    StageWear(usize),
+    /// `wear_<joint>.png`.
+    Wear,
+    /// `worn_outline_<joint>.png`.
+    Outline,
+    /// `wear_life_<joint>.png`.
+    Life,
+    /// `contact_force_<joint>[_worn].png`.
+    Force(bool),
+    /// `journal_<joint>[_worn].png`.
+    Journal(bool),
+}
+
+impl JointFile {
+    /// The file name for joint `joint`.
+    pub(crate) fn name(self, joint: &str) -> String {
+        let worn = |w: bool| if w { "_worn" } else { "" };
+        match self {
+            JointFile::StageWear(k) => format!("wear_{joint}_stage{k}.csv"),
+            JointFile::Wear => format!("wear_{joint}.png"),
+            JointFile::Outline => format!("worn_outline_{joint}.png"),
+            JointFile::Life => format!("wear_life_{joint}.png"),
+            JointFile::Force(w) => format!("contact_force_{joint}{}.png", worn(w)),
+            JointFile::Journal(w) => format!("journal_{joint}{}.png", worn(w)),
+        }
+    }
+}
+
+/// A file name two clearance joints of a run of `stages` wear stages would both write (the
+/// first found), e.g. `contact_force_A_worn.png` for joints `A` and `A_worn`.
+pub fn colliding_file(first: &str, second: &str, stages: usize) -> Option<String> {
+    let files = |joint: &str| -> Vec<String> {
+        let mut kinds = vec![
+            JointFile::Wear,
+            JointFile::Outline,
+            JointFile::Life,
+            JointFile::Force(false),
+            JointFile::Force(true),
+            JointFile::Journal(false),
+            JointFile::Journal(true),
+        ];
+        kinds.extend((1..=stages).map(JointFile::StageWear));
+        kinds.into_iter().map(|f| f.name(joint)).collect()
+    };
+    let theirs = files(second);
+    files(first).into_iter().find(|f| theirs.contains(f))
 }

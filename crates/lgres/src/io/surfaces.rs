@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 
 use wear::{Side, WearError, WornJoint, WornProfile};
 
+use crate::io::artifacts::JointFile;
 use crate::io::plot::cell_angle_deg;
 use crate::scene::{MAX_WEAR_CELLS, Scene};
 
@@ -105,7 +106,7 @@ pub fn load_last_stage(
                     dir: dir.to_path_buf(),
                     joint: joint.name.clone(),
                 })?;
-            let file = dir.join(format!("wear_{}_stage{stage}.csv", joint.name));
+            let file = dir.join(JointFile::StageWear(stage as usize).name(&joint.name));
             load_joint(&file, &joint.name, base).map(Some)
         })
         .collect()

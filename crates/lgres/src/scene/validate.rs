@@ -130,6 +130,26 @@ impl Validator {
             let p = format!("clearance_joints[{k}]");
             self.unique(&mut joints, &format!("{p}.name"), &c.name);
             self.clearance_joint(s, &p, c);
+            // Output files are named after the joint: two names must not make the same file.
+            for (i, other) in s.clearance_joints[..k].iter().enumerate() {
+                if other.name == c.name {
+                    continue;
+                }
+                let stages = s.run.wear_stages as usize;
+                if let Some(file) =
+                    crate::io::artifacts::colliding_file(&other.name, &c.name, stages)
+                {
+                    self.push(
+                        format!("{p}.name"),
+                        &c.name,
+                        format!(
+                            "both it and clearance_joints[{i}].name = {:?} would write {file}: \
+                             choose names that do not extend each other this way",
+                            other.name
+                        ),
+                    );
+                }
+            }
         }
         let mut drivers = HashSet::new();
         for (k, d) in s.drivers.iter().enumerate() {
