@@ -351,10 +351,10 @@ fn run(spec: &str, o: &Overrides) -> Result<(), CliError> {
 
 /// Peak statistics after the start-up window, or "n/a" when the window covers the run (no
 /// cycle has a sample after it, so there is no peak to report).
-fn peak_after(b: &lgres::run::PeakStats, window: f64) -> String {
-    if b.cycles == 0 {
+fn peak_after(b: Option<&lgres::run::PeakStats>, window: f64) -> String {
+    let Some(b) = b else {
         return format!("n/a after {window} s (the start-up window covers the whole run)");
-    }
+    };
     format!(
         "{:.2} kN after {window} s (median of {} cycle peaks {:.2} kN, range {:.2}–{:.2} kN)",
         b.max * 1e-3,
@@ -375,19 +375,24 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
         r.cycles, s.period_s
     );
     print_joints(r, s.transient_window_s);
-    let d = &r.deviation_after_transient;
-    println!(
-        "  {} vs ideal after {} s: |Δx| {:.1} µm, |Δy| {:.1} µm, |Δv| {:.4}/{:.4} m/s, |Δa| \
-         {:.1}/{:.1} m/s²",
-        s.response_body,
-        s.transient_window_s,
-        d.x_m * 1e6,
-        d.y_m * 1e6,
-        d.vx_m_s,
-        d.vy_m_s,
-        d.ax_m_s2,
-        d.ay_m_s2
-    );
+    match &r.deviation_after_transient {
+        Some(d) => println!(
+            "  {} vs ideal after {} s: |Δx| {:.1} µm, |Δy| {:.1} µm, |Δv| {:.4}/{:.4} m/s, |Δa| \
+             {:.1}/{:.1} m/s²",
+            s.response_body,
+            s.transient_window_s,
+            d.x_m * 1e6,
+            d.y_m * 1e6,
+            d.vx_m_s,
+            d.vy_m_s,
+            d.ax_m_s2,
+            d.ay_m_s2
+        ),
+        None => println!(
+            "  {} vs ideal after {} s: n/a (the start-up window covers the whole run)",
+            s.response_body, s.transient_window_s
+        ),
+    }
     if let Some(n) = &r.numerics {
         println!(
             "  integrator: {} steps ({} rejected), {} events, drift {:.1e} m, energy residual \
@@ -479,7 +484,7 @@ fn clearance_limit_line(
 /// Per-joint peaks and energy books of one response, and what the books flag.
 fn print_joints(r: &lgres::run::ResponseSummary, window: f64) {
     for j in &r.joints {
-        let (a, b) = (&j.normal_force_all, &j.normal_force_after_transient);
+        let (a, b) = (&j.normal_force_all, j.normal_force_after_transient.as_ref());
         if let Some(v) = j.validity.as_ref().filter(|v| !v.inside) {
             println!(
                 "  joint {}: OUTSIDE the contact model's validity, so its force peaks are not \

@@ -57,12 +57,9 @@ pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
             .response
             .joints
             .iter()
-            .map(|j| {
-                format!(
-                    "{} median peak {:.1} kN",
-                    j.name,
-                    j.normal_force_after_transient.cycle_median * 1e-3
-                )
+            .map(|j| match &j.normal_force_after_transient {
+                Some(p) => format!("{} median peak {:.1} kN", j.name, p.cycle_median * 1e-3),
+                None => format!("{} median peak n/a", j.name),
             })
             .collect();
         let substeps = s.wear.as_ref().map_or(String::new(), |w| {

@@ -155,6 +155,25 @@ fn transient_window_longer_than_the_run_prints_n_a() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("n/a after 0.05 s"), "{text}");
     assert!(!text.contains("from 0 cycle"), "{text}");
+    // The deviations after the window are not 0.0 µm but not available, in the terminal and
+    // in summary.json (null, not 0.0).
+    assert!(
+        text.contains("vs ideal after 0.05 s: n/a") && !text.contains("0.0 µm"),
+        "{text}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let response = &summary["response"];
+    assert!(
+        response["deviation_after_transient"].is_null(),
+        "{response}"
+    );
+    assert!(response["joints"][0]["normal_force_after_transient"].is_null());
+    assert!(
+        response["deviation"]["x_m"]
+            .as_f64()
+            .is_some_and(|x| x > 0.0)
+    );
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

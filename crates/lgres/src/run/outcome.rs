@@ -157,8 +157,9 @@ pub struct JointSummary {
     pub clearance_m: f64,
     /// Normal-force peaks over all output samples.
     pub normal_force_all: PeakStats,
-    /// Normal-force peaks after the start-up window `run.transient_window`.
-    pub normal_force_after_transient: PeakStats,
+    /// Normal-force peaks after the start-up window `run.transient_window` (`None`, `null`
+    /// in JSON, when the window covers the whole run).
+    pub normal_force_after_transient: Option<PeakStats>,
     /// Largest penetration, m.
     pub max_penetration_m: f64,
     /// Largest eccentricity, m.
@@ -245,8 +246,9 @@ pub struct ResponseSummary {
     pub joints: Vec<JointSummary>,
     /// Peak deviation of the recorded body from the ideal mechanism (whole run).
     pub deviation: Deviation,
-    /// The same after the start-up window.
-    pub deviation_after_transient: Deviation,
+    /// The same after the start-up window (`None`, `null` in JSON, when the window covers
+    /// the whole run: no sample to measure).
+    pub deviation_after_transient: Option<Deviation>,
     /// Energy dissipated per cycle by all clearance joints, J: the sum of the joints'
     /// `contact_dissipation_per_cycle_j` (energy audit, net of stored elastic energy).
     pub dissipated_per_cycle_j: f64,

@@ -94,12 +94,13 @@ pub(super) fn summarize(
             name: series.name.clone(),
             clearance_m: series.clearance,
             normal_force_all: peak_stats(&response.times, &series.normal_force, period, 0.0),
-            normal_force_after_transient: peak_stats(
+            normal_force_after_transient: Some(peak_stats(
                 &response.times,
                 &series.normal_force,
                 period,
                 window,
-            ),
+            ))
+            .filter(|p| p.cycles > 0),
             max_penetration_m: series.penetration.iter().copied().fold(f64::MIN, f64::max),
             max_eccentricity_m: series.eccentricity.iter().copied().fold(0.0, f64::max),
             validity: series.validity.clone(),
@@ -117,7 +118,11 @@ pub(super) fn summarize(
         duration_s: t_end,
         joints: joint_summaries,
         deviation: deviation(response, 0.0),
-        deviation_after_transient: deviation(response, window),
+        deviation_after_transient: response
+            .times
+            .iter()
+            .any(|t| *t >= window)
+            .then(|| deviation(response, window)),
         dissipated_per_cycle_j: dissipated * per_cycle,
         friction_per_cycle_j: friction * per_cycle,
         damping_per_cycle_j: damping * per_cycle,

@@ -250,28 +250,36 @@ pub fn compare_runs(low: &RunOutcome, high: &RunOutcome) -> Vec<Comparison> {
 fn response_comparisons(label: &str, a: &ResponseSummary, b: &ResponseSummary) -> Vec<Comparison> {
     let mut out = Vec::new();
     for (ja, jb) in a.joints.iter().zip(&b.joints) {
+        // Not measured (a window covering the run) compares as NaN: inconclusive.
+        let stat = |p: &Option<crate::run::PeakStats>, f: fn(&crate::run::PeakStats) -> f64| {
+            p.as_ref().map_or(f64::NAN, |p| f(p) * 1e-3)
+        };
         let (pa, pb) = (
             &ja.normal_force_after_transient,
             &jb.normal_force_after_transient,
         );
         out.push(Comparison {
             quantity: format!("{label}: median cycle peak F_n {} (kN)", ja.name),
-            low: pa.cycle_median * 1e-3,
-            high: pb.cycle_median * 1e-3,
-            noise: 0.5 * (pa.cycle_iqr + pb.cycle_iqr) * 1e-3,
+            low: stat(pa, |p| p.cycle_median),
+            high: stat(pb, |p| p.cycle_median),
+            noise: 0.5 * (stat(pa, |p| p.cycle_iqr) + stat(pb, |p| p.cycle_iqr)),
         });
     }
-    let (da, db) = (&a.deviation_after_transient, &b.deviation_after_transient);
+    let deviation = |r: &ResponseSummary, f: fn(&crate::run::Deviation) -> f64| {
+        r.deviation_after_transient
+            .as_ref()
+            .map_or(f64::NAN, |d| f(d) * 1e3)
+    };
     out.push(Comparison {
         quantity: format!("{label}: rod-3 max |Δx| (mm)"),
-        low: da.x_m * 1e3,
-        high: db.x_m * 1e3,
+        low: deviation(a, |d| d.x_m),
+        high: deviation(b, |d| d.x_m),
         noise: 0.0,
     });
     out.push(Comparison {
         quantity: format!("{label}: rod-3 max |Δy| (mm)"),
-        low: da.y_m * 1e3,
-        high: db.y_m * 1e3,
+        low: deviation(a, |d| d.y_m),
+        high: deviation(b, |d| d.y_m),
         noise: 0.0,
     });
     out.push(Comparison {

@@ -26,11 +26,12 @@ const DEVIATIONS: [(&str, &str); 6] = [
 ];
 
 fn deviation_value(r: &ResponseSummary, c: usize) -> f64 {
-    let d = &r.deviation_after_transient;
-    [d.x_m, d.y_m, d.vx_m_s, d.vy_m_s, d.ax_m_s2, d.ay_m_s2]
-        .get(c)
-        .copied()
-        .unwrap_or(f64::NAN)
+    r.deviation_after_transient.as_ref().map_or(f64::NAN, |d| {
+        [d.x_m, d.y_m, d.vx_m_s, d.vy_m_s, d.ax_m_s2, d.ay_m_s2]
+            .get(c)
+            .copied()
+            .unwrap_or(f64::NAN)
+    })
 }
 
 fn quantity_label(v: &PaperValue, joints: &[String]) -> String {
@@ -49,7 +50,9 @@ fn quantity_label(v: &PaperValue, joints: &[String]) -> String {
 
 fn force_text(r: &ResponseSummary, j: usize) -> String {
     r.joints.get(j).map_or("—".into(), |s| {
-        let p = &s.normal_force_after_transient;
+        let Some(p) = &s.normal_force_after_transient else {
+            return "n/a (the start-up window covers the run)".into();
+        };
         format!(
             "max {:.1}; median {:.1} (IQR {:.1}) kN",
             p.max * 1e-3,
@@ -113,7 +116,9 @@ fn ours(run: &SceneRun, v: &PaperValue) -> (String, String) {
 }
 
 fn fmt_value(v: f64) -> String {
-    if v == 0.0 || (1e-2..1e4).contains(&v.abs()) {
+    if !v.is_finite() {
+        "n/a".into()
+    } else if v == 0.0 || (1e-2..1e4).contains(&v.abs()) {
         format!("{v:.3}")
     } else {
         format!("{v:.3e}")
