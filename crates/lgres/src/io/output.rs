@@ -11,6 +11,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
+use super::staged::create_unless_abandoned;
 pub use super::staged::{FolderLock, StagedDir, abandon_staged};
 
 /// An output file could not be written.
@@ -90,6 +91,9 @@ pub enum OutputError {
         /// The name.
         name: String,
     },
+    /// The run was interrupted: its output is being abandoned, nothing more is written.
+    #[error("interrupted: the output is abandoned")]
+    Interrupted,
     /// Rendering a figure failed.
     #[error("drawing {path}: {reason}")]
     Plot {
@@ -141,10 +145,15 @@ pub fn write_via_temp(
     target: &Path,
     write: impl FnOnce(&Path) -> Result<(), OutputError>,
 ) -> Result<(), OutputError> {
-    if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
-        fs::create_dir_all(dir).map_err(io_err(dir))?;
-    }
     let tmp = temp_path(target);
+    create_unless_abandoned(|| {
+        if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
+            fs::create_dir_all(dir).map_err(io_err(dir))?;
+        }
+        // Claim the temporary file now, under the lock: the writer that fills it may only
+        // open an existing path's folder, never re-create one.
+        File::create(&tmp).map(drop).map_err(io_err(&tmp))
+    })?;
     let result = write(&tmp).and_then(|()| fs::rename(&tmp, target).map_err(io_err(target)));
     if result.is_err() {
         // Best effort: the error being reported matters more than a leftover temp file.
@@ -165,11 +174,13 @@ impl AtomicFile {
     /// Start writing `target` (its folder is created if needed).
     pub fn create(target: impl AsRef<Path>) -> Result<Self, OutputError> {
         let target = target.as_ref().to_path_buf();
-        if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
-            fs::create_dir_all(dir).map_err(io_err(dir))?;
-        }
         let tmp = temp_path(&target);
-        let file = File::create(&tmp).map_err(io_err(&tmp))?;
+        let file = create_unless_abandoned(|| {
+            if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
+                fs::create_dir_all(dir).map_err(io_err(dir))?;
+            }
+            File::create(&tmp).map_err(io_err(&tmp))
+        })?;
         Ok(Self {
             target,
             tmp,

@@ -6,11 +6,30 @@ use std::fs::{self, OpenOptions};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::output::{OutputError, io_err};
 
 /// Staging folders and lock files of runs in progress, for [`abandon_staged`].
 static ACTIVE: Mutex<Vec<(Option<PathBuf>, PathBuf)>> = Mutex::new(Vec::new());
+
+/// Set once [`abandon_staged`] has removed the staging folders: no folder or file may be
+/// created after that (a writer thread of a study would otherwise re-create the staging folder
+/// it removed, and leave it behind when the process exits).
+static ABANDONED: AtomicBool = AtomicBool::new(false);
+
+/// Runs `create` (making a folder or a file in an output folder) unless the output was
+/// abandoned, under the same lock [`abandon_staged`] holds: a creation either happens before
+/// the staging folders are removed (and is removed with them) or not at all.
+pub(crate) fn create_unless_abandoned<T>(
+    create: impl FnOnce() -> Result<T, OutputError>,
+) -> Result<T, OutputError> {
+    let _registry = active();
+    if ABANDONED.load(Ordering::SeqCst) {
+        return Err(OutputError::Interrupted);
+    }
+    create()
+}
 
 fn active() -> std::sync::MutexGuard<'static, Vec<(Option<PathBuf>, PathBuf)>> {
     ACTIVE
@@ -232,6 +251,7 @@ impl OutputFolder {
 /// then exits): the targets stay as they were before the interrupted runs.
 pub fn abandon_staged() {
     let mut registry = active();
+    ABANDONED.store(true, Ordering::SeqCst);
     for (staging, lock) in registry.drain(..) {
         if let Some(staging) = staging {
             let _ = fs::remove_dir_all(&staging);
