@@ -209,6 +209,24 @@ fn extends_can_change_a_law_kind() {
     ));
 }
 
+/// A patch that sets the drive law's `omega` replaces the base's `rpm` (it failed with "give
+/// rpm or omega, not both", the base's rpm merged in unseen); giving both in one table is
+/// still refused. And a bad `extends` value is shown once quoted, as written.
+#[test]
+fn extends_patch_choosing_omega_replaces_the_base_rpm() {
+    let s = patched("[[drivers]]\nname = \"drive\"\nlaw.omega = 5.0").unwrap();
+    assert_eq!(s.drivers[0].law.omega(), Some(5.0));
+    rejected(
+        "[[drivers]]\nname = \"drive\"\nlaw = { kind = \"harmonic\", offset = 0.895, \
+         amplitude = 0.09, rpm = 30.0, omega = 5.0 }",
+        "drivers[0].law",
+    );
+    let e = load_str("extends = \"nope\"\n", "patch")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("extends = \"nope\": no built-in"), "{e}");
+}
+
 #[test]
 fn extends_duplicate_names_in_a_patch_are_rejected() {
     rejected(

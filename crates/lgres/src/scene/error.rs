@@ -53,11 +53,11 @@ pub enum SceneError {
         source: Box<toml::de::Error>,
     },
     /// `extends` names no built-in scene and no file, or nests too deep.
-    #[error("in scene {origin}: extends = {target:?}: {reason}")]
+    #[error("in scene {origin}: extends = {target}: {reason}")]
     Extends {
         /// File path or scene name.
         origin: String,
-        /// The `extends` value.
+        /// The `extends` value, as TOML writes it (a string quoted).
         target: String,
         /// Why it could not be followed.
         reason: String,

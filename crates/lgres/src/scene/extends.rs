@@ -156,6 +156,17 @@ fn merge(
     path: &str,
     origin: &str,
 ) -> Result<(), SceneError> {
+    // A patch that gives one key of a mutually exclusive group replaces the base's other
+    // (a drive law's `omega` replaces the base's `rpm`, instead of failing as "both given").
+    for group in EXCLUSIVE_KEYS {
+        if group.iter().any(|k| patch.contains_key(*k)) {
+            for k in *group {
+                if !patch.contains_key(*k) {
+                    base.remove(*k);
+                }
+            }
+        }
+    }
     for (key, value) in patch {
         let here = if path.is_empty() {
             key.clone()
@@ -178,6 +189,9 @@ fn merge(
     }
     Ok(())
 }
+
+/// Keys of which a table may give only one: a patch's choice replaces the base's.
+const EXCLUSIVE_KEYS: &[&[&str]] = &[&["rpm", "omega"]];
 
 /// Whether `patch` keeps `base`'s `law`/`kind` tag (or gives none).
 fn same_tag(base: &toml::Table, patch: &toml::Table) -> bool {
