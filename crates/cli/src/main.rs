@@ -184,6 +184,14 @@ enum CliError {
     /// The run failed, or its scene does not assemble.
     #[error(transparent)]
     Run(#[from] RunError),
+    /// A scene the run cannot use (its drivers, joints, assembly), named as given.
+    #[error("in scene {spec}: {source}")]
+    InScene {
+        /// The scene as given on the command line (a built-in name or a file).
+        spec: String,
+        /// Why.
+        source: RunError,
+    },
     /// An output could not be written.
     #[error(transparent)]
     Output(#[from] OutputError),
@@ -203,6 +211,7 @@ impl CliError {
         match self {
             CliError::Scene(_) | CliError::NoSuchScene(_) => 2,
             CliError::Run(e) if e.is_bad_input() => 2,
+            CliError::InScene { source, .. } if source.is_bad_input() => 2,
             CliError::Study(e) if e.is_bad_input() => 2,
             CliError::Precision(
                 lgres::analysis::precision::PrecisionError::Options { .. }
@@ -217,6 +226,7 @@ impl CliError {
                 2
             }
             CliError::Run(_)
+            | CliError::InScene { .. }
             | CliError::Sweep(_)
             | CliError::Output(_)
             | CliError::Study(_)
@@ -229,6 +239,18 @@ impl CliError {
 struct Loaded {
     name: String,
     scene: Scene,
+}
+
+/// A run error, named after the scene when the scene is what is wrong with it.
+fn in_scene(spec: &str, e: RunError) -> CliError {
+    if e.is_bad_input() {
+        CliError::InScene {
+            spec: spec.to_string(),
+            source: e,
+        }
+    } else {
+        CliError::Run(e)
+    }
 }
 
 /// Load a built-in scene by name, else a file; apply command-line overrides and re-validate.
@@ -255,7 +277,7 @@ fn out_dir(o: &Overrides, name: &str) -> PathBuf {
 fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
     let Loaded { name, scene: s } = load(spec, o)?;
     // Every check `run` makes before simulating, before anything is called valid.
-    let check = lgres::run::check_assembly(&s)?;
+    let check = lgres::run::check_assembly(&s).map_err(|e| in_scene(spec, e))?;
     println!("scene {name}: valid");
     println!("  {}", s.description);
     println!("  inertia: {}", s.inertia_convention);
@@ -341,7 +363,8 @@ fn run(spec: &str, o: &Overrides) -> Result<(), CliError> {
     // staging folder that replaces `out` whole only when every file is written.
     let staged = lgres::io::output::StagedDir::begin(&out)?;
     let mut bars = progress::Bars::new();
-    let outcome = lgres::run_scene(&name, &scene, &options, &mut bars)?;
+    let outcome =
+        lgres::run_scene(&name, &scene, &options, &mut bars).map_err(|e| in_scene(spec, e))?;
     drop(bars);
     let files = lgres::write_run(&outcome, staged.path())?;
     staged.commit()?;

@@ -586,3 +586,25 @@ fn replaced_folder_keeps_its_permissions() {
     std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o755)).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// A scene whose ideal mechanism is not fully driven is refused naming the file, its
+/// clearance joints and its drivers (it named none of them).
+#[test]
+fn undriven_mechanism_is_refused_naming_the_scene_joints_and_drivers() {
+    let dir = scratch("undriven");
+    let scene = write_scene(
+        &dir,
+        "extends = \"lgres\"\ndrivers = []\n[run]\nperiod = 1.0\n",
+    );
+    let o = wearsim(&["check", scene.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let e = stderr(&o);
+    assert!(
+        e.contains(&format!("in scene {}", scene.display()))
+            && e.contains("clearance joints A, B")
+            && e.contains("drivers (none)")
+            && e.contains("15 coordinates and 14 constraint equations"),
+        "{e}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

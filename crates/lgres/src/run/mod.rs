@@ -96,8 +96,19 @@ pub enum RunError {
         source: AssemblyError,
     },
     /// The ideal mechanism's kinematic analysis failed.
-    #[error("kinematic analysis of the ideal mechanism: {0}")]
-    Kinematics(#[from] KinematicsError),
+    #[error(
+        "kinematic analysis of the ideal mechanism (clearance joints {joints} made ideal \
+         revolute joints; drivers {drivers}): {source}; the drivers must fix every degree of \
+         freedom the ideal mechanism has"
+    )]
+    Kinematics {
+        /// The clearance joints, by name.
+        joints: String,
+        /// The drivers, by name.
+        drivers: String,
+        /// Cause.
+        source: KinematicsError,
+    },
     /// The integrator failed or ran out of its budget (the hint names the scene field).
     #[error("{what}: {source}{}", crate::scene::limits::budget_hint(source))]
     Simulation {
@@ -184,7 +195,7 @@ impl RunError {
             RunError::Build(_)
                 | RunError::Surfaces(_)
                 | RunError::Scene(_)
-                | RunError::Kinematics(_)
+                | RunError::Kinematics { .. }
                 | RunError::Assembly { .. }
                 | RunError::PinOutsideBearing { .. }
                 | RunError::NoPeriod
@@ -348,7 +359,27 @@ fn run_plan(scene: &Scene) -> Result<(Vec<f64>, usize), RunError> {
 fn ideal_motion(scene: &Scene, times: &[f64], body: usize) -> Result<Motion, RunError> {
     let ideal_built = build(&scene.idealized(), Surfaces::default())?;
     let (q0, _) = ideal_built.system.initial_guess();
-    let kin = ideal_built.system.kinematics(times, &q0)?;
+    let names = |v: Vec<&str>| {
+        if v.is_empty() {
+            "(none)".to_string()
+        } else {
+            v.join(", ")
+        }
+    };
+    let kin = ideal_built
+        .system
+        .kinematics(times, &q0)
+        .map_err(|source| RunError::Kinematics {
+            joints: names(
+                scene
+                    .clearance_joints
+                    .iter()
+                    .map(|c| c.name.as_str())
+                    .collect(),
+            ),
+            drivers: names(scene.drivers.iter().map(|d| d.name.as_str()).collect()),
+            source,
+        })?;
     let mut ideal = Motion::default();
     for f in 0..kin.times.len() {
         ideal.push(body, kin.q(f), kin.qd(f), kin.qdd(f));
