@@ -1,28 +1,72 @@
-//! Progress bars for `lgres::run::Progress`: one bar per phase (response run, each wear-stage
-//! simulation), hidden when stdout is not a terminal so logs and pipes stay clean. A study's
-//! runs in parallel each get their own line ([`StudyBars`]).
+//! Progress for `lgres::run::Progress`: on a terminal one bar per phase (response run, each
+//! wear-stage simulation), a study's parallel runs each on their own line ([`StudyBars`]); in a
+//! log (standard error not a terminal) plain lines instead, each its own line and at most about
+//! one a second ([`Throttle`]), so a long run is never silent and a log never runs updates
+//! into one line.
 
 use std::io::IsTerminal;
+use std::time::{Duration, Instant};
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// Bar resolution: hundredths of a drive cycle.
 const TICKS_PER_CYCLE: f64 = 100.0;
 
-/// indicatif bars driven by the run's progress reports.
+/// Shortest interval between two progress lines in a log.
+const LINE_INTERVAL: Duration = Duration::from_secs(1);
+
+/// Whether progress is drawn as bars (standard error is a terminal) or written as lines.
+pub fn on_terminal() -> bool {
+    std::io::stderr().is_terminal()
+}
+
+/// Lets a progress line through at most once per [`LINE_INTERVAL`].
+#[derive(Default)]
+pub struct Throttle {
+    last: Option<Instant>,
+}
+
+impl Throttle {
+    /// Whether a line may be written now (and, if so, counts it as written).
+    pub fn due(&mut self) -> bool {
+        let now = Instant::now();
+        let due = self.last.is_none_or(|t| now - t >= LINE_INTERVAL);
+        if due {
+            self.last = Some(now);
+        }
+        due
+    }
+}
+
+/// The phase a log is following: its label, length and start.
+struct LinePhase {
+    label: String,
+    cycles: f64,
+    started: Instant,
+    percent: i64,
+}
+
+/// indicatif bars driven by the run's progress reports, or lines in a log.
 pub struct Bars {
     visible: bool,
     bar: Option<ProgressBar>,
     /// The shared display when several runs show bars at once.
     multi: Option<MultiProgress>,
+    /// Prefix of every log line (a study's run key).
+    prefix: String,
+    line: Option<LinePhase>,
+    throttle: Throttle,
 }
 
 impl Bars {
     pub fn new() -> Self {
         Self {
-            visible: std::io::stdout().is_terminal(),
+            visible: on_terminal(),
             bar: None,
             multi: None,
+            prefix: String::new(),
+            line: None,
+            throttle: Throttle::default(),
         }
     }
 }
@@ -44,7 +88,7 @@ pub struct StudyBars {
 
 impl StudyBars {
     pub fn new() -> Self {
-        let visible = std::io::stdout().is_terminal();
+        let visible = on_terminal();
         Self {
             multi: MultiProgress::with_draw_target(draw_target(visible)),
             visible,
@@ -63,6 +107,9 @@ impl lgres::analysis::study::StudyProgress for StudyBars {
             visible: self.visible,
             bar: None,
             multi: Some(self.multi.clone()),
+            prefix: format!("{key}: "),
+            line: None,
+            throttle: Throttle::default(),
         };
         lgres::run::Progress::note(&mut bars, &format!("[{}/{total}] {key} starts", index + 1));
         Box::new(bars)
@@ -72,6 +119,16 @@ impl lgres::analysis::study::StudyProgress for StudyBars {
 impl lgres::run::Progress for Bars {
     fn phase(&mut self, label: &str, cycles: f64) {
         self.finish();
+        if !self.visible {
+            eprintln!("{}{label}: {cycles} cycle(s)", self.prefix);
+            self.line = Some(LinePhase {
+                label: label.to_string(),
+                cycles,
+                started: Instant::now(),
+                percent: 0,
+            });
+            return;
+        }
         let length = Some((cycles * TICKS_PER_CYCLE) as u64);
         let bar = match &self.multi {
             // The shared display draws it.
@@ -94,11 +151,32 @@ impl lgres::run::Progress for Bars {
         if let Some(bar) = &self.bar {
             bar.set_position((cycles * TICKS_PER_CYCLE) as u64);
         }
+        if let Some(line) = &mut self.line {
+            let percent = (100.0 * cycles / line.cycles.max(f64::MIN_POSITIVE)).floor() as i64;
+            if percent > line.percent && self.throttle.due() {
+                line.percent = percent;
+                eprintln!(
+                    "{}{}: {percent:>3} % ({cycles:.2} of {} cycles, {:.0} s)",
+                    self.prefix,
+                    line.label,
+                    line.cycles,
+                    line.started.elapsed().as_secs_f64()
+                );
+            }
+        }
     }
 
     fn finish(&mut self) {
         if let Some(bar) = self.bar.take() {
             bar.finish_and_clear();
+        }
+        if let Some(line) = self.line.take() {
+            eprintln!(
+                "{}{}: done in {:.1} s",
+                self.prefix,
+                line.label,
+                line.started.elapsed().as_secs_f64()
+            );
         }
     }
 

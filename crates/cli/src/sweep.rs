@@ -1,7 +1,6 @@
 //! `wearsim sweep FILE`: runs a sweep file through [`sweep::run_local`] with a progress bar;
 //! rows go to `<out>/samples.csv` as they finish, the figures at the end.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -49,9 +48,10 @@ pub fn run(file: &Path, resume: bool, o: &Overrides) -> Result<(), SweepError> {
         options.jobs,
         sweep.metrics.len()
     );
+    let on_terminal = crate::progress::on_terminal();
     let bar = ProgressBar::with_draw_target(
         Some((sweep.samples() - todo.len()) as u64),
-        if std::io::stdout().is_terminal() {
+        if on_terminal {
             ProgressDrawTarget::stderr()
         } else {
             ProgressDrawTarget::hidden()
@@ -64,10 +64,26 @@ pub fn run(file: &Path, resume: bool, o: &Overrides) -> Result<(), SweepError> {
         bar.set_style(style);
     }
     let started = std::time::Instant::now();
+    let mut throttle = crate::progress::Throttle::default();
     let rows = sweep::run_local(&sweep, &out, &options, None, &mut |row, _, _| {
         bar.inc(1);
         if row.status == Status::Failed {
-            bar.println(format!("sample {} failed: {}", row.sample, row.error));
+            let failed = format!("sample {} failed: {}", row.sample, row.error);
+            if on_terminal {
+                bar.println(failed);
+            } else {
+                eprintln!("{failed}");
+            }
+        }
+        // In a log: a line per finished sample, at most about one a second (and the last).
+        let done = bar.position();
+        if !on_terminal && (throttle.due() || done == sweep.samples() as u64) {
+            eprintln!(
+                "sweep {}: {done}/{} samples, {:.0} s",
+                sweep.name,
+                sweep.samples(),
+                started.elapsed().as_secs_f64()
+            );
         }
     })?;
     bar.finish_and_clear();

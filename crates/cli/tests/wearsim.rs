@@ -153,6 +153,15 @@ fn transient_window_longer_than_the_run_prints_n_a() {
     let o = run_into(scene.to_str().unwrap(), &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = String::from_utf8_lossy(&o.stdout);
+    // Standard error is a pipe here, as in a log: progress comes as whole lines, never as a
+    // terminal's redrawn bar.
+    let log = stderr(&o);
+    assert!(
+        log.lines().any(|l| l.starts_with("response: 2 cycle(s)"))
+            && log.lines().any(|l| l.starts_with("response: done in"))
+            && !log.contains('\r'),
+        "{log}"
+    );
     assert!(text.contains("n/a after 0.05 s"), "{text}");
     assert!(!text.contains("from 0 cycle"), "{text}");
     // The deviations after the window are not 0.0 µm but not available, in the terminal and
