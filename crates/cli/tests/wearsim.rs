@@ -617,3 +617,52 @@ fn undriven_mechanism_is_refused_naming_the_scene_joints_and_drivers() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--surfaces` pointing at a FIFO (it blocked forever) or a link to `/dev/zero` (it aborted on
+/// a 4 GiB allocation) is bad input, at once, and leaves no lock or staging folder behind.
+#[cfg(unix)]
+#[test]
+fn special_wear_files_are_refused_and_leave_nothing_behind() {
+    let dir = scratch("special");
+    let surfaces = dir.join("worn");
+    std::fs::create_dir_all(&surfaces).unwrap();
+    // Joint A reads a valid (unworn) file; joint B's is the special one.
+    let mut valid = String::from("angle [deg],bearing_depth [m],pin_depth [m]\n");
+    for k in 0..1000 {
+        valid.push_str(&format!("{},0,0\n", (k as f64 + 0.5) * 0.36));
+    }
+    std::fs::write(surfaces.join("wear_A_stage1.csv"), valid).unwrap();
+    let b = surfaces.join("wear_B_stage1.csv");
+    let out = dir.join("out");
+    for special in ["fifo", "/dev/zero"] {
+        let _ = std::fs::remove_file(&b);
+        if special == "fifo" {
+            let made = Command::new("mkfifo").arg(&b).status();
+            assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+        } else {
+            std::os::unix::fs::symlink(special, &b).unwrap();
+        }
+        let o = wearsim(&[
+            "run",
+            "lgres",
+            "--cycles",
+            "1",
+            "--surfaces",
+            surfaces.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{special}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains("wear_B_stage1.csv: not a regular file"),
+            "{special}: {e}"
+        );
+        assert_eq!(
+            listing(&dir),
+            ["worn"],
+            "{special}: lock or staging left behind"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
