@@ -38,10 +38,10 @@ struct Overrides {
     #[arg(long, global = true, value_name = "DIR")]
     out: Option<PathBuf>,
     /// Drive cycles of the response run (scene: run.cycles, at least 1).
-    #[arg(long, global = true)]
+    #[arg(long, global = true, allow_negative_numbers = true)]
     cycles: Option<u32>,
     /// Wear stages (scene: run.wear_stages).
-    #[arg(long, global = true)]
+    #[arg(long, global = true, allow_negative_numbers = true)]
     stages: Option<u32>,
     /// Relative tolerance (scene: solver.rtol).
     #[arg(long, global = true, allow_negative_numbers = true)]
@@ -50,10 +50,16 @@ struct Overrides {
     /// amplification is rescaled so a stage still stands for the scene's K × amplification
     /// cycles. `run` defaults to 2 (even, so the stage's convergence in K is checked; its whole
     /// stage converges within 2 %, docs/convergence.md); give 100 for the paper's staging.
-    #[arg(long, global = true, value_name = "K", value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(
+        long,
+        global = true,
+        value_name = "K",
+        allow_negative_numbers = true,
+        value_parser = clap::value_parser!(u32).range(1..)
+    )]
     cycles_per_stage: Option<u32>,
     /// Accepted-step budget of each simulation (scene: solver.max_steps).
-    #[arg(long, global = true, value_name = "N")]
+    #[arg(long, global = true, value_name = "N", allow_negative_numbers = true)]
     max_steps: Option<usize>,
     /// Wall-time budget of each simulation, s (scene: solver.max_wall_time).
     #[arg(
@@ -64,7 +70,7 @@ struct Overrides {
     )]
     max_wall_time: Option<f64>,
     /// `study`: scene runs at once (default: the machine's cores; results do not depend on it).
-    #[arg(long, global = true, value_name = "N")]
+    #[arg(long, global = true, value_name = "N", allow_negative_numbers = true)]
     jobs: Option<std::num::NonZeroUsize>,
     /// `run`: start from the worn surfaces an earlier run wrote into DIR (its last-stage
     /// wear_<joint>_stage<k>.csv files, for the joints of the same names).
@@ -73,6 +79,42 @@ struct Overrides {
 }
 
 impl Overrides {
+    /// The flags given on the command line, by name.
+    fn given(&self) -> Vec<&'static str> {
+        [
+            ("--out", self.out.is_some()),
+            ("--cycles", self.cycles.is_some()),
+            ("--stages", self.stages.is_some()),
+            ("--rtol", self.rtol.is_some()),
+            ("--cycles-per-stage", self.cycles_per_stage.is_some()),
+            ("--max-steps", self.max_steps.is_some()),
+            ("--max-wall-time", self.max_wall_time.is_some()),
+            ("--jobs", self.jobs.is_some()),
+            ("--surfaces", self.surfaces.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(flag, given)| given.then_some(flag))
+        .collect()
+    }
+
+    /// Refuses, before any work, a flag `command` does not use (it would be silently ignored
+    /// while the command runs for minutes).
+    fn only(
+        &self,
+        command: &'static str,
+        allowed: &[&str],
+        hint: &'static str,
+    ) -> Result<(), CliError> {
+        match self.given().into_iter().find(|f| !allowed.contains(f)) {
+            Some(flag) => Err(CliError::FlagNotUsed {
+                flag,
+                command,
+                hint,
+            }),
+            None => Ok(()),
+        }
+    }
+
     /// The run-setting overrides, as every front end applies them.
     fn run_overrides(&self) -> lgres::overrides::RunOverrides {
         lgres::overrides::RunOverrides {
@@ -123,20 +165,20 @@ enum Command {
         #[arg(long, value_delimiter = ',', value_parser = method_parser())]
         methods: Vec<scene::Integrator>,
         /// Relative tolerances, comma-separated (default: 1e-3 to 1e-10 by decades).
-        #[arg(long, value_delimiter = ',')]
+        #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
         rtols: Vec<f64>,
         /// Timed repeats per run and variant, 1 to 1000; the median is reported.
-        #[arg(long, default_value_t = 3,
+        #[arg(long, default_value_t = 3, allow_negative_numbers = true,
               value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=1000))]
         repeats: usize,
         /// Simulated time, s (default: one drive period).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         duration: Option<f64>,
         /// End of the start-up window of error (a), s.
-        #[arg(long, default_value_t = lgres::analysis::precision::DEFAULT_START_UP)]
+        #[arg(long, default_value_t = lgres::analysis::precision::DEFAULT_START_UP, allow_negative_numbers = true)]
         start_up: f64,
         /// Accepted-step budget per run; a method that exceeds it is not run tighter.
-        #[arg(long, default_value_t = lgres::analysis::precision::DEFAULT_MAX_STEPS)]
+        #[arg(long, default_value_t = lgres::analysis::precision::DEFAULT_MAX_STEPS, allow_negative_numbers = true)]
         max_steps: usize,
     },
 }
@@ -204,12 +246,22 @@ enum CliError {
     /// A work–precision sweep could not run.
     #[error(transparent)]
     Precision(#[from] lgres::analysis::precision::PrecisionError),
+    /// A flag the command does not use.
+    #[error("{flag} does not apply to `wearsim {command}`{hint}")]
+    FlagNotUsed {
+        /// The flag.
+        flag: &'static str,
+        /// The command.
+        command: &'static str,
+        /// Where the setting goes instead, if anywhere (starts with "; ").
+        hint: &'static str,
+    },
 }
 
 impl CliError {
     fn exit_code(&self) -> u8 {
         match self {
-            CliError::Scene(_) | CliError::NoSuchScene(_) => 2,
+            CliError::Scene(_) | CliError::NoSuchScene(_) | CliError::FlagNotUsed { .. } => 2,
             CliError::Run(e) if e.is_bad_input() => 2,
             CliError::InScene { source, .. } if source.is_bad_input() => 2,
             CliError::Study(e) if e.is_bad_input() => 2,
@@ -673,6 +725,52 @@ fn main() -> ExitCode {
         eprintln!("wearsim: warning: cannot install the signal handler: {e}");
     }
     let o = &cli.overrides;
+    let scene_settings = [
+        "--cycles",
+        "--stages",
+        "--rtol",
+        "--cycles-per-stage",
+        "--max-steps",
+        "--max-wall-time",
+    ];
+    let flags = match &cli.command {
+        Command::Run { .. } => o.only(
+            "run",
+            &[&scene_settings[..], &["--out", "--surfaces"]].concat(),
+            "",
+        ),
+        Command::Check { .. } => o.only("check", &scene_settings, "; check writes nothing"),
+        // `--stages` is refused by the study itself, with its reason.
+        Command::Study { .. } => o.only(
+            "study",
+            &[
+                "--out",
+                "--cycles",
+                "--stages",
+                "--rtol",
+                "--cycles-per-stage",
+                "--jobs",
+            ],
+            "",
+        ),
+        Command::Scenes => o.only("scenes", &[], ""),
+        Command::Stress { .. } => o.only("stress", &["--out"], "; the battery sets its own cases"),
+        Command::Sweep { .. } => o.only(
+            "sweep",
+            &["--out", "--jobs"],
+            "; set it in the sweep file's [run] table",
+        ),
+        // (`--max-steps` is precision's own option, which shares the global's name.)
+        Command::Precision { .. } => o.only(
+            "precision",
+            &["--out", "--max-steps"],
+            "; precision sweeps the tolerances over one drive period (see its own options)",
+        ),
+    };
+    if let Err(e) = flags {
+        eprintln!("wearsim: error: {e}");
+        return ExitCode::from(e.exit_code());
+    }
     let result = match &cli.command {
         Command::Run { scene } => run(scene.as_deref().unwrap_or(scenes::DEFAULT), o),
         Command::Study { study: s } => study::run(s.name(), o),
@@ -682,7 +780,7 @@ fn main() -> ExitCode {
             Ok(())
         }
         Command::Stress { quick } => stress(*quick, o),
-        Command::Sweep { file, resume } => sweep::run(file, *resume, o).map_err(CliError::from),
+        Command::Sweep { file, resume } => sweep::run(file, *resume, o),
         Command::Precision {
             scene,
             methods,

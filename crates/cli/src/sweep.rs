@@ -4,33 +4,20 @@
 use std::path::{Path, PathBuf};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use sweep::{LocalOptions, Status, Sweep, SweepError};
+use sweep::{LocalOptions, Status, Sweep};
 
-use crate::Overrides;
+use crate::{CliError, Overrides};
 
 /// Runs the sweep in `file`; `resume` keeps the rows already written.
-pub fn run(file: &Path, resume: bool, o: &Overrides) -> Result<(), SweepError> {
-    let given = [
-        ("--cycles", o.cycles.is_some()),
-        ("--stages", o.stages.is_some()),
-        ("--rtol", o.rtol.is_some()),
-        ("--cycles-per-stage", o.cycles_per_stage.is_some()),
-        ("--max-steps", o.max_steps.is_some()),
-        ("--max-wall-time", o.max_wall_time.is_some()),
-        ("--surfaces", o.surfaces.is_some()),
-    ];
-    if let Some((flag, _)) = given.iter().find(|(_, g)| *g) {
-        return Err(SweepError::Field {
-            field: (*flag).to_string(),
-            value: "given".into(),
-            reason: "does not apply to a sweep: set it in the sweep file's [run] table".into(),
-        });
-    }
+pub fn run(file: &Path, resume: bool, o: &Overrides) -> Result<(), CliError> {
+    // The flags a sweep does not use were refused before (main's `Overrides::only`).
     let sweep = Sweep::from_path(file)?;
     let out = o
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out/sweep").join(&sweep.name));
+    // The output folder is checked (and locked against a second sweep) before any sample runs.
+    let _lock = lgres::io::output::FolderLock::take(&out)?;
     let mut options = LocalOptions {
         resume,
         ..LocalOptions::default()

@@ -106,13 +106,11 @@ pub enum OutputError {
 
 impl OutputError {
     /// Whether the output folder the user chose cannot be used (exit 2), as opposed to a
-    /// write that failed on the way (exit 1).
+    /// write that failed on the way or a folder another run holds for now (exit 1).
     pub fn is_bad_input(&self) -> bool {
         matches!(
             self,
-            OutputError::Folder { .. }
-                | OutputError::Locked { .. }
-                | OutputError::UnsafeName { .. }
+            OutputError::Folder { .. } | OutputError::UnsafeName { .. }
         )
     }
 }

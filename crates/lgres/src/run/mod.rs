@@ -257,16 +257,17 @@ pub fn run_scene(
     let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
     let cycles = scene.run.cycles.max(1);
     let t_end = period * f64::from(cycles);
-    progress.phase("ideal mechanism", f64::from(cycles));
-    let ideal = ideal_motion(&scene, &times, body)?;
-    progress.finish();
-
+    // The surfaces a run starts from are input: read (and refused) before any simulation.
     let active = scene.active_clearance_joints().count() > 0;
     let unworn = unworn_joints(&scene)?;
     let initial = match &options.surfaces {
         Some(dir) => crate::io::surfaces::load_last_stage(dir, &scene, &unworn)?,
         None => unworn,
     };
+    progress.phase("ideal mechanism", f64::from(cycles));
+    let ideal = ideal_motion(&scene, &times, body)?;
+    progress.finish();
+
     let mut wear_history = Vec::new();
     let (response, response_summary, wear_summary, worn) = if !active {
         let response = Response {
