@@ -330,16 +330,16 @@ pub(super) fn stages(
         extrapolation: if r.adaptive_extrapolation {
             if line_of_centres || max_slope_change.is_finite() || max_curvature_change.is_finite() {
                 format!(
-                    "adaptive (each sub-step changes a local clearance by at most {:.0} %, its \
+                    "adaptive (each sub-step changes a local clearance by at most {} %, its \
                      slope by at most {} c0/rad and its curvature by at most {} c0/rad²)",
-                    100.0 * r.max_clearance_change,
+                    percent(r.max_clearance_change),
                     max_slope_change,
                     max_curvature_change
                 )
             } else {
                 format!(
-                    "adaptive (each sub-step changes a local clearance by at most {:.0} %)",
-                    100.0 * r.max_clearance_change
+                    "adaptive (each sub-step changes a local clearance by at most {} %)",
+                    percent(r.max_clearance_change)
                 )
             }
         } else {
@@ -356,4 +356,9 @@ pub(super) fn stages(
         wall_time_s: started.elapsed().as_secs_f64(),
     };
     Ok((history, summary, surfaces))
+}
+
+/// `fraction` as a percentage for a sentence: 2.5 for 0.025, 5 for 0.05 (no binary residue).
+fn percent(fraction: f64) -> f64 {
+    (fraction * 1e8).round() / 1e6
 }
