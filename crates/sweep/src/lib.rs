@@ -28,7 +28,7 @@
 //! varies fastest). An integer field of the scene (`run.cycles`, `clearance_joints.A.wear.cells`)
 //! takes whole numbers in its type's range only: another grid value, or a distribution on it,
 //! makes the sweep file bad input; nothing is rounded. A sample whose metric is NaN or infinite
-//! is a failed row, and `--resume` runs again an `ok` row holding one. A random sample's values depend on the seed and the sample's index only
+//! is a failed row, and `--resume` runs again a row holding one. A random sample's values depend on the seed and the sample's index only
 //! (a ChaCha stream per sample), so any engine, thread or worker count gives the same rows.
 //! [`Sweep::run_sample`] runs one sample (what a Dask task calls); [`run_local`] runs all on
 //! local threads and writes `samples.csv` after every finished sample (atomically), so an
@@ -72,6 +72,7 @@ use rand_chacha::ChaCha20Rng;
 use serde::{Deserialize, Serialize};
 
 pub use spec::MAX_SAMPLES;
+pub use table::MAX_ROWS_FILE_BYTES;
 pub use table::{Row, Status};
 
 /// Why a sweep could not be set up or its outputs written (a failed sample is a [`Row`]).
@@ -235,6 +236,13 @@ impl Sampler {
         }
     }
 
+    /// The largest standard normal [`Sampler::draw`] makes, in magnitude: its uniform `u1`
+    /// is at least 2⁻⁵³, so `|z| ≤ √(−2 ln 2⁻⁵³) ≈ 8.57` (computed as the draw computes it).
+    /// Validation uses it to refuse a distribution whose draws could overflow to infinity.
+    pub(crate) fn largest_z() -> f64 {
+        (-2.0 * (f64::EPSILON / 2.0).ln()).sqrt()
+    }
+
     /// Draw a value from `rng` (one standard normal from two uniforms: Box–Muller).
     fn draw(&self, rng: &mut ChaCha20Rng) -> f64 {
         let mut normal = || {
@@ -373,6 +381,48 @@ fn check_whole(k: usize, input: &Input, path: &str, w: Whole) -> Result<(), Swee
     })
 }
 
+/// Largest sweep file read, bytes (a grid of [`MAX_SAMPLES`] values fits twice over):
+/// a longer one (a link to `/dev/zero`, a pipe that never ends) is refused, not read on.
+pub const MAX_SWEEP_FILE_BYTES: u64 = 64 << 20;
+
+/// The text of the sweep file at `path`, at most [`MAX_SWEEP_FILE_BYTES`] read (a pipe is
+/// read too: `wearsim sweep <(…)`). Text that is not UTF-8 is refused naming its line.
+fn read_text(path: &Path) -> Result<String, SweepError> {
+    use std::io::Read;
+    let io = |source| SweepError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let invalid = |why: String| io(std::io::Error::new(std::io::ErrorKind::InvalidData, why));
+    let too_large = || {
+        invalid(format!(
+            "larger than {} MiB: not a sweep file",
+            MAX_SWEEP_FILE_BYTES >> 20
+        ))
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    if file.metadata().map_err(io)?.len() > MAX_SWEEP_FILE_BYTES {
+        return Err(too_large());
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_SWEEP_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
+    if bytes.len() as u64 > MAX_SWEEP_FILE_BYTES {
+        return Err(too_large());
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        let (bytes, at) = (e.as_bytes(), e.utf8_error().valid_up_to());
+        let line_start = bytes[..at]
+            .iter()
+            .rposition(|b| *b == b'\n')
+            .map_or(0, |i| i + 1);
+        let line = 1 + bytes[..at].iter().filter(|b| **b == b'\n').count();
+        let column = 1 + at - line_start;
+        invalid(format!("line {line}, column {column}: not UTF-8 text"))
+    })
+}
+
 /// Grid or random.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Mode {
@@ -437,10 +487,7 @@ const SUMMARY_KEYS: [&str; 9] = [
 impl Sweep {
     /// Read and validate a sweep file; its base scene may be a file relative to it.
     pub fn from_path(path: &Path) -> Result<Sweep, SweepError> {
-        let text = std::fs::read_to_string(path).map_err(|source| SweepError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text = read_text(path)?;
         let name = path
             .file_stem()
             .map_or_else(|| "sweep".to_string(), |s| s.to_string_lossy().into_owned());
@@ -759,14 +806,16 @@ pub fn rows_path(out: &Path) -> PathBuf {
 /// Samples still to run: all, or with `resume` those without a finished row in `out`'s rows
 /// file (which must have this sweep's columns). Also returns the rows kept. A row `ok` with a
 /// NaN or infinite metric (an older version's, or an edited file's) is not finished: it is
-/// dropped and its sample run again.
+/// dropped and its sample run again. Resuming, whatever is at the rows file's path is read as
+/// one ([`table::read_rows`]: a regular file, of bounded size), not passed over: a FIFO, a
+/// directory or a link to nothing is refused, not replaced by a fresh file.
 pub fn pending(
     sweep: &Sweep,
     out: &Path,
     resume: bool,
 ) -> Result<(Vec<usize>, Vec<Row>), SweepError> {
     let path = rows_path(out);
-    let mut kept = if resume && path.is_file() {
+    let mut kept = if resume && std::fs::symlink_metadata(&path).is_ok() {
         table::read_rows(sweep, &path)?
     } else {
         Vec::new()

@@ -97,6 +97,13 @@ impl RunSection {
         if self.cycles_per_stage == Some(0) {
             return Err(bad("run.cycles_per_stage", 0, "must be at least 1"));
         }
+        // The scene refuses more, but only once a sample is built, and the scene's validation
+        // of an enormous count itself takes forever (it lists every stage's file names): so
+        // here, up front, by this field.
+        let most = lgres::scene::limits::MAX_WEAR_STAGES;
+        if let Some(n) = self.stages.filter(|n| *n > most) {
+            return Err(bad("run.stages", n, format!("at most {most}")));
+        }
         Ok(RunOverrides {
             cycles: self.cycles,
             stages: self.stages,
@@ -210,18 +217,45 @@ impl VaryFile {
                 if high <= low {
                     return Err(bad(f("high"), high, format!("must exceed low = {low}")));
                 }
+                if !(high - low).is_finite() {
+                    return Err(bad(
+                        f("high"),
+                        high,
+                        format!("high − low overflows (low = {low}): draws would be infinite"),
+                    ));
+                }
                 Sampler::Uniform { low, high }
             }
             (None, Some("normal")) => {
                 allow(&["mean", "sd"])?;
                 let mean = finite(f("mean"), self.mean, "mean")?;
                 let sd = positive_finite(f("sd"), self.sd, "sd")?;
+                let z = Sampler::largest_z();
+                if !(mean.abs() + sd * z).is_finite() {
+                    return Err(bad(
+                        f("sd"),
+                        sd,
+                        format!(
+                            "draws reach mean ± {z:.2}·sd (mean = {mean}), beyond the largest number"
+                        ),
+                    ));
+                }
                 Sampler::Normal { mean, sd }
             }
             (None, Some("log-normal")) => {
                 allow(&["median", "sigma"])?;
                 let median = positive_finite(f("median"), self.median, "median")?;
                 let sigma = positive_finite(f("sigma"), self.sigma, "sigma (of ln x)")?;
+                let z = Sampler::largest_z();
+                if !(median * (sigma * z).exp()).is_finite() {
+                    return Err(bad(
+                        f("sigma"),
+                        sigma,
+                        format!(
+                            "draws reach median·exp({z:.2}·sigma) (median = {median}), beyond the largest number"
+                        ),
+                    ));
+                }
                 Sampler::LogNormal { median, sigma }
             }
             (None, Some(other)) => {

@@ -13,6 +13,10 @@ use crate::{Sweep, SweepError};
 /// The rows file's name in a sweep's output folder.
 pub const ROWS_FILE: &str = "samples.csv";
 
+/// Largest rows file read back, bytes (a million samples' rows fit): a longer one is refused
+/// before it is read.
+pub const MAX_ROWS_FILE_BYTES: u64 = 1 << 30;
+
 /// Columns every rows file has besides the inputs and metrics.
 pub const FIXED_COLUMNS: [&str; 4] = ["sample", "status", "error", "wall_time_s"];
 
@@ -72,11 +76,11 @@ impl Row {
             .find_map(|(k, m)| m.filter(|v| !v.is_finite()).map(|v| (k, v)))
     }
 
-    /// Whether a resumed sweep keeps this row: a failed row, or an `ok` one whose metrics are
-    /// all finite. An `ok` row with a NaN metric (an older version's, or an edited file's) is
-    /// not a result: its sample runs again.
+    /// Whether a resumed sweep keeps this row: a failed row, or an `ok` one, whose metrics are
+    /// all finite (or missing). A row with a NaN metric (an older version's, or an edited
+    /// file's: [`write_rows`] writes none) is not a result: its sample runs again.
     pub fn is_done(&self) -> bool {
-        self.status == Status::Failed || self.non_finite_metric().is_none()
+        self.non_finite_metric().is_none()
     }
 }
 
@@ -135,13 +139,33 @@ pub fn write_rows(sweep: &Sweep, rows: &[Row], path: &Path) -> Result<PathBuf, O
 }
 
 /// Read the rows of `sweep` back from `path` (for `--resume`): the header must be this
-/// sweep's, and each row's inputs those of its sample (the same file and seed).
+/// sweep's, each row's inputs those of its sample (the same file and seed), and no sample
+/// may have two rows. `path` must be a regular file (or a link to one) of at most
+/// [`MAX_ROWS_FILE_BYTES`]: a FIFO would block the read, a device or a sparse giant would
+/// fill the memory.
 pub fn read_rows(sweep: &Sweep, path: &Path) -> Result<Vec<Row>, SweepError> {
     let fail = |reason: String| SweepError::Resume {
         path: path.to_path_buf(),
         reason,
     };
-    let mut r = csv::Reader::from_path(path).map_err(|e| fail(e.to_string()))?;
+    let meta = std::fs::metadata(path).map_err(|e| fail(format!("cannot read it: {e}")))?;
+    if !meta.is_file() {
+        return Err(fail(
+            "not a regular file (a directory, FIFO or device?): a rows file is one a sweep wrote"
+                .into(),
+        ));
+    }
+    let too_large = |len: u64| {
+        fail(format!(
+            "too large ({len} bytes; a rows file is at most {MAX_ROWS_FILE_BYTES})"
+        ))
+    };
+    if meta.len() > MAX_ROWS_FILE_BYTES {
+        return Err(too_large(meta.len()));
+    }
+    let file = std::fs::File::open(path).map_err(|e| fail(format!("cannot read it: {e}")))?;
+    // Bounded even if the file grows while it is read.
+    let mut r = csv::Reader::from_reader(std::io::Read::take(file, MAX_ROWS_FILE_BYTES + 1));
     let found: Vec<String> = r
         .headers()
         .map_err(|e| fail(e.to_string()))?
@@ -156,7 +180,10 @@ pub fn read_rows(sweep: &Sweep, path: &Path) -> Result<Vec<Row>, SweepError> {
     }
     let (ni, nm) = (sweep.inputs.len(), sweep.metrics.len());
     let mut rows = Vec::new();
-    for (line, record) in r.records().enumerate() {
+    // The row (from 1) of each sample read so far; 0: none yet.
+    let mut row_of = vec![0usize; sweep.samples()];
+    let mut records = r.records();
+    for (line, record) in records.by_ref().enumerate() {
         let record = record.map_err(|e| fail(e.to_string()))?;
         let at = |k: usize| record.get(k).unwrap_or_default();
         let bad = |k: usize| {
@@ -176,6 +203,15 @@ pub fn read_rows(sweep: &Sweep, path: &Path) -> Result<Vec<Row>, SweepError> {
                 sweep.samples()
             )));
         }
+        if row_of[sample] > 0 {
+            return Err(fail(format!(
+                "row {}: sample {sample} is there twice (rows {} and {})",
+                line + 1,
+                row_of[sample],
+                line + 1
+            )));
+        }
+        row_of[sample] = line + 1;
         let inputs = (1..=ni).map(num).collect::<Result<Vec<_>, _>>()?;
         if inputs != sweep.input_values(sample) {
             return Err(fail(format!(
@@ -202,14 +238,29 @@ pub fn read_rows(sweep: &Sweep, path: &Path) -> Result<Vec<Row>, SweepError> {
                 )));
             }
         };
+        // A duration: NaN or infinity would not survive a row's trip as JSON (`null`).
+        let wall = ni + nm + 3;
+        let wall_time_s = num(wall)?;
+        if !(wall_time_s.is_finite() && wall_time_s >= 0.0) {
+            return Err(fail(format!(
+                "row {}: column {:?}: {:?} is not a duration (a finite number ≥ 0)",
+                line + 1,
+                expected[wall],
+                at(wall)
+            )));
+        }
         rows.push(Row {
             sample,
             inputs,
             metrics,
             status,
             error: at(ni + nm + 2).to_string(),
-            wall_time_s: num(ni + nm + 3)?,
+            wall_time_s,
         });
+    }
+    let read = records.reader().position().byte();
+    if read > MAX_ROWS_FILE_BYTES {
+        return Err(too_large(read));
     }
     Ok(rows)
 }

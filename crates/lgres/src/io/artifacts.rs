@@ -362,11 +362,14 @@ impl JointFile {
     }
 }
 
-/// A file name two clearance joints of a run of `stages` wear stages would both write (the
-/// first found), e.g. `contact_force_A_worn.png` for joints `A` and `A_worn`.
-pub fn colliding_file(first: &str, second: &str, stages: usize) -> Option<String> {
+/// A file name two clearance joints would both write (the first found), e.g.
+/// `contact_force_A_worn.png` for joints `A` and `A_worn`. The per-stage CSVs
+/// `wear_<joint>_stage<k>.csv` cannot collide for distinct names (`<k>` is a number, and
+/// the other files end otherwise), so only the fixed set is compared: the check costs the
+/// same for any number of stages.
+pub fn colliding_file(first: &str, second: &str) -> Option<String> {
     let files = |joint: &str| -> Vec<String> {
-        let mut kinds = vec![
+        [
             JointFile::Wear,
             JointFile::Outline,
             JointFile::Life,
@@ -374,9 +377,10 @@ pub fn colliding_file(first: &str, second: &str, stages: usize) -> Option<String
             JointFile::Force(true),
             JointFile::Journal(false),
             JointFile::Journal(true),
-        ];
-        kinds.extend((1..=stages).map(JointFile::StageWear));
-        kinds.into_iter().map(|f| f.name(joint)).collect()
+        ]
+        .into_iter()
+        .map(|f| f.name(joint))
+        .collect()
     };
     let theirs = files(second);
     files(first).into_iter().find(|f| theirs.contains(f))

@@ -76,13 +76,13 @@ impl StagedDir {
             path: target.clone(),
             reason: reason.to_string(),
         };
-        if target.exists() {
-            if let Some(foreign) = foreign_entry(&target, holds)? {
-                return Err(folder_err(&format!(
-                    "holds {foreign:?}, which wearsim does not write there; the output \
-                     replaces the whole folder, so choose a new or empty folder"
-                )));
-            }
+        if target.exists()
+            && let Some(foreign) = foreign_entry(&target, holds)?
+        {
+            return Err(folder_err(&format!(
+                "holds {foreign:?}, which wearsim does not write there; the output replaces \
+                 the whole folder, so choose a new or empty folder"
+            )));
         }
         let lock = OutputFolder::lock_file(parent, &name);
         take_lock(&target, &lock)?;

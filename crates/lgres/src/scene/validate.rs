@@ -135,10 +135,7 @@ impl Validator {
                 if other.name == c.name {
                     continue;
                 }
-                let stages = s.run.wear_stages as usize;
-                if let Some(file) =
-                    crate::io::artifacts::colliding_file(&other.name, &c.name, stages)
-                {
+                if let Some(file) = crate::io::artifacts::colliding_file(&other.name, &c.name) {
                     self.push(
                         format!("{p}.name"),
                         &c.name,
