@@ -231,8 +231,8 @@ enum CliError {
     InScene {
         /// The scene as given on the command line (a built-in name or a file).
         spec: String,
-        /// Why.
-        source: RunError,
+        /// Why (boxed: a run error is large).
+        source: Box<RunError>,
     },
     /// An output could not be written.
     #[error(transparent)]
@@ -298,7 +298,7 @@ fn in_scene(spec: &str, e: RunError) -> CliError {
     if e.is_bad_input() {
         CliError::InScene {
             spec: spec.to_string(),
-            source: e,
+            source: Box::new(e),
         }
     } else {
         CliError::Run(e)
