@@ -327,7 +327,7 @@ impl Validator {
                     n,
                     format!("must lie in 8..={MAX_WEAR_CELLS}"),
                 );
-            } else if let Some(w) = c.wear.filter(|w| n % w.cells != 0) {
+            } else if let Some(w) = c.wear.filter(|w| w.cells > 0 && n % w.cells != 0) {
                 self.push(
                     format!("{q}.cells"),
                     n,
