@@ -122,8 +122,13 @@ impl StagedDir {
 
     /// Move the staging folder into place (the previous folder is removed) and unlock.
     pub fn commit(mut self) -> Result<PathBuf, OutputError> {
-        // Hold the registry so a signal arriving now waits until the folder is whole.
+        // Hold the registry so a signal arriving now waits until the folder is whole; once a
+        // signal has abandoned the output (its handler is about to exit), nothing is moved:
+        // a rename begun then would be cut short by the exit, leaving the target missing.
         let mut registry = active();
+        if ABANDONED.load(Ordering::SeqCst) {
+            return Err(OutputError::Interrupted);
+        }
         let previous = self.staging.with_file_name(format!(
             ".{}.previous-{}",
             self.target

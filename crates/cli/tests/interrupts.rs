@@ -1,0 +1,139 @@
+//! Interrupts at random moments (issue 22): `run`, `sweep`, `precision` and `stress` are sent
+//! SIGINT at moments spread over their whole length, the writing of their files included, by a
+//! fixed sequence (every CI run sees the same moments). Whatever the moment, nothing hidden may
+//! stay beside the output folder (no lock, no staging folder, no temporary file), and the folder
+//! is either what it was or the command's whole new output. A study's writer threads are
+//! covered by `lgres/tests/interrupt.rs` (a study is too long to interrupt here many times).
+
+#![cfg(unix)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+fn scratch(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("wearsim-int-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Runs `wearsim args` and sends SIGINT after `delay` (unless it ended before); returns its
+/// exit code and how long it ran.
+fn interrupted(args: &[&str], delay: Duration) -> (Option<i32>, Duration) {
+    let started = Instant::now();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_wearsim"))
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("wearsim starts");
+    while started.elapsed() < delay {
+        if child.try_wait().expect("waits").is_some() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    if child.try_wait().expect("waits").is_none() {
+        let _ = Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status();
+    }
+    let status = child.wait().expect("waits");
+    (status.code(), started.elapsed())
+}
+
+/// The fixed moments, as fractions of an uninterrupted run's length (a few past its end).
+fn moments() -> Vec<f64> {
+    // A low-discrepancy sequence: spread over [0, 1.15) without a random generator.
+    (1..=10)
+        .map(|k| (k as f64 * 0.618_034).fract() * 1.15)
+        .collect()
+}
+
+/// Interrupts `args` (which write into `out` inside `dir`) at the fixed moments, after one
+/// uninterrupted run whose folder is the "previous" output; `whole` checks a finished folder.
+fn fuzz_interrupts(dir: &Path, out: &Path, args: &[&str], whole: &dyn Fn(&Path)) -> (u32, u32) {
+    let (code, length) = interrupted(args, Duration::from_secs(3600));
+    assert_eq!(code, Some(0), "{args:?} runs uninterrupted");
+    whole(out);
+    let (mut stopped, mut finished) = (0, 0);
+    for fraction in moments() {
+        let delay = length.mul_f64(fraction);
+        let (code, _) = interrupted(args, delay);
+        match code {
+            Some(130) => stopped += 1,
+            Some(0) => finished += 1,
+            other => panic!("{args:?} at {delay:?}: exit {other:?}"),
+        }
+        let left: Vec<String> = listing(dir)
+            .into_iter()
+            .filter(|n| n.starts_with('.'))
+            .collect();
+        assert!(left.is_empty(), "{args:?} at {delay:?}: left {left:?}");
+        // Either untouched (the previous run's whole output) or the new one, whole.
+        whole(out);
+    }
+    (stopped, finished)
+}
+
+#[test]
+fn interrupted_commands_leave_nothing_behind_at_any_moment() {
+    let dir = scratch("commands");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let run_whole = |out: &Path| {
+        let names = listing(out);
+        for f in ["summary.json", "response.csv", "contact.csv", "scene.toml"] {
+            assert!(names.contains(&f.to_string()), "{f} missing: {names:?}");
+        }
+        let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+        assert!(summary.trim_end().ends_with('}'), "summary.json cut short");
+    };
+    let (stopped, finished) = fuzz_interrupts(
+        &dir,
+        &out,
+        &["run", "slider-crank", "--cycles", "1", "--out", o],
+        &run_whole,
+    );
+    eprintln!("run: {stopped} interrupted, {finished} finished first");
+
+    let precision_whole = |out: &Path| {
+        let names = listing(out);
+        assert!(names.iter().any(|n| n.ends_with(".csv")), "{names:?}");
+        assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
+    };
+    let _ = std::fs::remove_dir_all(&out);
+    let (stopped, finished) = fuzz_interrupts(
+        &dir,
+        &out,
+        &[
+            "precision",
+            "slider-crank",
+            "--methods",
+            "bdf",
+            "--rtols",
+            "1e-4",
+            "--repeats",
+            "1",
+            "--duration",
+            "0.02",
+            "--start-up",
+            "0.01",
+            "--out",
+            o,
+        ],
+        &precision_whole,
+    );
+    eprintln!("precision: {stopped} interrupted, {finished} finished first");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
