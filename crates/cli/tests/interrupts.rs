@@ -7,25 +7,12 @@
 
 #![cfg(unix)]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn scratch(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("wearsim-int-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    names
-}
+mod common;
+use common::{listing, scratch};
 
 /// Runs `wearsim args` and sends SIGINT after `delay` (unless it ended before); returns its
 /// exit code and how long it ran.
@@ -88,7 +75,7 @@ fn fuzz_interrupts(dir: &Path, out: &Path, args: &[&str], whole: &dyn Fn(&Path))
 
 #[test]
 fn interrupted_commands_leave_nothing_behind_at_any_moment() {
-    let dir = scratch("commands");
+    let dir = scratch("interrupts");
     let out = dir.join("out");
     let o = out.to_str().unwrap();
     let run_whole = |out: &Path| {

@@ -3,6 +3,9 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
+mod common;
+use common::{listing, scratch};
+
 fn wearsim(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wearsim"))
         .args(args)
@@ -97,23 +100,6 @@ fn scenes_lists_every_builtin() {
 }
 
 /// A fresh, empty temporary folder for one test.
-fn scratch(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("wearsim-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-/// Names in `dir` (hidden ones included), sorted.
-fn listing(dir: &std::path::Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
-}
-
 /// `wearsim run SCENE --out OUT`.
 fn run_into(scene: &str, out: &std::path::Path) -> Output {
     wearsim(&["run", scene, "--out", out.to_str().unwrap()])
