@@ -110,6 +110,22 @@ fn tiny_study_writes_a_report_listing_every_scene() {
     );
     assert!(dir.join("extrapolation_wear_A.png").is_file());
     assert!(dir.join("clearance_wear_B.png").is_file());
+    // The same report as a page: the verdict table first, every study figure embedded, a link
+    // to each scene's own report (which exists), nothing fetched from the network.
+    let page = std::fs::read_to_string(dir.join("report.html")).expect("report.html written");
+    let verdicts = page.find("<h2>Verdicts</h2>").expect("verdict heading");
+    assert!(verdicts < page.find("<h2>Study").expect("a study section"));
+    assert!(page[verdicts..].contains("<table>"));
+    for figure in ["extrapolation_wear_A.png", "clearance_wear_B.png"] {
+        let bytes = std::fs::read(dir.join(figure)).unwrap();
+        let uri = lgres::io::html::data_uri("image/png", &bytes);
+        assert!(page.contains(&uri), "{figure} embedded");
+    }
+    for key in &keys {
+        assert!(page.contains(&format!("href=\"{key}/report.html\"")), "{key} linked");
+        assert!(dir.join(key).join("report.html").is_file(), "{key}/report.html");
+    }
+    assert!(!page.contains("http://") && !page.contains("https://"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -52,6 +52,7 @@
 //! ```
 
 pub mod figures;
+pub mod page;
 pub mod path;
 mod spec;
 pub mod table;
@@ -887,13 +888,16 @@ pub fn run_local(
     Ok(rows)
 }
 
-/// Write the rows (of any engine) and the figures into `out`; returns the files written. The
+/// Write the rows (of any engine), the figures and the page showing both (`samples.html`) into
+/// `out`; returns the files written. The
 /// one writer of every engine, so the same rows give the same bytes.
 pub fn write_outputs(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, SweepError> {
     let mut rows = rows.to_vec();
     rows.sort_by_key(|r| r.sample);
     rows.dedup_by_key(|r| r.sample);
     let mut files = vec![table::write_rows(sweep, &rows, &rows_path(out))?];
-    files.extend(figures::draw(sweep, &rows, out)?);
+    let figures = figures::draw(sweep, &rows, out)?;
+    files.push(page::write_page(sweep, &rows, &figures, out)?);
+    files.extend(figures);
     Ok(files)
 }

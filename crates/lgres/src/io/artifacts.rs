@@ -1,6 +1,7 @@
 //! The files of one run, written atomically with [`crate::io::output`] and drawn with
 //! [`crate::io::plot`]: CSV time series, per-stage wear grids, the joints' life curves
-//! (`wear_life.csv`), `summary.json`, the resolved `scene.toml` and PNG figures.
+//! (`wear_life.csv`), `summary.json`, the resolved `scene.toml`, PNG figures and the page that
+//! shows them all, `report.html`.
 
 use std::path::{Path, PathBuf};
 
@@ -108,6 +109,8 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
     let path = dir.join("scene.toml");
     write_atomic(&path, outcome.scene.to_toml().as_bytes())?;
     files.push(path);
+    let report = crate::io::report::write_run_report(outcome, dir, &files, &[])?;
+    files.push(report);
     Ok(files)
 }
 

@@ -1,11 +1,14 @@
 //! Files in and out: atomic writers and number formats ([`output`], which also re-exports the
 //! staged, locked output folders of runs and studies), a run's CSV, JSON and PNG files
 //! ([`artifacts`]), figures ([`plot`], with the life curve) and worn surfaces read back from
-//! an earlier run ([`surfaces`]).
+//! an earlier run ([`surfaces`]), and the self-contained HTML pages ([`html`]) of a run's
+//! report ([`report`]).
 
 pub mod artifacts;
+pub mod html;
 mod life_plot;
 pub mod output;
 pub mod plot;
+pub mod report;
 mod staged;
 pub mod surfaces;

@@ -49,7 +49,7 @@ pub use outcome::{
 use record::{assemble, respond};
 use stages::stages;
 use summary::summarize;
-pub use summary::{STAGE_HALVES_TOLERANCE, peak_stats};
+pub use summary::{ENERGY_BOOKS_TOLERANCE_J, STAGE_HALVES_TOLERANCE, peak_stats};
 
 /// Receives progress; every method defaults to doing nothing (`()` ignores everything).
 pub trait Progress {

@@ -1,5 +1,6 @@
-//! The study report (`report.md`): the paper's reported numbers ([`super::paper`]) next to
-//! ours, the trend verdicts of [`super::judge`], the validity notes and the figures.
+//! The study report (`report.md`, and `report.html` with its figures embedded): the paper's
+//! numbers ([`super::paper`]) next to ours, the trend verdicts of [`super::judge`], the validity
+//! notes and the figures.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -12,7 +13,7 @@ use super::judge::{
 };
 use super::paper::{PaperStudy, PaperValue, Quantity, paper};
 use super::{EXTRAPOLATION, SINGLE_JUMP_RUN, SceneRun, StudyKind, StudyResults, relative};
-use crate::io::output::{OutputError, write_atomic};
+use crate::io::output::OutputError;
 use crate::io::plot::{self, DEFAULT_SIZE};
 use crate::run::{ResponseSummary, RunOutcome};
 
@@ -225,6 +226,7 @@ fn scene_links(md: &mut String, out: &Path, run: &SceneRun) {
         .collect();
     let dir = relative(&run.dir, out);
     let mut links = vec![
+        format!("[report]({dir}/report.html)"),
         format!("[summary.json]({dir}/summary.json)"),
         format!("[x]({dir}/response_x.png)"),
         format!("[y]({dir}/response_y.png)"),
@@ -452,7 +454,8 @@ fn extrapolation_section(
     Ok(())
 }
 
-/// Writes `<out>/report.md` (atomically) and its study figures; returns the report's path.
+/// Writes `<out>/report.md`, the same as the page `<out>/report.html` (both atomically) and
+/// their study figures; returns the markdown report's path.
 pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, OutputError> {
     let o = &results.options;
     let mut md = String::new();
@@ -575,25 +578,7 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
     {
         extrapolation_section(&mut md, out, results)?;
     }
-    md.push_str(WHY_DIFFERENT);
-    let path = out.join("report.md");
-    write_atomic(&path, md.as_bytes())?;
-    Ok(path)
+    md.push_str(super::paper::WHY_DIFFERENT);
+    let title = format!("wearsim study: {}", names.join(", "));
+    crate::io::html::write_markdown_and_page(out, "report", &md, &title)
 }
-
-const WHY_DIFFERENT: &str = "## Why our numbers differ from the paper's\n\n\
-- **Geometry is a reconstruction** (docs/model.md §6): link lengths and joint positions are \
-inferred from the paper's figures, so forces and deviations are comparable in order of \
-magnitude, not digit for digit.\n\
-- **Wear magnitude**: with `K_d = 1.8e-13 m²/N` as printed, one cycle wears ~1e-10–1e-9 m, so \
-a stage of 2 million cycles is tenths of a millimetre to millimetres (docs/model.md §8), far above the \
-paper's figures, which themselves differ 10× between §4.2.1 and §4.2.2 for the same case. Our \
-worn response therefore runs in much larger clearances than the paper's.\n\
-- **Chaos**: the journal paths separate within a fraction of a cycle; single peak forces move \
-by tens of percent with tolerances. We judge on medians over cycles, deviations, dissipation \
-and wear integrals, not on single peaks.\n\
-- **K reduced**: K simulated cycles per stage instead of 100 gather wear over fewer impacts, \
-so the profile is noisier; the adaptive sub-steps re-simulate between extrapolations, which \
-the paper's single jump does not.\n\
-- **Start-up**: the paper does not say whether its peaks include the concentric start-up \
-impact; ours exclude the first window (the run's `summary.json` has both).\n";
