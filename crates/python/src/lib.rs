@@ -245,8 +245,28 @@ fn response_columns<'py>(
     Ok((motion, contact))
 }
 
-fn outcome_to_py<'py>(py: Python<'py>, o: &RunOutcome) -> PyResult<Bound<'py, PyDict>> {
+/// A finished run kept on the Rust side, so its report is drawn only when asked for.
+#[pyclass(frozen)]
+struct Outcome(RunOutcome);
+
+#[pymethods]
+impl Outcome {
+    /// The run's report as an HTML fragment (what a notebook displays), figures embedded.
+    /// Releases the GIL while it draws.
+    fn report_html(&self, py: Python<'_>) -> PyResult<String> {
+        py.detach(|| lgres::io::report::notebook_html(&self.0))
+            .map_err(|e| RunError::new_err(e.to_string()))
+    }
+}
+
+fn outcome_to_py<'py>(py: Python<'py>, o: RunOutcome) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
+    fill_outcome(&d, py, &o)?;
+    d.set_item("outcome", Outcome(o))?;
+    Ok(d)
+}
+
+fn fill_outcome(d: &Bound<'_, PyDict>, py: Python<'_>, o: &RunOutcome) -> PyResult<()> {
     let summary = serde_json::to_string_pretty(&o.summary)
         .map_err(|e| RunError::new_err(format!("summary: {e}")))?;
     d.set_item("summary_json", summary)?;
@@ -294,7 +314,7 @@ fn outcome_to_py<'py>(py: Python<'py>, o: &RunOutcome) -> PyResult<Bound<'py, Py
         wear.set_item(&joint.name, j)?;
     }
     d.set_item("wear", wear)?;
-    Ok(d)
+    Ok(())
 }
 
 /// Run a scene like `wearsim run` (the same defaults: `cycles_per_stage` 2); returns a dict
@@ -370,7 +390,7 @@ fn run<'py>(
         })
     });
     match result {
-        Ok(outcome) => outcome_to_py(py, &outcome),
+        Ok(outcome) => outcome_to_py(py, outcome),
         Err(PyErrText::Scene(m)) => Err(SceneError::new_err(m)),
         Err(PyErrText::Run(m)) => Err(RunError::new_err(m)),
     }
@@ -438,15 +458,17 @@ fn sweep_write(
 }
 
 /// Run a sweep file on local threads as `wearsim sweep` does; returns the rows file.
-/// Releases the GIL.
+/// Releases the GIL; `on_row(done, total)`, if given, is called (with the GIL) as each sample
+/// finishes, for progress.
 #[pyfunction]
-#[pyo3(signature = (path, out, resume=false, jobs=None))]
+#[pyo3(signature = (path, out, resume=false, jobs=None, on_row=None))]
 fn sweep_local(
     py: Python<'_>,
     path: PathBuf,
     out: PathBuf,
     resume: bool,
     jobs: Option<usize>,
+    on_row: Option<Py<PyAny>>,
 ) -> PyResult<PathBuf> {
     let s = Sweep::from_path(&path).map_err(|e| sweep_err(&e))?;
     let mut options = LocalOptions {
@@ -456,8 +478,22 @@ fn sweep_local(
     if let Some(j) = jobs {
         options.jobs = j.max(1);
     }
-    py.detach(|| sweep::run_local(&s, &out, &options, None, &mut |_, _, _| {}))
-        .map_err(|e| sweep_err(&e))?;
+    let report = |done: usize, total: usize| {
+        if let Some(f) = &on_row {
+            // Progress only: an error in the callback must not end the sweep.
+            Python::attach(|py| {
+                if let Err(e) = f.call1(py, (done, total)) {
+                    e.print(py);
+                }
+            });
+        }
+    };
+    py.detach(|| {
+        sweep::run_local(&s, &out, &options, None, &mut |_, done, total| {
+            report(done, total)
+        })
+    })
+    .map_err(|e| sweep_err(&e))?;
     Ok(sweep::rows_path(&out))
 }
 
@@ -468,6 +504,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("SceneError", py.get_type::<SceneError>())?;
     m.add("RunError", py.get_type::<RunError>())?;
     m.add("SweepError", py.get_type::<SweepError>())?;
+    m.add_class::<Outcome>()?;
     m.add_function(wrap_pyfunction!(scenes, m)?)?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(check, m)?)?;

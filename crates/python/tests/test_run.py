@@ -72,6 +72,34 @@ def test_run_equals_wearsim_bit_for_bit(tmp_path, wearsim):
     assert np.array_equal(again.contact["B_Fn"], r.contact["B_Fn"])
 
 
+def test_a_result_shows_its_report_in_a_notebook(tmp_path, wearsim):
+    scene = tmp_path / "short.toml"
+    scene.write_text(
+        'extends = "slider-crank"\n'
+        "[[clearance_joints]]\n"
+        'name = "rod-slider"\n'
+        "wear = { k_d = 1.8e-13, width = 0.02, cells = 360 }\n"
+        "[run]\ncycles = 2\nwear_stages = 1\ncycles_per_stage = 2\namplification = 750.0\n"
+    )
+    r = wornjoint.run(scene, out=tmp_path / "out")
+    html = r._repr_html_()
+    assert html is r.report_html(), "drawn once, then kept"
+    assert html.startswith('<div class="wj-report">') and html.rstrip().endswith("</div>")
+    for heading in ("Contact force peaks", "Energy books, per cycle", "Wear", "Figures"):
+        assert f"<h2>{heading}</h2>" in html, heading
+    assert "<h2>Files</h2>" not in html, "the notebook has no files beside it"
+    assert "http://" not in html and "https://" not in html
+    # The same figures as the run's own report.html, embedded.
+    page = (tmp_path / "out" / "report.html").read_text()
+    figures = [f for f in page.split('src="')[1:]]
+    assert len(figures) >= 8
+    assert html.count('src="data:image/') == page.count('src="data:image/')
+    # The verdict cells are the page's (the wall times differ between the two drawings).
+    assert html.count('<td class="ok">') + html.count('<td class="bad">') == page.count(
+        '<td class="ok">'
+    ) + page.count('<td class="bad">')
+
+
 def test_wear_stage_equals_wearsim(tmp_path, wearsim):
     out = tmp_path / "cli"
     args = ["--cycles", "1", "--stages", "1", "--out", str(out)]

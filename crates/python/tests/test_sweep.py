@@ -49,6 +49,18 @@ def rows(path):
     return [r[:-1] for r in table]
 
 
+def assert_progress_lines(err, label, total):
+    """Progress on a standard error that is not a terminal: every update a line of its own
+    (none runs into the next), counting up to the total."""
+    assert "\r" not in err, repr(err)
+    lines = [l for l in err.splitlines() if l.startswith(label + ":")]
+    assert lines, repr(err)
+    assert all(l.count("samples") == 1 for l in lines), lines
+    counts = [int(l.split(": ")[1].split("/")[0]) for l in lines]
+    assert counts == sorted(counts) and counts[-1] == total, lines
+    assert lines[-1].startswith(f"{label}: {total}/{total} samples"), lines
+
+
 @pytest.fixture(scope="module")
 def sweep_file(tmp_path_factory):
     path = tmp_path_factory.mktemp("sweep") / "ps.toml"
@@ -64,7 +76,9 @@ def test_sixteen_samples_same_rows_on_every_engine(sweep_file, tmp_path, wearsim
     assert expected[0][:4] == ["sample", "clearance_joints.rod-slider.clearance", "drivers.crank-speed.law.rate", "youngs_modulus"]
     assert sum(r[-2] == "ok" for r in expected[1:]) == 16, expected
 
+    capfd.readouterr()
     local = wornjoint.sweep(sweep_file, out=tmp_path / "local")
+    assert_progress_lines(capfd.readouterr().err, "sweep ps", 16)
     assert rows(tmp_path / "local" / "samples.csv") == expected
     assert len(local) == 16 and (local["status"] == "ok").all()
     assert (tmp_path / "local" / "scatter.png").is_file()
@@ -77,7 +91,7 @@ def test_sixteen_samples_same_rows_on_every_engine(sweep_file, tmp_path, wearsim
             assert len(client.scheduler_info()["workers"]) == 2
             capfd.readouterr()
             dask = wornjoint.sweep(sweep_file, client, out=tmp_path / "dask")
-            assert "16/16 samples\n" in capfd.readouterr().err
+            assert_progress_lines(capfd.readouterr().err, "sweep ps", 16)
     assert rows(tmp_path / "dask" / "samples.csv") == expected
     assert dask.drop(columns="wall_time_s").equals(local.drop(columns="wall_time_s"))
 

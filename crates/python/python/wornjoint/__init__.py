@@ -86,6 +86,8 @@ class Result:
     - ``wear``: per joint, ``{"angle_deg": cells, "bearing": stages x cells, "pin": stages x
       cells, "bearing_radius", "pin_radius"}``, depths in m.
     - ``scene_toml``: the scene as run.
+
+    In a notebook a result displays its report (:meth:`report_html`).
     """
 
     def __init__(self, raw: Dict[str, Any]):
@@ -96,6 +98,18 @@ class Result:
         self.worn_response = _structured(raw.get("worn_response"))
         self.worn_contact = _structured(raw.get("worn_contact"))
         self.wear: Dict[str, Dict[str, Any]] = raw["wear"]
+        self._outcome = raw["outcome"]
+        self._html: Optional[str] = None
+
+    def report_html(self) -> str:
+        """The run's report (as ``report.html`` shows it, without the file list) as an HTML
+        fragment with its figures embedded; drawn on first use, then kept."""
+        if self._html is None:
+            self._html = self._outcome.report_html()
+        return self._html
+
+    def _repr_html_(self) -> str:
+        return self.report_html()
 
     def frame(self, which: str = "response"):
         """One of the tables as a pandas DataFrame (needs pandas)."""
@@ -147,6 +161,38 @@ def run(
     return Result(raw)
 
 
+class _Progress:
+    """Counts finished samples on standard error, at most about once a second and at the end.
+
+    On a terminal the count rewrites one line; elsewhere (a log, a notebook) every update is a
+    line of its own, so updates never run into each other.
+    """
+
+    def __init__(self, label: str):
+        self.label = label
+        self.started = time.monotonic()
+        self.shown = -1.0
+        self.last = ""
+        self.terminal = hasattr(sys.stderr, "isatty") and sys.stderr.isatty()
+
+    def update(self, done: int, total: int) -> None:
+        now = time.monotonic()
+        self.last = f"{self.label}: {done}/{total} samples, {now - self.started:.0f} s"
+        if done == total or now - self.shown >= 1.0:
+            self._show()
+            self.shown = now
+
+    def _show(self) -> None:
+        if self.terminal:
+            print(f"\r{self.last}", end="", file=sys.stderr, flush=True)
+        else:
+            print(self.last, file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        if self.terminal and self.last:
+            print(file=sys.stderr, flush=True)
+
+
 def _sample(index: int, plan: str) -> str:
     """One sweep sample (a Dask task): the row as JSON."""
     return _native.sweep_sample(plan, index)
@@ -168,15 +214,20 @@ def sweep(
     are gathered and written by the same writer, so the file and the rows are the same (but for
     ``wall_time_s``) whatever the engine and the number of workers. Outputs go to ``out``
     (default ``out/sweep/<file stem>``): ``samples.csv`` and the figures. ``resume`` keeps the
-    rows already in ``samples.csv`` and runs the rest. With a client and ``progress``, a line on
-    standard error counts the finished samples (at most once a second, and at the end).
+    rows already in ``samples.csv`` and runs the rest. With ``progress``, standard error counts
+    the finished samples (at most once a second, and at the end): one rewritten line on a
+    terminal, a line per update in a log or a notebook.
     """
     import pandas as pd
 
     plan, name, _ = _native.sweep_plan(os.fspath(file))
     out = os.fspath(out) if out is not None else os.path.join("out", "sweep", name)
+    show = _Progress(f"sweep {name}") if progress else None
     if client is None:
-        path = _native.sweep_local(os.fspath(file), out, resume, jobs)
+        on_row = None if show is None else (lambda done, total: show.update(done, total))
+        path = _native.sweep_local(os.fspath(file), out, resume, jobs, on_row)
+        if show is not None:
+            show.close()
     else:
         from distributed import as_completed
 
@@ -185,19 +236,16 @@ def sweep(
         futures = client.map(_sample, todo, plan=plan, pure=False)
         written = time.monotonic()
         total = len(rows) + len(todo)
-
-        def report(end: str = "") -> None:
-            if progress:
-                print(f"\rsweep {name}: {len(rows)}/{total} samples", end=end, file=sys.stderr, flush=True)
-
         for future in as_completed(futures):
             rows.append(future.result())
+            if show is not None:
+                show.update(len(rows), total)
             # Keep samples.csv current, as the local engine does, so a resume finds them.
             if time.monotonic() - written >= 1.0:
                 _native.sweep_write(plan, rows, out, figures=False)
-                report()
                 written = time.monotonic()
-        report(end="\n")
+        if show is not None:
+            show.close()
         _native.sweep_write(plan, rows, out, figures=True)
         path = os.path.join(out, "samples.csv")
     return pd.read_csv(path, keep_default_na=False, na_values=[""])
