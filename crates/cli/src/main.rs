@@ -134,7 +134,13 @@ enum Command {
     /// Simulate a scene (a built-in name or a TOML file; default: the paper's LGRES).
     Run { scene: Option<String> },
     /// Run one of the paper's studies, or all of them.
-    Study { study: StudyName },
+    Study {
+        study: StudyName,
+        /// Drive cycles one wear stage stands for (default: the scenes' 2 million). Fewer make a
+        /// quick look at the machinery in seconds, not the paper's study.
+        #[arg(long, value_name = "CYCLES", allow_hyphen_values = true)]
+        stage_cycles: Option<f64>,
+    },
     /// Parse and validate a scene and print what it contains.
     Check { scene: String },
     /// List the built-in scenes and studies.
@@ -773,7 +779,10 @@ fn main() -> ExitCode {
     }
     let result = match &cli.command {
         Command::Run { scene } => run(scene.as_deref().unwrap_or(scenes::DEFAULT), o),
-        Command::Study { study: s } => study::run(s.name(), o),
+        Command::Study {
+            study: s,
+            stage_cycles,
+        } => study::run(s.name(), *stage_cycles, o),
         Command::Check { scene } => check(scene, o),
         Command::Scenes => {
             list_scenes();
@@ -804,6 +813,13 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(_) if lgres::io::output::is_abandoned() => {
+            // The interrupt handler removed the output under a writer, which failed for that
+            // reason only: the handler is about to report the interrupt and exit with 130, so
+            // this thread must not exit first with the writer's error and 1.
+            std::thread::sleep(std::time::Duration::from_secs(5));
+            std::process::exit(EXIT_INTERRUPTED)
+        }
         Err(e) => {
             eprintln!("wearsim: error: {e}");
             ExitCode::from(e.exit_code())

@@ -1,5 +1,6 @@
 //! `wearsim study`: runs the paper's studies through [`lgres::analysis::study`] with progress bars and
-//! prints the trend verdicts; the numbers and figures are in `<out>/report.md`.
+//! prints the trend verdicts; the numbers and figures are in `<out>/report.html` (and the same
+//! in `<out>/report.md`).
 
 use std::path::PathBuf;
 
@@ -13,7 +14,8 @@ use crate::{CliError, Overrides};
 const DEFAULT_OUT: &str = "out/study";
 
 /// Runs study `name` (`wear-stages`, `clearance`, `speed`, `extrapolation` or `all`).
-pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
+/// `stage_cycles`: drive cycles one wear stage stands for, instead of the scenes' (a quick look).
+pub fn run(name: &str, stage_cycles: Option<f64>, o: &Overrides) -> Result<(), CliError> {
     if let Some(s) = o.stages {
         // Each study fixes its stages (the wear-stage study is the comparison of 1 and 2).
         return Err(StudyError::BadOption {
@@ -27,8 +29,7 @@ pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
     let out = o.out.clone().unwrap_or_else(|| PathBuf::from(DEFAULT_OUT));
     // Lock the folder at once; the scene runs and the report go to a staging folder that
     // replaces `out` whole at the end, so an interrupted study leaves the previous one intact.
-    let staged = lgres::io::output::StagedDir::begin_study(&out)?;
-    let mut options = StudyOptions::new(staged.path().to_path_buf());
+    let mut options = StudyOptions::new(&out);
     if let Some(k) = o.cycles_per_stage {
         options.cycles_per_stage = k;
     }
@@ -36,9 +37,14 @@ pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
         options.response_cycles = c;
     }
     options.rtol = o.rtol;
+    options.cycles_represented = stage_cycles;
     if let Some(j) = o.jobs {
         options.jobs = j.get();
     }
+    // Every option checked before the folder is touched.
+    options.check()?;
+    let staged = lgres::io::output::StagedDir::begin_study(&out)?;
+    options.out = staged.path().to_path_buf();
     println!(
         "study {name}: {} response cycles per scene, K = {} cycles per wear stage, {} run(s) at \
          a time",
@@ -79,7 +85,8 @@ pub fn run(name: &str, o: &Overrides) -> Result<(), CliError> {
         );
     }
     println!(
-        "report: {} ({:.0} s of runs)",
+        "report: {} and {} ({:.0} s of runs)",
+        path.with_extension("html").display(),
         path.display(),
         results.wall_time_s
     );

@@ -1,9 +1,9 @@
-//! Interrupts at random moments (issue 22): `run`, `sweep`, `precision` and `stress` are sent
-//! SIGINT at moments spread over their whole length, the writing of their files included, by a
-//! fixed sequence (every CI run sees the same moments). Whatever the moment, nothing hidden may
-//! stay beside the output folder (no lock, no staging folder, no temporary file), and the folder
-//! is either what it was or the command's whole new output. A study's writer threads are
-//! covered by `lgres/tests/interrupt.rs` (a study is too long to interrupt here many times).
+//! Interrupts at random moments (issue 22): `run`, `precision` and a quick `study` (two scene
+//! runs at once) are sent SIGINT at moments spread over their whole length, the writing of
+//! their files included, by a fixed sequence (every CI run sees the same moments). Whatever the
+//! moment, nothing hidden may stay beside the output folder (no lock, no staging folder, no
+//! temporary file), and the folder is either what it was or the command's whole new output.
+//! The writer threads' race with the handler is covered by `lgres/tests/interrupt.rs`.
 
 #![cfg(unix)]
 
@@ -122,5 +122,40 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         &precision_whole,
     );
     eprintln!("precision: {stopped} interrupted, {finished} finished first");
+
+    // A quick study (a stage stands for 1e4 cycles) with two scene runs at once, so the
+    // signal also lands while both write their folders and while the report is drawn.
+    let study_whole = |out: &Path| {
+        let names = listing(out);
+        for f in ["report.md", "report.html", "lgres", "lgres-2stages"] {
+            assert!(names.contains(&f.to_string()), "{f} missing: {names:?}");
+        }
+        for scene in ["lgres", "lgres-2stages"] {
+            assert!(out.join(scene).join("report.html").is_file(), "{scene}");
+        }
+        let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+        assert!(page.ends_with("</html>\n"), "report.html cut short");
+    };
+    let _ = std::fs::remove_dir_all(&out);
+    let (stopped, finished) = fuzz_interrupts(
+        &dir,
+        &out,
+        &[
+            "study",
+            "wear-stages",
+            "--stage-cycles",
+            "1e4",
+            "--cycles",
+            "1",
+            "--cycles-per-stage",
+            "1",
+            "--jobs",
+            "2",
+            "--out",
+            o,
+        ],
+        &study_whole,
+    );
+    eprintln!("study: {stopped} interrupted, {finished} finished first");
     std::fs::remove_dir_all(&dir).unwrap();
 }

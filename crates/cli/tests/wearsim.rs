@@ -83,7 +83,6 @@ fn overrides_are_validated_and_study_rejects_bad_settings() {
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let o = wearsim(&["study", "speed", "--stages", "2"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-
     let o = wearsim(&["check", "no-such-scene"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("no-such-scene"));
@@ -654,7 +653,7 @@ fn special_wear_files_are_refused_and_leave_nothing_behind() {
 }
 
 /// Every command's flags, fuzzed: for `run`, `check`, `study`, `precision`, `stress`, `sweep`
-/// and `scenes`, every global flag with bad values (zero, negative, fractional, NaN, ±inf,
+/// and `scenes`, every global flag (and `study --stage-cycles`) with bad values (zero, negative, fractional, NaN, ±inf,
 /// 1e300, overflowing, garbage; bad folders) and with good values where the command does not
 /// use the flag must be refused at once: exit 2 within seconds (no run started and ignored,
 /// which is how `stress --rtol nan` or `study --max-wall-time nan` ran for minutes), the flag
@@ -743,6 +742,27 @@ fn fuzzed_flags_of_every_command_are_refused_at_once_by_name() {
                 refused += 1;
             }
         }
+    }
+    // A command's own flags: `study --stage-cycles` (a quick study's stage length).
+    for value in ["0", "-1", "0.5", "nan", "inf", "-inf", "1e400", "abc"] {
+        let args = [
+            "study",
+            "clearance",
+            "--stage-cycles",
+            value,
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        cases += 1;
+        let o = wearsim_within(&args, std::time::Duration::from_secs(30));
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {e}");
+        assert!(
+            e.contains("stage-cycles"),
+            "{args:?} does not name the flag: {e}"
+        );
+        assert!(!out.exists(), "{args:?} wrote {}", out.display());
+        refused += 1;
     }
     // Good values of flags a command does not use: refused too, not silently ignored.
     for (command, flag, value) in [

@@ -122,8 +122,14 @@ fn tiny_study_writes_a_report_listing_every_scene() {
         assert!(page.contains(&uri), "{figure} embedded");
     }
     for key in &keys {
-        assert!(page.contains(&format!("href=\"{key}/report.html\"")), "{key} linked");
-        assert!(dir.join(key).join("report.html").is_file(), "{key}/report.html");
+        assert!(
+            page.contains(&format!("href=\"{key}/report.html\"")),
+            "{key} linked"
+        );
+        assert!(
+            dir.join(key).join("report.html").is_file(),
+            "{key}/report.html"
+        );
     }
     assert!(!page.contains("http://") && !page.contains("https://"));
     let _ = std::fs::remove_dir_all(&dir);

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 
 use super::staged::create_unless_abandoned;
-pub use super::staged::{FolderLock, StagedDir, abandon_staged};
+pub use super::staged::{FolderLock, StagedDir, abandon_staged, is_abandoned};
 
 /// An output file could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -152,7 +152,9 @@ pub fn write_via_temp(
         // open an existing path's folder, never re-create one.
         File::create(&tmp).map(drop).map_err(io_err(&tmp))
     })?;
-    let result = write(&tmp).and_then(|()| fs::rename(&tmp, target).map_err(io_err(target)));
+    let result = write(&tmp).and_then(|()| {
+        create_unless_abandoned(|| fs::rename(&tmp, target).map_err(io_err(target)))
+    });
     if result.is_err() {
         // Best effort: the error being reported matters more than a leftover temp file.
         let _ = fs::remove_file(&tmp);
@@ -195,8 +197,13 @@ impl AtomicFile {
             Some(Err(e)) => return Err(io_err(&target)(e.into_error())),
             None => {}
         }
-        fs::rename(&self.tmp, &target).map_err(io_err(&target))?;
-        Ok(target)
+        // Under the lock: a file moved into a staging folder being removed would keep it.
+        let moved =
+            create_unless_abandoned(|| fs::rename(&self.tmp, &target).map_err(io_err(&target)));
+        if moved.is_err() {
+            let _ = fs::remove_file(&self.tmp);
+        }
+        moved.map(|()| target)
     }
 }
 

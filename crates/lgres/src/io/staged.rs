@@ -38,7 +38,7 @@ fn active() -> std::sync::MutexGuard<'static, Vec<(Option<PathBuf>, PathBuf)>> {
 }
 
 /// Extensions of the files a run writes; a folder holding anything else is not replaced.
-const RUN_FILE_EXTENSIONS: [&str; 4] = ["csv", "png", "json", "toml"];
+const RUN_FILE_EXTENSIONS: [&str; 6] = ["csv", "png", "json", "toml", "html", "gif"];
 
 /// A run's output folder being written. Files go into a hidden staging folder next to the
 /// target, which replaces the target whole on [`StagedDir::commit`], so a reader never sees
@@ -259,10 +259,30 @@ pub fn abandon_staged() {
     ABANDONED.store(true, Ordering::SeqCst);
     for (staging, lock) in registry.drain(..) {
         if let Some(staging) = staging {
-            let _ = fs::remove_dir_all(&staging);
+            remove_while_writers_finish(&staging);
         }
         let _ = fs::remove_file(&lock);
     }
+}
+
+/// Removes `dir`, again while it reappears: a writer that opened its file before the
+/// interrupt (a figure encoder opens its own path) may create it while the folder is being
+/// emptied, which leaves the folder behind; every later creation is refused, so the retries
+/// end once the writers in flight have failed.
+fn remove_while_writers_finish(dir: &Path) {
+    for _ in 0..200 {
+        let _ = fs::remove_dir_all(dir);
+        if !dir.exists() {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+}
+
+/// Whether [`abandon_staged`] ran: a write that fails from now on failed because its output
+/// was abandoned (an interrupt), not for a reason of its own.
+pub fn is_abandoned() -> bool {
+    ABANDONED.load(Ordering::SeqCst)
 }
 
 /// What an existing output folder may hold for [`StagedDir`] to replace it.

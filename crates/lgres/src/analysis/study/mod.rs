@@ -103,7 +103,8 @@ pub struct StudyOptions {
     /// Relative tolerance override (scene: `solver.rtol`).
     pub rtol: Option<f64>,
     /// Drive cycles one wear stage stands for, instead of the scene's `cycles_per_stage ×
-    /// amplification` (2 million). Only for quick tests of the machinery.
+    /// amplification` (2 million): a quick look at the machinery (`study --stage-cycles`), not
+    /// the paper's study.
     pub cycles_represented: Option<f64>,
     /// Scene runs at once, each on its own thread (default: the machine's cores). Runs are
     /// independent and deterministic, so the results do not depend on it.
@@ -264,6 +265,14 @@ pub fn prepare_scene(key: &str, options: &StudyOptions) -> Result<Scene, StudyEr
     Ok(scene)
 }
 
+impl StudyOptions {
+    /// Whether every setting is in range (what [`run_studies`] checks first): the error names
+    /// the option.
+    pub fn check(&self) -> Result<(), StudyError> {
+        check(self)
+    }
+}
+
 fn check(options: &StudyOptions) -> Result<(), StudyError> {
     let bad = |field, value: String, reason| {
         Err(StudyError::BadOption {
@@ -281,11 +290,7 @@ fn check(options: &StudyOptions) -> Result<(), StudyError> {
     if let Some(n) = options.cycles_represented
         && !(n.is_finite() && n >= 1.0)
     {
-        return bad(
-            "cycles_represented",
-            n.to_string(),
-            "must be finite and >= 1",
-        );
+        return bad("stage-cycles", n.to_string(), "must be finite and >= 1");
     }
     if options.jobs == 0 {
         return bad("jobs", "0".into(), "must be at least 1");
