@@ -75,16 +75,17 @@ pub fn write_page(
     Ok(path)
 }
 
-/// One row's cells in the order of [`table::header`]; a missing metric reads `n/a`.
+/// One row's cells in the order of [`table::header`]; a missing or non-finite metric reads
+/// `n/a`.
 fn row_cells(r: &Row) -> Vec<Td> {
     let mut cells = vec![Td::num(r.sample.to_string())];
     cells.extend(r.inputs.iter().map(|v| Td::num(table::number(*v))));
-    cells.extend(r.metrics.iter().map(|m| {
-        Td::num(
-            m.filter(|v| v.is_finite())
-                .map_or_else(|| "n/a".into(), table::number),
-        )
-    }));
+    // Four significant digits read at a glance; samples.csv has every digit.
+    cells.extend(
+        r.metrics
+            .iter()
+            .map(|m| Td::num(m.map_or_else(|| "n/a".into(), |v| lgres::io::report::sig(v, 4)))),
+    );
     let done = r.status == Status::Ok && r.non_finite_metric().is_none();
     cells.push(Td::Verdict(if done { "ok" } else { "failed" }.into(), done));
     cells.push(Td::text(&r.error));

@@ -171,6 +171,22 @@ fn grid_runs_every_combination_and_a_bad_sample_is_a_row() {
     let csv = std::fs::read_to_string(out.join("samples.csv")).unwrap();
     assert!(csv.starts_with("sample,clearance_joints.rod-slider.clearance,drivers.crank-speed.law.rate,response.joints.rod-slider.max_penetration_m,"), "{csv}");
     assert!(out.join("scatter.png").is_file());
+    // The page: the figure embedded byte for byte, a row per sample with its verdict and
+    // error, nothing from elsewhere.
+    let page = std::fs::read_to_string(out.join("samples.html")).unwrap();
+    let scatter = std::fs::read(out.join("scatter.png")).unwrap();
+    assert!(page.contains(&lgres::io::html::data_uri("image/png", &scatter)));
+    let ok = rows.iter().filter(|r| r.status == Status::Ok).count();
+    assert_eq!(page.matches("<td class=\"ok\">ok</td>").count(), ok);
+    assert_eq!(
+        page.matches("<td class=\"bad\">failed</td>").count(),
+        4 - ok
+    );
+    assert!(page.contains(&format!("{ok} of 4 rows ran, {} failed", 4 - ok)));
+    for r in &rows {
+        assert!(page.contains(&lgres::io::html::escape(&r.error)));
+    }
+    assert!(!page.contains("http://") && !page.contains("https://"));
     std::fs::remove_dir_all(&out).unwrap();
 }
 
