@@ -132,7 +132,12 @@ impl Overrides {
 #[derive(Subcommand)]
 enum Command {
     /// Simulate a scene (a built-in name or a TOML file; default: the paper's LGRES).
-    Run { scene: Option<String> },
+    Run {
+        scene: Option<String>,
+        /// Skip mechanism.gif and the pose recording it needs (scene: run.animation = false).
+        #[arg(long)]
+        no_animation: bool,
+    },
     /// Run one of the paper's studies, or all of them.
     Study {
         study: StudyName,
@@ -413,8 +418,11 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
     Ok(())
 }
 
-fn run(spec: &str, o: &Overrides) -> Result<(), CliError> {
-    let Loaded { name, scene } = load(spec, o)?;
+fn run(spec: &str, no_animation: bool, o: &Overrides) -> Result<(), CliError> {
+    let Loaded { name, mut scene } = load(spec, o)?;
+    if no_animation {
+        scene.run.animation = false;
+    }
     let out = out_dir(o, &name);
     let options = o.run_overrides().run_options();
     // Lock the folder before simulating, so a second run is refused at once; files go to a
@@ -778,7 +786,14 @@ fn main() -> ExitCode {
         return ExitCode::from(e.exit_code());
     }
     let result = match &cli.command {
-        Command::Run { scene } => run(scene.as_deref().unwrap_or(scenes::DEFAULT), o),
+        Command::Run {
+            scene,
+            no_animation,
+        } => run(
+            scene.as_deref().unwrap_or(scenes::DEFAULT),
+            *no_animation,
+            o,
+        ),
         Command::Study {
             study: s,
             stage_cycles,

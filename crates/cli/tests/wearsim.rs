@@ -73,9 +73,23 @@ fn overrides_are_validated_and_study_rejects_bad_settings() {
         "response.csv",
         "scene.toml",
         "response_y.png",
+        "report.html",
+        "mechanism.gif",
     ] {
         assert!(out.join(file).is_file(), "{file} missing");
     }
+    // `--no-animation` skips the animation, and the report shows what is there.
+    let o = wearsim(&[
+        "run",
+        "lgres-ideal",
+        "--no-animation",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!out.join("mechanism.gif").exists());
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(!page.contains("mechanism.gif"));
     std::fs::remove_dir_all(&out).unwrap();
 
     // Bad study settings are bad input, caught before any simulation.

@@ -64,6 +64,9 @@ clearance_limit = 0.000505
     // Every image the run wrote is in the page, byte for byte, and nothing else is.
     let images = images_in(&dir);
     assert!(images.len() >= 8, "{images:?}");
+    for gif in ["mechanism.gif", "mechanism_worn.gif"] {
+        assert!(dir.join(gif).is_file(), "{gif} missing: {images:?}");
+    }
     assert_eq!(srcs.len(), images.len());
     for image in &images {
         let mime = html::image_mime(image).unwrap();
@@ -122,12 +125,13 @@ clearance_limit = 0.000505
 }
 
 /// A scene without clearance joints runs the kinematic path: no force or energy tables, and
-/// the numerics say why.
+/// the numerics say why; `run.animation = false` draws no animation.
 #[test]
 fn a_kinematic_run_reports_without_contact_tables() {
     let scene = lgres::scenes::builtin("lgres-ideal").unwrap();
     let mut scene = scene;
     scene.run.cycles = 1;
+    scene.run.animation = false;
     let outcome = lgres::run_scene("lgres-ideal", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("ideal");
     lgres::write_run(&outcome, &dir).unwrap();
@@ -135,6 +139,7 @@ fn a_kinematic_run_reports_without_contact_tables() {
     assert!(!page.contains("<h2>Contact force peaks</h2>"));
     assert!(!page.contains("<h2>Energy books, per cycle</h2>"));
     assert!(page.contains("Kinematic analysis only"));
+    assert!(!dir.join("mechanism.gif").exists());
     assert_eq!(sources(&page).len(), images_in(&dir).len());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -64,7 +64,7 @@ pub fn write_page(
         }
     }
     html.heading(2, "Rows");
-    let body: Vec<Vec<Td>> = rows.iter().map(|r| row_cells(r)).collect();
+    let body: Vec<Vec<Td>> = rows.iter().map(row_cells).collect();
     html.table(&table::header(sweep), &body);
     let path = out.join(PAGE_FILE);
     write_atomic(

@@ -1,14 +1,16 @@
 //! The files of one run, written atomically with [`crate::io::output`] and drawn with
 //! [`crate::io::plot`]: CSV time series, per-stage wear grids, the joints' life curves
-//! (`wear_life.csv`), `summary.json`, the resolved `scene.toml`, PNG figures and the page that
-//! shows them all, `report.html`.
+//! (`wear_life.csv`), `summary.json`, the resolved `scene.toml`, PNG figures, the mechanism's
+//! animations (`mechanism[_worn].gif`) and the page that shows them all, `report.html`.
 
 use std::path::{Path, PathBuf};
 
+use crate::io::animation;
 use crate::io::output::{
     Cell, Column, CsvWriter, OutputError, write_atomic, write_csv, write_json,
 };
 use crate::io::plot::{self, DEFAULT_SIZE, Figure, Series};
+use crate::io::report::Captioned;
 use crate::run::{LifePoint, Response, RunOutcome};
 
 const QUANTITIES: [(&str, &str, &str); 6] = [
@@ -109,9 +111,56 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
     let path = dir.join("scene.toml");
     write_atomic(&path, outcome.scene.to_toml().as_bytes())?;
     files.push(path);
-    let report = crate::io::report::write_run_report(outcome, dir, &files, &[])?;
+    let animations = animation_files(outcome, dir)?;
+    files.extend(animations.iter().map(|a| a.path.clone()));
+    let report = crate::io::report::write_run_report(outcome, dir, &files, &animations)?;
     files.push(report);
     Ok(files)
+}
+
+/// `mechanism.gif` and, after wear, `mechanism_worn.gif` (where the run recorded the frames:
+/// `run.animation`), captioned for the report.
+fn animation_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<Captioned>, OutputError> {
+    let worn = outcome
+        .worn_response
+        .as_ref()
+        .map(|r| (r, "_worn", &outcome.wear[..]));
+    let mut out = Vec::new();
+    for (response, suffix, wear) in std::iter::once((&outcome.response, "", &[][..])).chain(worn) {
+        if response.frames.is_none() {
+            continue;
+        }
+        let path = dir.join(format!("mechanism{suffix}.gif"));
+        let on = if suffix.is_empty() {
+            "on the unworn surfaces"
+        } else {
+            "on the worn surfaces after the last stage"
+        };
+        let title = format!("{}: one drive cycle {on}", outcome.summary.scene);
+        let info = animation::write_animation(&path, &outcome.scene, response, wear, &title)?;
+        let magnified: Vec<String> = info
+            .magnification
+            .iter()
+            .map(|(joint, m)| format!("joint {joint} ×{m:.0}"))
+            .collect();
+        let magnified = if magnified.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " Each clearance joint's inset shows the journal centre in its bearing, the                  clearance magnified ({}), its orbit as a trail and the largest contact force                  since the previous frame as an arrow scaled to the cycle's peak.",
+                magnified.join(", ")
+            )
+        };
+        out.push(Captioned {
+            path,
+            caption: format!(
+                "mechanism{suffix}.gif: the mechanism over one drive cycle after the {} s                  start-up window {on} ({} frames), the ideal mechanism in grey behind.{magnified}",
+                crate::io::report::sig(outcome.summary.transient_window_s, 3),
+                info.frames
+            ),
+        });
+    }
+    Ok(out)
 }
 
 fn col<'a>(name: &'a str, unit: &'a str) -> Column<'a> {

@@ -176,7 +176,7 @@ impl Html {
         self
     }
 
-    /// Markup that is already HTML (from [`Html::finish`] of another fragment, or a renderer).
+    /// Markup that is already HTML (a renderer's output).
     pub fn raw(&mut self, html: &str) -> &mut Self {
         self.body.push_str(html);
         self

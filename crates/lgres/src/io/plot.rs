@@ -38,7 +38,8 @@ pub(crate) fn colour(k: usize) -> RGBColor {
 /// The compiled-in font family every figure uses (registered by [`render`]).
 pub const FONT: &str = "sans-serif";
 
-fn register_fonts() {
+/// Registers the compiled-in fonts under [`FONT`] (once per process).
+pub(crate) fn register_fonts() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // The fonts are compiled in and valid; should registration fail anyway, plotters

@@ -43,13 +43,17 @@ use crate::scene::{self, Scene};
 pub use life::cycles_to_reach;
 pub use outcome::{
     ClearanceLimitReport, ContactSeries, Deviation, JointSummary, JointWearHistory,
-    JointWearSummary, LifePoint, Motion, Numerics, PeakStats, Response, ResponseSummary,
-    RunOutcome, SubstepSummary, Summary, WearSummary,
+    JointWearSummary, LifePoint, MechanismFrames, Motion, Numerics, PeakStats, Response,
+    ResponseSummary, RunOutcome, SubstepSummary, Summary, WearSummary,
 };
-use record::{assemble, respond};
+use record::{Ideal, assemble, respond};
 use stages::stages;
 use summary::summarize;
 pub use summary::{ENERGY_BOOKS_TOLERANCE_J, STAGE_HALVES_TOLERANCE, peak_stats};
+
+/// Most frames an animation shows: one drive cycle in at most this many poses
+/// ([`MechanismFrames`], [`crate::io::animation`]).
+pub const MAX_ANIMATION_FRAMES: usize = 72;
 
 /// Receives progress; every method defaults to doing nothing (`()` ignores everything).
 pub trait Progress {
@@ -222,7 +226,7 @@ pub struct AssemblyCheck {
 /// assembled at t = 0 from the file's initial poses. So `check` rejects what `run` would.
 pub fn check_assembly(scene: &Scene) -> Result<AssemblyCheck, RunError> {
     let (times, body) = run_plan(scene)?;
-    ideal_motion(scene, &times, body)?;
+    ideal_motion(scene, &times, body, None)?;
     unworn_joints(scene)?;
     let built = build(scene, Surfaces::default())?;
     let state = assemble(&built, "assembly check")?;
@@ -265,16 +269,30 @@ pub fn run_scene(
         None => unworn,
     };
     progress.phase("ideal mechanism", f64::from(cycles));
-    let ideal = ideal_motion(&scene, &times, body)?;
+    let frames = scene.run.animation.then(|| {
+        animation_frames(
+            &times,
+            scene.run.transient_window,
+            period,
+            MAX_ANIMATION_FRAMES,
+        )
+    });
+    let ideal = ideal_motion(&scene, &times, body, frames)?;
     progress.finish();
 
     let mut wear_history = Vec::new();
     let (response, response_summary, wear_summary, worn) = if !active {
+        // Without clearance the mechanism is its ideal self.
+        let frames = ideal.frames.map(|f| MechanismFrames {
+            poses: f.ideal_poses.clone(),
+            ..f
+        });
         let response = Response {
             times: times.clone(),
-            motion: ideal.clone(),
-            ideal,
+            motion: ideal.motion.clone(),
+            ideal: ideal.motion,
             contact: Vec::new(),
+            frames,
         };
         let summary = summarize(&scene, &response, None, cycles, t_end);
         (response, summary, None, None)
@@ -356,8 +374,56 @@ fn run_plan(scene: &Scene) -> Result<(Vec<f64>, usize), RunError> {
     ))
 }
 
-/// The all-ideal mechanism's motion of `body` at `times` (kinematic analysis).
-fn ideal_motion(scene: &Scene, times: &[f64], body: usize) -> Result<Motion, RunError> {
+/// Indices into the output `times` of the frames an animation shows (at most `max`): one
+/// `period` from the first output time at or after `window`, evenly spaced, the time that
+/// closes the cycle left out (the animation loops). A run shorter than the window plus one
+/// period gives its last period; one shorter than a period all of it, end included.
+pub(crate) fn animation_frames(times: &[f64], window: f64, period: f64, max: usize) -> Vec<usize> {
+    let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
+        return Vec::new();
+    };
+    if max == 0 || !(period.is_finite() && period > 0.0) {
+        return Vec::new();
+    }
+    let tol = 1e-9 * period;
+    let at_or_after = |t: f64| times.partition_point(|&u| u < t - tol).min(times.len() - 1);
+    let mut start = at_or_after(window.max(first));
+    if times[start] + period > last + tol {
+        start = at_or_after((last - period).max(first));
+    }
+    let t0 = times[start];
+    let full = last - t0 >= period - tol;
+    let step = if full {
+        period / max as f64
+    } else {
+        (last - t0) / (max.max(2) - 1) as f64
+    };
+    let mut frames: Vec<usize> = Vec::with_capacity(max);
+    for j in 0..max {
+        let t = t0 + j as f64 * step;
+        let i = times.partition_point(|&u| u < t).min(times.len() - 1);
+        // The nearer of the output times either side of t.
+        let k = if i > start && (t - times[i - 1]) <= (times[i] - t) {
+            i - 1
+        } else {
+            i
+        };
+        let in_cycle = !full || times[k] - t0 <= period - 0.5 * step;
+        if in_cycle && frames.last().is_none_or(|&p| k > p) {
+            frames.push(k);
+        }
+    }
+    frames
+}
+
+/// The all-ideal mechanism's motion of `body` at `times` (kinematic analysis), with the
+/// poses of every body at `frames` (indices into `times`) when an animation is drawn.
+fn ideal_motion(
+    scene: &Scene,
+    times: &[f64],
+    body: usize,
+    frames: Option<Vec<usize>>,
+) -> Result<Ideal, RunError> {
     let ideal_built = build(&scene.idealized(), Surfaces::default())?;
     let (q0, _) = ideal_built.system.initial_guess();
     let names = |v: Vec<&str>| {
@@ -381,11 +447,19 @@ fn ideal_motion(scene: &Scene, times: &[f64], body: usize) -> Result<Motion, Run
             drivers: names(scene.drivers.iter().map(|d| d.name.as_str()).collect()),
             source,
         })?;
-    let mut ideal = Motion::default();
+    let mut motion = Motion::default();
     for f in 0..kin.times.len() {
-        ideal.push(body, kin.q(f), kin.qd(f), kin.qdd(f));
+        motion.push(body, kin.q(f), kin.qd(f), kin.qdd(f));
     }
-    Ok(ideal)
+    let frames = frames.map(|frames| MechanismFrames {
+        ideal_poses: frames
+            .iter()
+            .map(|&f| MechanismFrames::poses_of(kin.q(f)))
+            .collect(),
+        frames,
+        poses: Vec::new(),
+    });
+    Ok(Ideal { motion, frames })
 }
 
 /// Simulation options from the scene's solver settings (integrator, rtol, the clearance-scaled
@@ -420,4 +494,46 @@ pub fn simulation_options(
         .unwrap_or(scene::DEFAULT_MAX_WALL_TIME);
     o.max_wall_time = std::time::Duration::try_from_secs_f64(wall).ok();
     o
+}
+
+#[cfg(test)]
+mod tests {
+    use super::animation_frames;
+
+    fn uniform(n: usize, dt: f64) -> Vec<f64> {
+        (0..n).map(|k| k as f64 * dt).collect()
+    }
+
+    #[test]
+    fn frames_span_one_period_from_the_window() {
+        let times = uniform(301, 0.01);
+        let expected: Vec<usize> = (0..10).map(|j| 11 + 10 * j).collect();
+        assert_eq!(animation_frames(&times, 0.105, 1.0, 10), expected);
+    }
+
+    #[test]
+    fn a_run_too_short_for_the_window_shows_its_last_period() {
+        let times = uniform(301, 0.01);
+        let expected: Vec<usize> = (0..10).map(|j| 200 + 10 * j).collect();
+        assert_eq!(animation_frames(&times, 2.5, 1.0, 10), expected);
+    }
+
+    #[test]
+    fn coarse_output_gives_every_sample_of_the_period_once() {
+        let times = uniform(31, 0.1);
+        let expected: Vec<usize> = (0..10).collect();
+        assert_eq!(animation_frames(&times, 0.0, 1.0, 72), expected);
+    }
+
+    #[test]
+    fn a_run_shorter_than_a_period_shows_all_of_it() {
+        let times = uniform(6, 0.1);
+        assert_eq!(
+            animation_frames(&times, 0.3, 1.0, 6),
+            vec![0, 1, 2, 3, 4, 5]
+        );
+        assert!(animation_frames(&[], 0.0, 1.0, 6).is_empty());
+        assert!(animation_frames(&times, 0.0, 0.0, 6).is_empty());
+        assert!(animation_frames(&times, 0.0, 1.0, 0).is_empty());
+    }
 }

@@ -80,6 +80,37 @@ pub struct Response {
     pub ideal: Motion,
     /// Per active clearance joint.
     pub contact: Vec<ContactSeries>,
+    /// Poses of every body at the frames of the animation (`None` when `run.animation` is
+    /// false).
+    pub frames: Option<MechanismFrames>,
+}
+
+/// Poses of every body at the frames an animation shows: one drive cycle after the start-up
+/// window.
+///
+/// The frames start at the first output time at or after `run.transient_window` and are
+/// spaced evenly over one period `T` (the last frame `T/n` before the cycle closes, so the
+/// animation loops). A run shorter than the window plus one period shows its last period
+/// instead, and a run shorter than one period all of it; an output interval coarser than
+/// `T/n` gives every output time in the period.
+#[derive(Debug, Clone, Default)]
+pub struct MechanismFrames {
+    /// Indices into [`Response::times`] of the frames shown (at most
+    /// [`MAX_ANIMATION_FRAMES`](crate::run::MAX_ANIMATION_FRAMES), increasing, spanning at most
+    /// one period).
+    pub frames: Vec<usize>,
+    /// `[x, y, θ]` (m, m, rad) of every scene body (scene order) at each frame, with
+    /// clearance.
+    pub poses: Vec<Vec<[f64; 3]>>,
+    /// The same for the ideal mechanism (clearance joints made ideal) at the same times.
+    pub ideal_poses: Vec<Vec<[f64; 3]>>,
+}
+
+impl MechanismFrames {
+    /// The poses of every body (3 coordinates each) taken from a system's coordinates `q`.
+    pub(super) fn poses_of(q: &[f64]) -> Vec<[f64; 3]> {
+        q.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
+    }
 }
 
 /// Wear of one joint after each stage.

@@ -1,16 +1,25 @@
 //! The response run: assembly, and the observer that records the response body and the
-//! contact state at the output frames (its energy books are in `summary`).
+//! contact state at the output frames, and every body's pose at the animation's frames (its
+//! energy books are in `summary`).
 
 use multibody::{Frame, Observer, OutputTimes};
 use wear::WornJoint;
 
 use super::summary::{Audit, summarize};
 use super::{
-    ContactSeries, Motion, Progress, Response, ResponseSummary, RunError, simulation_options,
+    ContactSeries, MechanismFrames, Motion, Progress, Response, ResponseSummary, RunError,
+    simulation_options,
 };
 use crate::build::{Built, JointHandle, Surfaces, build};
 use crate::run::validity::{Limits, Tally};
 use crate::scene::Scene;
+
+/// The ideal mechanism at the output times: the recorded body's motion, and every body's pose
+/// at the animation's frames (`None`: no animation).
+pub(super) struct Ideal {
+    pub(super) motion: Motion,
+    pub(super) frames: Option<MechanismFrames>,
+}
 
 /// Records the response body and the contact state at output frames; forwards progress.
 pub(super) struct Recorder<'a> {
@@ -24,6 +33,10 @@ pub(super) struct Recorder<'a> {
     pub(super) validity: Vec<Tally>,
     pub(super) progress: &'a mut dyn Progress,
     pub(super) record: bool,
+    /// Output-frame indices at which every body's pose is recorded (increasing).
+    pub(super) frames: &'a [usize],
+    /// The poses recorded so far, one per entry of `frames` reached.
+    pub(super) poses: Vec<Vec<[f64; 3]>>,
 }
 
 /// Points on the pin outline for the true-overlap check (0.5° apart).
@@ -35,6 +48,9 @@ impl Observer for Recorder<'_> {
     fn output(&mut self, frame: &Frame<'_>) {
         if !self.record {
             return;
+        }
+        if self.frames.get(self.poses.len()) == Some(&self.times.len()) {
+            self.poses.push(MechanismFrames::poses_of(frame.q));
         }
         self.times.push(frame.t);
         self.motion.push(self.body, frame.q, frame.qd, frame.qdd);
@@ -97,7 +113,7 @@ pub(super) fn respond(
     scene: &Scene,
     worn: &[Option<WornJoint>],
     times: &[f64],
-    ideal: &Motion,
+    ideal: &Ideal,
     body: usize,
     progress: &mut dyn Progress,
     what: &str,
@@ -145,6 +161,8 @@ pub(super) fn respond(
             .collect(),
         progress,
         record: true,
+        frames: ideal.frames.as_ref().map_or(&[], |f| &f.frames),
+        poses: Vec::with_capacity(ideal.frames.as_ref().map_or(0, |f| f.frames.len())),
     };
     let result = built
         .system
@@ -159,6 +177,7 @@ pub(super) fn respond(
         mut contact,
         validity,
         progress,
+        poses,
         ..
     } = recorder;
     progress.finish();
@@ -177,8 +196,13 @@ pub(super) fn respond(
     let response = Response {
         times: rec_times,
         motion,
-        ideal: ideal.clone(),
+        ideal: ideal.motion.clone(),
         contact,
+        frames: ideal.frames.as_ref().map(|f| MechanismFrames {
+            frames: f.frames.clone(),
+            poses,
+            ideal_poses: f.ideal_poses.clone(),
+        }),
     };
     let audit = Audit {
         built: &built,

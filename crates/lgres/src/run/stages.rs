@@ -108,6 +108,8 @@ impl StageRuns for SceneRuns<'_> {
             validity: Vec::new(),
             progress: &mut *self.progress,
             record: false,
+            frames: &[],
+            poses: Vec::new(),
         };
         let result = run.system.simulate(&run.start, &run.options, &mut recorder);
         self.progress.finish();

@@ -1,5 +1,5 @@
 //! The `[run]` table of a scene: cycles, wear stages and their extrapolation, the start-up
-//! window and the maintenance limit.
+//! window, the animation and the maintenance limit.
 
 use serde::{Deserialize, Serialize};
 
@@ -61,6 +61,11 @@ pub struct RunSettings {
     /// Start-up window excluded from peak statistics, s.
     #[serde(default = "transient_window")]
     pub transient_window: f64,
+    /// Draw `mechanism.gif` (and `mechanism_worn.gif` after wear stages): one drive cycle after
+    /// the start-up window animated, the ideal mechanism faint behind and every clearance
+    /// magnified in an inset ([`crate::io::animation`]). False: skip it and the pose recording.
+    #[serde(default = "yes")]
+    pub animation: bool,
     /// Maintenance limit on the largest local clearance, m (optional; above every clearance
     /// joint's initial `clearance`). The summary then says, per wearing joint, after how many
     /// drive cycles its largest local clearance `c0 + (max h_i + max h_j)/2` reaches it,
@@ -128,6 +133,7 @@ impl Default for RunSettings {
             max_substeps: max_substeps(),
             stop_at_validity_limits: true,
             transient_window: transient_window(),
+            animation: true,
             clearance_limit: None,
             response_body: None,
         }

@@ -62,6 +62,24 @@ pub fn paper() -> Result<&'static [PaperStudy], &'static toml::de::Error> {
     PAPER.as_ref().map(Vec::as_slice)
 }
 
+/// The report's closing section: why our numbers differ from the paper's.
+pub(super) const WHY_DIFFERENT: &str = "## Why our numbers differ from the paper's\n\n\
+- **Geometry is a reconstruction** (docs/model.md §6): link lengths and joint positions are \
+inferred from the paper's figures, so forces and deviations are comparable in order of \
+magnitude, not digit for digit.\n\
+- **Wear magnitude**: with `K_d = 1.8e-13 m²/N` as printed, one cycle wears ~1e-10–1e-9 m, so \
+a stage of 2 million cycles is tenths of a millimetre to millimetres (docs/model.md §8), far above the \
+paper's figures, which themselves differ 10× between §4.2.1 and §4.2.2 for the same case. Our \
+worn response therefore runs in much larger clearances than the paper's.\n\
+- **Chaos**: the journal paths separate within a fraction of a cycle; single peak forces move \
+by tens of percent with tolerances. We judge on medians over cycles, deviations, dissipation \
+and wear integrals, not on single peaks.\n\
+- **K reduced**: K simulated cycles per stage instead of 100 gather wear over fewer impacts, \
+so the profile is noisier; the adaptive sub-steps re-simulate between extrapolations, which \
+the paper's single jump does not.\n\
+- **Start-up**: the paper does not say whether its peaks include the concentric start-up \
+impact; ours exclude the first window (the run's `summary.json` has both).\n";
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -83,21 +101,3 @@ mod tests {
         }
     }
 }
-
-/// The report's closing section: why our numbers differ from the paper's.
-pub(super) const WHY_DIFFERENT: &str = "## Why our numbers differ from the paper's\n\n\
-- **Geometry is a reconstruction** (docs/model.md §6): link lengths and joint positions are \
-inferred from the paper's figures, so forces and deviations are comparable in order of \
-magnitude, not digit for digit.\n\
-- **Wear magnitude**: with `K_d = 1.8e-13 m²/N` as printed, one cycle wears ~1e-10–1e-9 m, so \
-a stage of 2 million cycles is tenths of a millimetre to millimetres (docs/model.md §8), far above the \
-paper's figures, which themselves differ 10× between §4.2.1 and §4.2.2 for the same case. Our \
-worn response therefore runs in much larger clearances than the paper's.\n\
-- **Chaos**: the journal paths separate within a fraction of a cycle; single peak forces move \
-by tens of percent with tolerances. We judge on medians over cycles, deviations, dissipation \
-and wear integrals, not on single peaks.\n\
-- **K reduced**: K simulated cycles per stage instead of 100 gather wear over fewer impacts, \
-so the profile is noisier; the adaptive sub-steps re-simulate between extrapolations, which \
-the paper's single jump does not.\n\
-- **Start-up**: the paper does not say whether its peaks include the concentric start-up \
-impact; ours exclude the first window (the run's `summary.json` has both).\n";

@@ -1,0 +1,261 @@
+//! The animated mechanism, `mechanism.gif`: one drive cycle after the start-up window, from
+//! the poses a run records ([`crate::run::MechanismFrames`]).
+//!
+//! Each frame shows the bodies as links through their joint points (a bar for two points, a
+//! polygon for more, a block for a slider), the ideal mechanism as a wide light-grey band
+//! behind them, ground pivots and guides, and, for every clearance joint, an inset in the
+//! bearing's frame where the clearance circle is drawn magnified (the factor is written in
+//! the inset and returned in [`AnimationInfo::magnification`]: the clearance is drawn that
+//! many times larger than the mechanism's scale). The inset holds the journal centre, its
+//! orbit since the start of the cycle, the worn clearance after the last wear stage (in each
+//! direction `c + (h_bearing + h_pin)/2`, the pin's cells facing that way as the pin has
+//! turned at the frame) and the contact force on the pin as an arrow
+//! from the journal centre towards the bearing centre, scaled to the cycle's peak (written
+//! in kN); each frame stands for the output samples since the previous one, and its arrow is
+//! their largest force, so an impact between frames still shows. The time and the fraction
+//! of the cycle are written on every frame.
+//!
+//! The file stays small and quick to write: at most [`MAX_ANIMATION_FRAMES`] frames of
+//! [`ANIMATION_SIZE`] pixels, encoded against one fixed palette (the few colours drawn and
+//! their blends with white; every pixel maps to its nearest entry), so no frame is
+//! quantized, and only the rectangle that changed from the previous frame is stored. The
+//! same input gives the same bytes.
+
+mod encode;
+mod inset;
+mod layout;
+
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::io::output::{OutputError, write_via_temp};
+use crate::io::plot::{FONT, register_fonts};
+use crate::run::{JointWearHistory, MechanismFrames, Response};
+use crate::scene::Scene;
+
+pub use crate::run::MAX_ANIMATION_FRAMES;
+
+use inset::Inset;
+use layout::{Mechanism, View};
+
+/// Width and height of the animation, pixels.
+pub const ANIMATION_SIZE: (u32, u32) = (720, 540);
+
+/// Time each frame shows, hundredths of a second (GIF's unit): a cycle of 72 frames loops in
+/// about 4 s whatever its real period.
+pub const FRAME_DELAY_CS: u16 = 6;
+
+/// What [`write_animation`] drew, for the report's caption.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AnimationInfo {
+    /// Frames in the file.
+    pub frames: usize,
+    /// File size, bytes.
+    pub bytes: u64,
+    /// Per active clearance joint (name): the factor its clearance is magnified by in its
+    /// inset, relative to the mechanism's scale.
+    pub magnification: Vec<(String, f64)>,
+}
+
+/// Colours of the drawing; the GIF's palette is built from these and their blends with white.
+pub(super) mod colours {
+    use plotters::style::RGBColor;
+
+    /// The links of the mechanism with clearance.
+    pub const LINK: RGBColor = RGBColor(0, 114, 178);
+    /// The ideal mechanism behind.
+    pub const IDEAL: RGBColor = RGBColor(205, 205, 205);
+    /// Ground marks, guides, frames of the insets.
+    pub const GROUND: RGBColor = RGBColor(110, 110, 110);
+    /// Clearance joints: their mark in the mechanism and their label.
+    pub const JOINT: RGBColor = RGBColor(230, 159, 0);
+    /// The journal-centre orbit.
+    pub const TRAIL: RGBColor = RGBColor(86, 180, 233);
+    /// The contact force.
+    pub const FORCE: RGBColor = RGBColor(213, 94, 0);
+    /// The worn bearing outline.
+    pub const WORN: RGBColor = RGBColor(0, 158, 115);
+    /// Every colour drawn (white and black included).
+    pub const ALL: [RGBColor; 9] = [
+        RGBColor(255, 255, 255),
+        RGBColor(0, 0, 0),
+        LINK,
+        IDEAL,
+        GROUND,
+        JOINT,
+        TRAIL,
+        FORCE,
+        WORN,
+    ];
+}
+
+/// Draws the animation of `response` (its recorded [`MechanismFrames`]) to `path` atomically;
+/// `worn` holds the wear histories of the joints for a worn response (empty for the unworn
+/// one), whose last stage's bearing outline the insets draw. Fails without recorded frames
+/// (`run.animation = false`).
+pub fn write_animation(
+    path: &Path,
+    scene: &Scene,
+    response: &Response,
+    worn: &[JointWearHistory],
+    title: &str,
+) -> Result<AnimationInfo, OutputError> {
+    let plot_err = |reason: String| OutputError::Plot {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let frames = response
+        .frames
+        .as_ref()
+        .filter(|f| {
+            !f.frames.is_empty()
+                && f.poses.len() == f.frames.len()
+                && f.ideal_poses.len() == f.frames.len()
+                && f.frames.iter().all(|&k| k < response.times.len())
+        })
+        .ok_or_else(|| {
+            plot_err("no mechanism frames recorded (run.animation = false, or an empty run)".into())
+        })?;
+    let mechanism = Mechanism::new(scene);
+    let has_insets = response
+        .contact
+        .iter()
+        .any(|c| scene.clearance_joints.iter().any(|j| j.name == c.name));
+    let view = View::fit(&mechanism, frames, has_insets);
+    let insets = inset::insets(scene, response, frames, worn, &view);
+    let n = frames.frames.len().min(MAX_ANIMATION_FRAMES);
+    register_fonts();
+    let (w, h) = ANIMATION_SIZE;
+    let mut encoder = encode::Encoder::new(w, h, &colours::ALL, FRAME_DELAY_CS);
+    let mut rgb = vec![255u8; (w * h * 3) as usize];
+    let period = scene.cycle_period().unwrap_or(f64::NAN);
+    write_via_temp(path, |tmp| {
+        let mut gif = encoder.start(tmp).map_err(|e| plot_err(e.to_string()))?;
+        for i in 0..n {
+            {
+                let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+                let scene_frame = SceneFrame {
+                    title,
+                    mechanism: &mechanism,
+                    view: &view,
+                    insets: &insets,
+                    frames,
+                    response,
+                    period,
+                    i,
+                };
+                draw_frame(&root, &scene_frame)
+                    .and_then(|()| root.present().map_err(Into::into))
+                    .map_err(|e| plot_err(e.to_string()))?;
+            }
+            encoder
+                .frame(&mut gif, &rgb)
+                .map_err(|e| plot_err(e.to_string()))?;
+        }
+        encode::finish(gif).map_err(|e| plot_err(e.to_string()))
+    })?;
+    let bytes = std::fs::metadata(path)
+        .map_err(|source| OutputError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?
+        .len();
+    Ok(AnimationInfo {
+        frames: n,
+        bytes,
+        magnification: insets
+            .iter()
+            .map(|i| (i.name.clone(), i.magnification))
+            .collect(),
+    })
+}
+
+/// Everything one frame needs.
+struct SceneFrame<'a> {
+    title: &'a str,
+    mechanism: &'a Mechanism,
+    view: &'a View,
+    insets: &'a [Inset],
+    frames: &'a MechanismFrames,
+    response: &'a Response,
+    period: f64,
+    /// The frame, an index into `frames.frames`.
+    i: usize,
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+type DrawResult = Result<(), Box<dyn std::error::Error>>;
+
+fn text(area: &Area<'_>, s: &str, at: (i32, i32), size: u32, colour: RGBColor) -> DrawResult {
+    area.draw(&Text::new(s, at, (FONT, size).into_font().color(&colour)))?;
+    Ok(())
+}
+
+fn draw_frame(root: &Area<'_>, f: &SceneFrame<'_>) -> DrawResult {
+    root.fill(&WHITE)?;
+    let (w, h) = ANIMATION_SIZE;
+    let (w, h) = (w as i32, h as i32);
+    text(root, f.title, (12, 8), 18, BLACK)?;
+    // The mechanism, clipped to its part of the picture: the ideal one behind, wide and
+    // light, then the one with clearance.
+    let (part, _) = root.split_horizontally(f.view.width);
+    let ideal = &f.frames.ideal_poses[f.i];
+    let actual = &f.frames.poses[f.i];
+    f.mechanism
+        .draw_guides(&part, f.view, &[&f.frames.poses, &f.frames.ideal_poses])?;
+    f.mechanism.draw_links(&part, f.view, ideal, true)?;
+    f.mechanism.draw_pivots(&part, f.view)?;
+    f.mechanism.draw_links(&part, f.view, actual, false)?;
+    for inset in f.insets {
+        inset.draw_mark(&part, f.view, actual)?;
+    }
+    for inset in f.insets {
+        inset.draw(root, f.response, &f.frames.frames, f.i, actual)?;
+    }
+    let k = f.frames.frames[f.i];
+    // Footer: time, fraction of the cycle, legend.
+    let times = &f.response.times;
+    let t = times[k];
+    let t0 = times[f.frames.frames[0]];
+    let cycle = if f.period > 0.0 {
+        format!("  ·  cycle {:.2}", (t - t0) / f.period)
+    } else {
+        String::new()
+    };
+    text(
+        root,
+        &format!("t = {}{cycle}", time_label(t, f.period)),
+        (12, h - 30),
+        17,
+        BLACK,
+    )?;
+    let legend = "grey: ideal mechanism  ·  insets in the bearing's frame";
+    text(root, legend, (w - 400, h - 36), 13, colours::GROUND)?;
+    let arrow = "arrow: largest contact force on the pin since the last frame";
+    text(root, arrow, (w - 400, h - 19), 13, colours::GROUND)?;
+    Ok(())
+}
+
+/// `t` in seconds with enough digits for frames `period/72` apart to differ.
+fn time_label(t: f64, period: f64) -> String {
+    let step = period / MAX_ANIMATION_FRAMES as f64;
+    let digits = if step.is_finite() && step > 0.0 {
+        (-step.log10()).ceil().clamp(1.0, 9.0) as usize + 1
+    } else {
+        4
+    };
+    format!("{t:.digits$} s")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn time_labels_resolve_a_frame() {
+        assert_eq!(time_label(1.23456, 1.0), "1.235 s");
+        assert_eq!(time_label(0.0071234, 0.012), "0.00712 s");
+    }
+}
