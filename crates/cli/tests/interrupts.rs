@@ -1,8 +1,10 @@
-//! Interrupts at random moments (issue 22): `run`, `precision` and a quick `study` (two scene
-//! runs at once) are sent SIGINT at moments spread over their whole length, the writing of
-//! their files included, by a fixed sequence (every CI run sees the same moments). Whatever the
-//! moment, nothing hidden may stay beside the output folder (no lock, no staging folder, no
-//! temporary file), and the folder is either what it was or the command's whole new output.
+//! Interrupts at random moments (issue 22): `run`, `precision`, a quick `study` (two scene
+//! runs at once), `sweep` and `stress --quick` are sent SIGINT at moments spread over their
+//! whole length, the writing of their files included, by a fixed sequence (every CI run sees
+//! the same moments). Whatever the moment, nothing hidden may stay beside or in the output
+//! folder (no lock, no staging folder, no temporary file); a staged folder (`run`, `precision`'s
+//! files, `study`) is either what it was or the command's whole new output, and every file a
+//! command writes in place (`sweep`, `stress`) is whole.
 //! The writer threads' race with the handler is covered by `lgres/tests/interrupt.rs`.
 
 #![cfg(unix)]
@@ -157,5 +159,74 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         &study_whole,
     );
     eprintln!("study: {stopped} interrupted, {finished} finished first");
+
+    // `sweep` and `stress` write into their folder in place (under a lock): whatever the moment,
+    // no lock or temporary file stays, and every file there is whole.
+    let sweep_file = dir.join("s.toml");
+    std::fs::write(
+        &sweep_file,
+        "scene = \"slider-crank\"\nsamples = 4\nseed = 1\n\
+         metrics = [\"response.dissipated_per_cycle_j\"]\n[run]\ncycles = 1\n\
+         [[vary]]\npath = \"clearance_joints.rod-slider.clearance\"\n\
+         distribution = \"uniform\"\nlow = 3e-4\nhigh = 5e-4\n",
+    )
+    .unwrap();
+    let sweep_whole = |out: &Path| {
+        let names = listing(out);
+        assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
+        if let Ok(rows) = std::fs::read_to_string(out.join("samples.csv")) {
+            let lines: Vec<&str> = rows.lines().collect();
+            assert!(lines[0].starts_with("sample,"), "{rows}");
+            // Fields outside quotes (an error message may hold commas; none holds a newline).
+            let fields = |line: &str| {
+                let mut quoted = false;
+                1 + line
+                    .chars()
+                    .filter(|c| {
+                        quoted ^= *c == '"';
+                        *c == ',' && !quoted
+                    })
+                    .count()
+            };
+            let columns = fields(lines[0]);
+            assert!(lines.iter().all(|l| fields(l) == columns), "{rows}");
+            assert!(rows.ends_with('\n'), "samples.csv cut short");
+        }
+        if names.contains(&"samples.html".to_string()) {
+            let page = std::fs::read_to_string(out.join("samples.html")).unwrap();
+            assert!(page.ends_with("</html>\n"), "samples.html cut short");
+        }
+    };
+    let _ = std::fs::remove_dir_all(&out);
+    let (stopped, finished) = fuzz_interrupts(
+        &dir,
+        &out,
+        &[
+            "sweep",
+            sweep_file.to_str().unwrap(),
+            "--jobs",
+            "2",
+            "--out",
+            o,
+        ],
+        &sweep_whole,
+    );
+    eprintln!("sweep: {stopped} interrupted, {finished} finished first");
+
+    let stress_whole = |out: &Path| {
+        let names = listing(out);
+        assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
+        if let Ok(json) = std::fs::read_to_string(out.join("stress.json")) {
+            serde_json::from_str::<serde_json::Value>(&json).expect("stress.json whole");
+        }
+    };
+    let _ = std::fs::remove_dir_all(&out);
+    let (stopped, finished) = fuzz_interrupts(
+        &dir,
+        &out,
+        &["stress", "--quick", "--out", o],
+        &stress_whole,
+    );
+    eprintln!("stress: {stopped} interrupted, {finished} finished first");
     std::fs::remove_dir_all(&dir).unwrap();
 }
