@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use lgres::io::html::{Html, Td};
-use lgres::io::output::{OutputError, write_atomic};
+use lgres::io::output::OutputError;
 
 use crate::table::{self, Status};
 use crate::{Mode, Row, Sweep};
@@ -67,11 +67,7 @@ pub fn write_page(
     let body: Vec<Vec<Td>> = rows.iter().map(row_cells).collect();
     html.table(&table::header(sweep), &body);
     let path = out.join(PAGE_FILE);
-    write_atomic(
-        &path,
-        html.page(&format!("wearsim sweep: {}", sweep.name))
-            .as_bytes(),
-    )?;
+    html.write_page(&path, &format!("wearsim sweep: {}", sweep.name))?;
     Ok(path)
 }
 

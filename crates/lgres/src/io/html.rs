@@ -5,11 +5,12 @@
 //! whole document. The fragment alone, under its `wj-report` class, is what a notebook shows.
 
 use std::fmt::Write as _;
+use std::io::Write;
 use std::path::Path;
 
 use base64::Engine as _;
 
-use crate::io::output::{OutputError, io_err, write_atomic};
+use crate::io::output::{AtomicFile, OutputError, io_err, write_atomic};
 
 /// The page's style, scoped under `.wj-report` so a fragment embedded in a notebook leaves the
 /// notebook's own style alone.
@@ -109,10 +110,7 @@ pub fn write_markdown_and_page(
     write_atomic(&path, md.as_bytes())?;
     let mut html = Html::new();
     html.markdown(md, dir)?;
-    write_atomic(
-        dir.join(format!("{stem}.html")),
-        html.page(title).as_bytes(),
-    )?;
+    html.write_page(&dir.join(format!("{stem}.html")), title)?;
     Ok(path)
 }
 
@@ -273,20 +271,43 @@ impl Html {
 
     /// The fragment, wrapped in its scoped style (what a notebook shows).
     pub fn fragment(&self) -> String {
-        format!(
-            "<div class=\"wj-report\">\n<style>{STYLE}</style>\n{}</div>\n",
-            self.body
-        )
+        let mut out = Vec::with_capacity(self.body.len() + STYLE.len() + 64);
+        // Writing into memory cannot fail, and every piece is UTF-8.
+        let _ = self.write_fragment(&mut out);
+        String::from_utf8_lossy(&out).into_owned()
     }
 
     /// A whole document titled `title` around the fragment.
     pub fn page(&self, title: &str) -> String {
-        format!(
+        let mut out = Vec::with_capacity(self.body.len() + STYLE.len() + 512);
+        let _ = self.write_document(title, &mut out);
+        String::from_utf8_lossy(&out).into_owned()
+    }
+
+    /// Writes the document titled `title` to `path` atomically, streamed: a page with its
+    /// figures embedded is megabytes, and is not copied on the way.
+    pub fn write_page(&self, path: &Path, title: &str) -> Result<(), OutputError> {
+        let mut file = AtomicFile::create(path)?;
+        self.write_document(title, &mut file)
+            .map_err(io_err(path))?;
+        file.commit().map(drop)
+    }
+
+    fn write_fragment(&self, w: &mut impl Write) -> std::io::Result<()> {
+        write!(w, "<div class=\"wj-report\">\n<style>{STYLE}</style>\n")?;
+        w.write_all(self.body.as_bytes())?;
+        w.write_all(b"</div>\n")
+    }
+
+    fn write_document(&self, title: &str, w: &mut impl Write) -> std::io::Result<()> {
+        write!(
+            w,
             "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
              <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
-             <title>{}</title>\n</head>\n<body>\n{}</body>\n</html>\n",
-            escape(title),
-            self.fragment()
-        )
+             <title>{}</title>\n</head>\n<body>\n",
+            escape(title)
+        )?;
+        self.write_fragment(w)?;
+        w.write_all(b"</body>\n</html>\n")
     }
 }

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::io::html::{Html, Td};
-use crate::io::output::{OutputError, write_atomic};
+use crate::io::output::OutputError;
 use crate::run::{
     ENERGY_BOOKS_TOLERANCE_J, JointSummary, PeakStats, ResponseSummary, RunOutcome, Summary,
 };
@@ -46,7 +46,7 @@ pub fn write_run_report(
     html.list(&names);
     let path = dir.join(REPORT_FILE);
     let title = format!("wearsim run: {}", outcome.summary.scene);
-    write_atomic(&path, html.page(&title).as_bytes())?;
+    html.write_page(&path, &title)?;
     Ok(path)
 }
 
