@@ -116,6 +116,12 @@ clearance_limit = 0.000505
     for w in &s.wear.as_ref().unwrap().warnings {
         assert!(page.contains(&html::escape(w)), "warning {w}");
     }
+    // Captions read as sentences: no runs of spaces (a broken string continuation shows so).
+    for caption in page.split("<figcaption>").skip(1) {
+        let caption = caption.split("</figcaption>").next().unwrap();
+        assert!(!caption.contains("  "), "{caption}");
+    }
+    assert_eq!(page.matches("<figcaption>mechanism").count(), 2);
     // Escaped: the description's markup is text, not markup.
     assert!(page.contains("crank &lt;b&gt;fast&lt;/b&gt; &amp; &quot;worn&quot;"));
     assert!(!page.contains("<b>fast"));

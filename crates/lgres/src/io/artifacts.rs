@@ -147,14 +147,18 @@ fn animation_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<Captioned>, O
             String::new()
         } else {
             format!(
-                " Each clearance joint's inset shows the journal centre in its bearing, the                  clearance magnified ({}), its orbit as a trail and the largest contact force                  since the previous frame as an arrow scaled to the cycle's peak.",
+                " Each clearance joint's inset shows the journal centre in its bearing, the \
+                 clearance magnified ({}), its orbit as a trail and the largest contact force \
+                 since the previous frame as an arrow scaled to the cycle's peak.",
                 magnified.join(", ")
             )
         };
         out.push(Captioned {
             path,
             caption: format!(
-                "mechanism{suffix}.gif: the mechanism over one drive cycle after the {} s                  start-up window {on} ({} frames), the ideal mechanism in grey behind.{magnified}",
+                "mechanism{suffix}.gif: the mechanism over one drive cycle after the {} s \
+                 start-up window {on} ({} frames), the ideal mechanism in grey behind.\
+                 {magnified}",
                 crate::io::report::sig(outcome.summary.transient_window_s, 3),
                 info.frames
             ),
