@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use super::staged::create_unless_abandoned;
 pub use super::staged::{FolderLock, StagedDir, abandon_staged, is_abandoned};
+use super::staged::{create_temp_unless_abandoned, create_unless_abandoned, forget_temp};
 
 /// An output file could not be written.
 #[derive(Debug, thiserror::Error)]
@@ -144,7 +144,7 @@ pub fn write_via_temp(
     write: impl FnOnce(&Path) -> Result<(), OutputError>,
 ) -> Result<(), OutputError> {
     let tmp = temp_path(target);
-    create_unless_abandoned(|| {
+    create_temp_unless_abandoned(&tmp, || {
         if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
             fs::create_dir_all(dir).map_err(io_err(dir))?;
         }
@@ -159,6 +159,7 @@ pub fn write_via_temp(
         // Best effort: the error being reported matters more than a leftover temp file.
         let _ = fs::remove_file(&tmp);
     }
+    forget_temp(&tmp);
     result
 }
 
@@ -175,7 +176,7 @@ impl AtomicFile {
     pub fn create(target: impl AsRef<Path>) -> Result<Self, OutputError> {
         let target = target.as_ref().to_path_buf();
         let tmp = temp_path(&target);
-        let file = create_unless_abandoned(|| {
+        let file = create_temp_unless_abandoned(&tmp, || {
             if let Some(dir) = target.parent().filter(|d| !d.as_os_str().is_empty()) {
                 fs::create_dir_all(dir).map_err(io_err(dir))?;
             }
@@ -192,17 +193,19 @@ impl AtomicFile {
     pub fn commit(mut self) -> Result<PathBuf, OutputError> {
         let target = self.target.clone();
         let file = self.file.take().map(BufWriter::into_inner);
-        match file {
-            Some(Ok(f)) => f.sync_all().map_err(io_err(&target))?,
-            Some(Err(e)) => return Err(io_err(&target)(e.into_error())),
-            None => {}
+        let moved = match file {
+            Some(Ok(f)) => f.sync_all().map_err(io_err(&target)),
+            Some(Err(e)) => Err(io_err(&target)(e.into_error())),
+            None => Ok(()),
         }
-        // Under the lock: a file moved into a staging folder being removed would keep it.
-        let moved =
-            create_unless_abandoned(|| fs::rename(&self.tmp, &target).map_err(io_err(&target)));
+        .and_then(|()| {
+            // Under the lock: a file moved into a staging folder being removed would keep it.
+            create_unless_abandoned(|| fs::rename(&self.tmp, &target).map_err(io_err(&target)))
+        });
         if moved.is_err() {
             let _ = fs::remove_file(&self.tmp);
         }
+        forget_temp(&self.tmp);
         moved.map(|()| target)
     }
 }
@@ -223,6 +226,7 @@ impl Drop for AtomicFile {
     fn drop(&mut self) {
         if self.file.take().is_some() {
             let _ = fs::remove_file(&self.tmp);
+            forget_temp(&self.tmp);
         }
     }
 }

@@ -31,6 +31,40 @@ pub(crate) fn create_unless_abandoned<T>(
     create()
 }
 
+/// Temporary files being written (`.name.tmp-<pid>`), until they are moved into place or
+/// removed: an interrupt waits for their writers to remove them, and removes what is left, so
+/// none outlives the process in a folder written in place (a sweep's, a report folder).
+static TEMPS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn temps() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    TEMPS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// [`create_unless_abandoned`] for the temporary file `tmp`, which is remembered until
+/// [`forget_temp`].
+pub(crate) fn create_temp_unless_abandoned<T>(
+    tmp: &Path,
+    create: impl FnOnce() -> Result<T, OutputError>,
+) -> Result<T, OutputError> {
+    let _registry = active();
+    if ABANDONED.load(Ordering::SeqCst) {
+        return Err(OutputError::Interrupted);
+    }
+    let created = create()?;
+    temps().push(tmp.to_path_buf());
+    Ok(created)
+}
+
+/// The temporary file `tmp` is gone: moved into place or removed.
+pub(crate) fn forget_temp(tmp: &Path) {
+    let mut temps = temps();
+    if let Some(k) = temps.iter().position(|p| p == tmp) {
+        temps.swap_remove(k);
+    }
+}
+
 fn active() -> std::sync::MutexGuard<'static, Vec<(Option<PathBuf>, PathBuf)>> {
     ACTIVE
         .lock()
@@ -255,13 +289,26 @@ impl OutputFolder {
 /// Remove every staging folder and lock of this process (for a SIGINT/SIGTERM handler, which
 /// then exits): the targets stay as they were before the interrupted runs.
 pub fn abandon_staged() {
-    let mut registry = active();
-    ABANDONED.store(true, Ordering::SeqCst);
-    for (staging, lock) in registry.drain(..) {
-        if let Some(staging) = staging {
-            remove_while_writers_finish(&staging);
+    {
+        let mut registry = active();
+        ABANDONED.store(true, Ordering::SeqCst);
+        for (staging, lock) in registry.drain(..) {
+            if let Some(staging) = staging {
+                remove_while_writers_finish(&staging);
+            }
+            let _ = fs::remove_file(&lock);
         }
-        let _ = fs::remove_file(&lock);
+    }
+    // A writer in flight removes its temporary file once its move is refused: wait for them
+    // (bounded), then remove whatever is left.
+    for _ in 0..400 {
+        if temps().is_empty() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    for tmp in temps().drain(..) {
+        let _ = fs::remove_file(tmp);
     }
 }
 
