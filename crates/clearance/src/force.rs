@@ -140,6 +140,18 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         self.first_half.take().map(|(_, wear)| wear)
     }
 
+    /// The onset velocity of the contact under way at the last accepted step: with the state,
+    /// what a trajectory carries over to a system rebuilt on updated surfaces.
+    pub fn impact_memory(&self) -> ImpactMemory {
+        self.memory
+    }
+
+    /// Continues a trajectory: the contact under way keeps the onset velocity it had (its
+    /// Lankarani–Nikravesh damping would otherwise take the current normal velocity for it).
+    pub fn set_impact_memory(&mut self, memory: ImpactMemory) {
+        self.memory = memory;
+    }
+
     fn states(&self, q: &[f64], qd: &[f64]) -> [BodyState; 2] {
         self.bodies.map(|body| match body {
             Some(BodyId(k)) => BodyState::new(
@@ -168,6 +180,19 @@ impl<N, F> ClearanceForce<WornProfile, WornProfile, N, F> {
         self
     }
 
+    /// Gathers wear from accepted steps that start at or after `wear_start` (s) instead, and
+    /// keeps no halves apart: the wear-stage driver gives each trajectory of an ensemble its
+    /// own window.
+    pub fn set_wear_window(&mut self, wear_start: f64) {
+        self.wear_start = wear_start;
+        self.first_half = None;
+    }
+
+    /// When wear gathering starts (s; −∞ when it was never set).
+    pub fn wear_start(&self) -> f64 {
+        self.wear_start
+    }
+
     /// Also keeps the wear of the steps that start before `split` (s) apart, so that the two
     /// halves of a stage's cycles can be compared; `first_half` is an empty record of the
     /// same joint.
@@ -179,10 +204,10 @@ impl<N, F> ClearanceForce<WornProfile, WornProfile, N, F> {
 
 impl<B, P, N, F> ForceElement for ClearanceForce<B, P, N, F>
 where
-    B: SurfaceProfile + 'static,
-    P: SurfaceProfile + 'static,
-    N: NormalLaw + 'static,
-    F: FrictionLaw + 'static,
+    B: SurfaceProfile + Send + 'static,
+    P: SurfaceProfile + Send + 'static,
+    N: NormalLaw + Send + 'static,
+    F: FrictionLaw + Send + 'static,
 {
     fn name(&self) -> &str {
         &self.name

@@ -22,8 +22,8 @@ pub use force::{
     ClearanceForce, ClearanceProbe, RoundClearanceForce, WornClearanceForce, as_probe,
 };
 pub use stages::{
-    StageHalves, StageRuns, StageSimulation, WearStages, WearStagesError, halves_difference,
-    run_wear_stages,
+    Ensemble, StageHalves, StageRuns, StageSimulation, WearStages, WearStagesError,
+    halves_difference, run_ensemble_stages, run_wear_stages,
 };
 
 // The crates a clearance joint is made of, and their names a mechanism with worn joints uses

@@ -5,7 +5,15 @@
 //! that needs a mechanism: building it on the current surfaces (the caller's
 //! [`StageRuns::build`]), simulating it, and taking each wearing element's stage buffer out.
 
-use multibody::{ElementId, SimulationError, SimulationOptions, SimulationResult, State, System};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Duration;
+
+use contact::ImpactMemory;
+use multibody::{
+    ElementId, Observer, OutputTimes, SimulationError, SimulationOptions, SimulationResult, State,
+    System,
+};
+use rayon::prelude::*;
 use wear::{RunContext, StagePlan, StageReport, StageWear, StagingError, WearError, WornJoint};
 
 use crate::WornClearanceForce;
@@ -37,7 +45,8 @@ pub trait StageRuns {
         surfaces: &[WornJoint],
     ) -> Result<StageSimulation, Self::Error>;
 
-    /// Simulates a built run; override to pass an observer (progress, recorders).
+    /// Simulates a built run of a single trajectory ([`Ensemble::SINGLE`]); override to pass an
+    /// observer (progress, recorders).
     fn simulate(
         &mut self,
         context: RunContext,
@@ -45,6 +54,66 @@ pub trait StageRuns {
     ) -> Result<SimulationResult, SimulationError> {
         let _ = context;
         run.system.simulate(&run.start, &run.options, &mut ())
+    }
+
+    /// An ensemble's trajectories simulate on worker threads; the driver reports their
+    /// progress here, on its own thread, about every tenth of a second: `done` is the
+    /// fraction of the sub-step's simulated time, 0 at the start and 1 at the end.
+    fn ensemble_progress(&mut self, context: RunContext, done: f64) {
+        let _ = (context, done);
+    }
+}
+
+/// How a sub-step's simulated cycles are spread over trajectories.
+///
+/// The wear of a sub-step estimates an average over the chaotic motion; `K` consecutive cycles
+/// of one trajectory and `K/M` cycles of each of `M` trajectories estimate the same average.
+/// With `M ≥ 2` the trajectories run on threads, and each continues, sub-step after sub-step,
+/// from where it ended (its state and its contacts' impact memory) on the updated surfaces,
+/// so only the first sub-step pays the start-up window. They are seeded deterministically:
+/// in the first sub-step, trajectory `m` runs from the caller's assembled state and gathers
+/// wear over the `m`-th of `M` equal parts of the caller's wear window (the run's cycles),
+/// i.e. it is the same trajectory as the single run, cut at another place. Results do not
+/// depend on the number of threads: each trajectory is computed alone and their wear is summed
+/// in trajectory order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Ensemble {
+    trajectories: usize,
+    threads: usize,
+}
+
+impl Ensemble {
+    /// One trajectory: every run starts from the caller's assembled state and simulates its
+    /// cycles after the start-up window one after the other (the paper's way).
+    pub const SINGLE: Self = Self {
+        trajectories: 1,
+        threads: 1,
+    };
+
+    /// `trajectories` trajectories per sub-step on at most `threads` threads (both at least
+    /// 1; a 0 counts as 1). Each trajectory covers `1/trajectories` of the caller's wear
+    /// window: choose a divisor of the run's cycles so that each covers whole drive cycles.
+    pub fn new(trajectories: usize, threads: usize) -> Self {
+        Self {
+            trajectories: trajectories.max(1),
+            threads: threads.max(1),
+        }
+    }
+
+    /// Trajectories per sub-step.
+    pub fn trajectories(&self) -> usize {
+        self.trajectories
+    }
+
+    /// Most threads they run on.
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+}
+
+impl Default for Ensemble {
+    fn default() -> Self {
+        Self::SINGLE
     }
 }
 
@@ -80,6 +149,14 @@ pub enum WearStagesError<E> {
         context: RunContext,
         /// Cause.
         source: SimulationError,
+    },
+    /// The ensemble's worker threads could not be started.
+    #[error("the wear stages' {threads} worker thread(s) could not be started: {source}")]
+    Threads {
+        /// How many were asked for.
+        threads: usize,
+        /// Cause.
+        source: rayon::ThreadPoolBuildError,
     },
     /// An element listed in [`StageSimulation::elements`] is not a [`WornClearanceForce`] or
     /// carries no stage-wear buffer.
@@ -129,14 +206,41 @@ pub struct StageHalves {
 }
 
 /// Runs every stage of `plan` on `joints` (all wearing joints of the mechanism, updated
-/// together so one sub-step bound covers them all). On error the joints hold the surfaces of
-/// the sub-steps completed so far.
+/// together so one sub-step bound covers them all), one trajectory per run
+/// ([`Ensemble::SINGLE`]). On error the joints hold the surfaces of the sub-steps completed so
+/// far.
 pub fn run_wear_stages<R: StageRuns>(
     joints: &mut [WornJoint],
     plan: &StagePlan,
     runs: &mut R,
 ) -> Result<WearStages, WearStagesError<R::Error>> {
+    run_ensemble_stages(joints, plan, Ensemble::SINGLE, runs)
+}
+
+/// [`run_wear_stages`] with each sub-step's cycles spread over the trajectories of `ensemble`.
+pub fn run_ensemble_stages<R: StageRuns>(
+    joints: &mut [WornJoint],
+    plan: &StagePlan,
+    ensemble: Ensemble,
+    runs: &mut R,
+) -> Result<WearStages, WearStagesError<R::Error>> {
     plan.validate()?;
+    let mut members = if ensemble.trajectories > 1 {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(ensemble.threads)
+            .thread_name(|i| format!("wear-trajectory-{i}"))
+            .build()
+            .map_err(|source| WearStagesError::Threads {
+                threads: ensemble.threads,
+                source,
+            })?;
+        Some(Members {
+            pool,
+            continuations: vec![None; ensemble.trajectories],
+        })
+    } else {
+        None
+    };
     let mut out = WearStages {
         reports: Vec::with_capacity(plan.stages),
         surfaces: Vec::with_capacity(plan.stages),
@@ -146,7 +250,10 @@ pub fn run_wear_stages<R: StageRuns>(
     for stage in 0..plan.stages {
         let mut halves: Vec<Vec<(StageWear, StageWear)>> = Vec::new();
         let mut runner = |context: RunContext, surfaces: &[WornJoint]| {
-            let (wear, difference, split) = run_once(runs, context, surfaces, plan.smoothing)?;
+            let (wear, difference, split) = match &mut members {
+                None => run_once(runs, context, surfaces, plan.smoothing)?,
+                Some(members) => members.run(runs, context, surfaces, plan.smoothing)?,
+            };
             out.halves_differences.push(difference);
             halves.push(split);
             Ok(wear)
@@ -235,25 +342,45 @@ fn run_once<R: StageRuns>(
         .map_err(|source| WearStagesError::Build { context, source })?;
     runs.simulate(context, &mut run)
         .map_err(|source| WearStagesError::Simulation { context, source })?;
-    let mut wear = Vec::with_capacity(run.elements.len());
-    let mut difference: Option<f64> = None;
-    let mut split = Vec::new();
+    let mut gathered = Vec::with_capacity(run.elements.len());
     for &id in &run.elements {
-        let not_wearing = || WearStagesError::NotWearing {
+        let element = worn_element(&mut run.system, id, context)?;
+        let first = element.take_first_half();
+        let total = element
+            .take_stage_wear()
+            .ok_or(WearStagesError::NotWearing {
+                context,
+                element: id.0,
+            })?;
+        gathered.push((total, first));
+    }
+    Ok(smoothed(gathered, smoothing))
+}
+
+/// The wearing element `id` of `system`, or the error naming it.
+fn worn_element<E>(
+    system: &mut System,
+    id: ElementId,
+    context: RunContext,
+) -> Result<&mut WornClearanceForce, WearStagesError<E>> {
+    system
+        .element_mut::<WornClearanceForce>(id)
+        .ok_or(WearStagesError::NotWearing {
             context,
             element: id.0,
-        };
-        let element = run
-            .system
-            .element_mut::<WornClearanceForce>(id)
-            .ok_or_else(not_wearing)?;
-        let mut first = element.take_first_half();
-        let mut total = element.take_stage_wear().ok_or_else(not_wearing)?;
+        })
+}
+
+/// Each joint's (total, first half if kept) wear, smoothed, with the largest halves
+/// difference and the halves themselves (all joints' or none).
+fn smoothed(gathered: Vec<(StageWear, Option<StageWear>)>, smoothing: f64) -> RunWear {
+    let mut wear = Vec::with_capacity(gathered.len());
+    let mut difference: Option<f64> = None;
+    let mut split = Vec::new();
+    for (mut total, first) in gathered {
         total.smooth(smoothing);
-        if let Some(first) = &mut first {
+        if let Some(mut first) = first {
             first.smooth(smoothing);
-        }
-        if let Some(first) = first {
             let d = halves_difference(&first, &total);
             difference = Some(difference.map_or(d, |x| x.max(d)));
             let mut second = total.clone();
@@ -265,7 +392,159 @@ fn run_once<R: StageRuns>(
     if split.len() != wear.len() {
         split.clear();
     }
-    Ok((wear, difference, split))
+    (wear, difference, split)
+}
+
+/// Where a trajectory of an ensemble ended: its state and each wearing element's impact memory.
+#[derive(Clone, Debug)]
+struct Continuation {
+    state: State,
+    memories: Vec<ImpactMemory>,
+}
+
+/// The trajectories of an ensemble ([`Ensemble`]) and the threads they run on.
+struct Members {
+    pool: rayon::ThreadPool,
+    /// Per trajectory, where it ended (`None` before its first run).
+    continuations: Vec<Option<Continuation>>,
+}
+
+/// Writes a trajectory's simulated fraction of its span for the driver's progress reports.
+struct Fraction<'a> {
+    done: &'a AtomicU64,
+    t0: f64,
+}
+
+impl Observer for Fraction<'_> {
+    fn progress(&mut self, t: f64, t_end: f64) {
+        let fraction = ((t - self.t0) / (t_end - self.t0)).clamp(0.0, 1.0);
+        self.done.store(fraction.to_bits(), Ordering::Relaxed);
+    }
+}
+
+impl Members {
+    /// One sub-step: every trajectory simulated on the pool, their wear summed in order; with
+    /// an even number of trajectories the first half of them is the halves check's first half.
+    fn run<R: StageRuns>(
+        &mut self,
+        runs: &mut R,
+        context: RunContext,
+        surfaces: &[WornJoint],
+        smoothing: f64,
+    ) -> Result<RunWear, WearStagesError<R::Error>> {
+        let count = self.continuations.len();
+        let mut simulations = Vec::with_capacity(count);
+        for (member, continuation) in self.continuations.iter().enumerate() {
+            let mut run = runs
+                .build(context, surfaces)
+                .map_err(|source| WearStagesError::Build { context, source })?;
+            let mut window_start = run.start.t;
+            for &id in &run.elements {
+                window_start =
+                    window_start.max(worn_element(&mut run.system, id, context)?.wear_start());
+            }
+            let span = (run.options.t_end - window_start) / count as f64;
+            let wear_from = match continuation {
+                None => window_start + member as f64 * span,
+                Some(c) => {
+                    run.start = c.state.clone();
+                    c.state.t
+                }
+            };
+            for (k, &id) in run.elements.iter().enumerate() {
+                let element = worn_element(&mut run.system, id, context)?;
+                element.set_wear_window(wear_from);
+                if let Some(memory) = continuation.as_ref().and_then(|c| c.memories.get(k)) {
+                    element.set_impact_memory(*memory);
+                }
+            }
+            run.options.t_end = wear_from + span;
+            run.options.output = OutputTimes::At(vec![run.options.t_end]);
+            simulations.push(run);
+        }
+
+        let fractions: Vec<AtomicU64> = (0..count).map(|_| AtomicU64::new(0)).collect();
+        let pool = &self.pool;
+        runs.ensemble_progress(context, 0.0);
+        let results: Vec<Result<SimulationResult, SimulationError>> = std::thread::scope(|scope| {
+            let (finished, finishing) = std::sync::mpsc::channel::<()>();
+            let simulations = &mut simulations;
+            let fractions = &fractions;
+            let worker = scope.spawn(move || {
+                let results = pool.install(|| {
+                    simulations
+                        .par_iter_mut()
+                        .zip(fractions)
+                        .map(|(run, done)| {
+                            let mut observer = Fraction {
+                                done,
+                                t0: run.start.t,
+                            };
+                            run.system.simulate(&run.start, &run.options, &mut observer)
+                        })
+                        .collect()
+                });
+                // The receiver may be gone only if the driver's thread panicked.
+                let _ = finished.send(());
+                results
+            });
+            // Until the worker reports or dies (its sender dropped), report progress.
+            while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+                finishing.recv_timeout(Duration::from_millis(100))
+            {
+                let done: f64 = fractions
+                    .iter()
+                    .map(|f| f64::from_bits(f.load(Ordering::Relaxed)))
+                    .sum();
+                runs.ensemble_progress(context, done / count as f64);
+            }
+            worker
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+        });
+        runs.ensemble_progress(context, 1.0);
+
+        let mut gathered: Vec<(StageWear, Option<StageWear>)> = Vec::new();
+        let mut continuations = Vec::with_capacity(count);
+        for (member, (run, result)) in simulations.iter_mut().zip(results).enumerate() {
+            let result =
+                result.map_err(|source| WearStagesError::Simulation { context, source })?;
+            if member > 0 && run.elements.len() != gathered.len() {
+                return Err(WearError::JointCount {
+                    expected: gathered.len(),
+                    found: run.elements.len(),
+                }
+                .into());
+            }
+            let mut memories = Vec::with_capacity(run.elements.len());
+            for (k, &id) in run.elements.iter().enumerate() {
+                let element = worn_element(&mut run.system, id, context)?;
+                memories.push(element.impact_memory());
+                let wear = element
+                    .take_stage_wear()
+                    .ok_or(WearStagesError::NotWearing {
+                        context,
+                        element: id.0,
+                    })?;
+                let in_first_half = count.is_multiple_of(2) && member < count / 2;
+                match gathered.get_mut(k) {
+                    None => gathered.push((wear.clone(), in_first_half.then_some(wear))),
+                    Some((total, first)) => {
+                        total.add(&wear);
+                        if let (true, Some(first)) = (in_first_half, first) {
+                            first.add(&wear);
+                        }
+                    }
+                }
+            }
+            continuations.push(Some(Continuation {
+                state: result.final_state,
+                memories,
+            }));
+        }
+        self.continuations = continuations;
+        Ok(smoothed(gathered, smoothing))
+    }
 }
 
 /// How far the two halves of a run's cycles wear apart: the largest per-cell difference

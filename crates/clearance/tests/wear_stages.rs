@@ -8,8 +8,8 @@ use clearance::multibody::{
     System,
 };
 use clearance::{
-    ClearanceJointBuilder, JointSide, LankaraniNikravesh, Material, StagePlan, StageSimulation,
-    WearParams, WearStagesError, run_wear_stages,
+    ClearanceJointBuilder, Ensemble, JointSide, LankaraniNikravesh, Material, StagePlan,
+    StageSimulation, WearParams, WearStagesError, run_ensemble_stages, run_wear_stages,
 };
 use contact::{ContactModel, Foundation};
 use wear::{Extrapolation, RunContext, WornJoint};
@@ -147,5 +147,119 @@ fn an_element_without_a_stage_buffer_is_named() -> Result<(), Box<dyn std::error
         }
         other => panic!("expected NotWearing, got {other:?}"),
     }
+    Ok(())
+}
+
+/// Records when each simulation it is part of takes its first step.
+struct FirstStep {
+    starts: std::sync::Arc<std::sync::Mutex<Vec<f64>>>,
+    seen: bool,
+}
+
+impl clearance::multibody::ForceElement for FirstStep {
+    fn name(&self) -> &str {
+        "first step"
+    }
+
+    fn add_forces(&self, _t: f64, _q: &[f64], _qd: &[f64], _forces: &mut [f64]) {}
+
+    /// No forces: no partials.
+    fn add_partials(
+        &self,
+        _t: f64,
+        _q: &[f64],
+        _qd: &[f64],
+        _partials: &mut clearance::multibody::ForcePartials<'_>,
+    ) {
+    }
+
+    fn on_accepted_step(&mut self, t_previous: f64, _t: f64, _q: &[f64], _qd: &[f64]) {
+        if !self.seen {
+            self.seen = true;
+            if let Ok(mut starts) = self.starts.lock() {
+                starts.push(t_previous);
+            }
+        }
+    }
+}
+
+/// Two trajectories per run: in the first stage both start from the assembled state and wear
+/// over one half of the window each ([0.5, 1] s and [1, 1.5] s); in the second each continues
+/// from where it ended (1 s and 1.5 s) for another half window. Under the dead load every
+/// stage still wears the Archard volume, the two trajectories (the halves) wear alike, and the
+/// surfaces do not depend on the number of threads, bit for bit.
+#[test]
+fn an_ensemble_continues_its_trajectories_and_wears_the_archard_volume_on_any_thread_count()
+-> Result<(), Box<dyn std::error::Error>> {
+    let amplification = 10.0;
+    let params = WearParams::new(1e-13, 0.02, 720)?;
+    let plan = StagePlan::new(
+        2,
+        amplification,
+        Extrapolation::SingleJump { warn_fraction: 0.1 },
+    );
+    let per_run = 1e-13 * MASS * 9.81 * SPEED * PIN_RADIUS * (T_END - WEAR_FROM);
+    let mut surfaces = Vec::new();
+    for threads in [1, 2] {
+        let starts = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
+        let mut joints = vec![shaft_joint(ContactModel::LineOfCentres)?.unworn_surfaces(&params)?];
+        let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
+            let mut run = hanging_shaft(&surfaces[0], ContactModel::LineOfCentres)?;
+            run.system.add_element(Box::new(FirstStep {
+                starts: starts.clone(),
+                seen: false,
+            }));
+            Ok::<_, Box<dyn std::error::Error>>(run)
+        };
+        let stages = run_ensemble_stages(&mut joints, &plan, Ensemble::new(2, threads), &mut runs)
+            .map_err(|e| e.to_string())?;
+        let mut starts = starts.lock().map_err(|e| e.to_string())?.clone();
+        starts.sort_by(f64::total_cmp);
+        eprintln!("{threads} thread(s): trajectories start at {starts:?} s");
+        assert_eq!(starts.len(), 4);
+        assert_eq!(&starts[..2], &[0.0, 0.0]);
+        assert!((starts[2] - 1.0).abs() < 1e-12 && (starts[3] - 1.5).abs() < 1e-12);
+        for (stage, s) in stages.surfaces.iter().enumerate() {
+            let expected = (stage + 1) as f64 * amplification * per_run;
+            let volume = s[0].worn_volume();
+            eprintln!(
+                "  stage {}: worn volume {volume:.5e} m³, Archard {expected:.5e} m³ ({:+.3} %)",
+                stage + 1,
+                100.0 * (volume / expected - 1.0)
+            );
+            // As for one trajectory, less the step lost across WEAR_FROM: each trajectory's
+            // window starts exactly at a step here.
+            assert!((volume / expected - 1.0).abs() < 2e-3);
+        }
+        for d in &stages.halves_differences {
+            let d = d.ok_or("two trajectories are two halves")?;
+            eprintln!(
+                "  the trajectories differ by {:.2} % of the mean",
+                100.0 * d
+            );
+            assert!(d < 0.01, "trajectories differ by {d}");
+        }
+        surfaces.push(stages.surfaces);
+    }
+    assert!(
+        surfaces[0] == surfaces[1],
+        "1 and 2 threads gave different surfaces"
+    );
+    Ok(())
+}
+
+/// An odd number of trajectories has no halves to compare.
+#[test]
+fn three_trajectories_have_no_halves() -> Result<(), Box<dyn std::error::Error>> {
+    let params = WearParams::new(1e-13, 0.02, 720)?;
+    let mut joints = vec![shaft_joint(ContactModel::LineOfCentres)?.unworn_surfaces(&params)?];
+    let plan = StagePlan::new(1, 10.0, Extrapolation::SingleJump { warn_fraction: 0.1 });
+    let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
+        hanging_shaft(&surfaces[0], ContactModel::LineOfCentres)
+    };
+    let stages = run_ensemble_stages(&mut joints, &plan, Ensemble::new(3, 2), &mut runs)
+        .map_err(|e| e.to_string())?;
+    assert_eq!(stages.halves_differences, vec![None]);
+    assert_eq!(stages.stage_halves, vec![None]);
     Ok(())
 }

@@ -69,7 +69,20 @@ struct Overrides {
         allow_negative_numbers = true
     )]
     max_wall_time: Option<f64>,
-    /// `study`: scene runs at once (default: the machine's cores; results do not depend on it).
+    /// Trajectories a wear sub-step's K cycles are spread over, run on threads, each
+    /// continuing from where it ended (scene: run.trajectories; a divisor of K). `run`
+    /// defaults to 2 with its default K = 2 (one cycle each), else to the scene's (1: one
+    /// trajectory, restarted at every sub-step).
+    #[arg(
+        long,
+        global = true,
+        value_name = "M",
+        allow_negative_numbers = true,
+        value_parser = clap::value_parser!(u32).range(1..)
+    )]
+    trajectories: Option<u32>,
+    /// `study`: scene runs at once; `run`: threads of the wear trajectories (default: the
+    /// machine's cores; results do not depend on it).
     #[arg(long, global = true, value_name = "N", allow_negative_numbers = true)]
     jobs: Option<std::num::NonZeroUsize>,
     /// `run`: start from the worn surfaces an earlier run wrote into DIR (its last-stage
@@ -87,6 +100,7 @@ impl Overrides {
             ("--stages", self.stages.is_some()),
             ("--rtol", self.rtol.is_some()),
             ("--cycles-per-stage", self.cycles_per_stage.is_some()),
+            ("--trajectories", self.trajectories.is_some()),
             ("--max-steps", self.max_steps.is_some()),
             ("--max-wall-time", self.max_wall_time.is_some()),
             ("--jobs", self.jobs.is_some()),
@@ -124,6 +138,8 @@ impl Overrides {
             max_steps: self.max_steps,
             max_wall_time: self.max_wall_time,
             cycles_per_stage: self.cycles_per_stage,
+            trajectories: self.trajectories,
+            threads: self.jobs.map(std::num::NonZeroUsize::get),
             surfaces: self.surfaces.clone(),
         }
     }
@@ -497,11 +513,13 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
     }
     if let Some(w) = &s.wear {
         println!(
-            "wear: {} stage(s), K = {} cycles per stage (scene: {}), ×{:.0} so a stage stands for \
-             {:.3e} cycles; {}; sub-steps {:?}; {:.1} s",
+            "wear: {} stage(s), K = {} cycles per stage (scene: {}) on {} trajector{}, ×{:.0} so \
+             a stage stands for {:.3e} cycles; {}; sub-steps {:?}; {:.1} s",
             w.stages,
             w.cycles_per_stage,
             w.scene_cycles_per_stage,
+            w.trajectories,
+            if w.trajectories == 1 { "y" } else { "ies" },
             w.amplification,
             w.cycles_represented_per_stage,
             w.extrapolation,
@@ -750,7 +768,11 @@ fn main() -> ExitCode {
     let flags = match &cli.command {
         Command::Run { .. } => o.only(
             "run",
-            &[&scene_settings[..], &["--out", "--surfaces"]].concat(),
+            &[
+                &scene_settings[..],
+                &["--out", "--surfaces", "--trajectories", "--jobs"],
+            ]
+            .concat(),
             "",
         ),
         Command::Check { .. } => o.only("check", &scene_settings, "; check writes nothing"),

@@ -21,6 +21,10 @@ use crate::scene::{Scene, SceneError};
 /// rescaled so a stage still stands for as many cycles, see [`RunOptions::cycles_per_stage`]).
 pub const QUICK_CYCLES_PER_STAGE: u32 = 2;
 
+/// Trajectories of a wear sub-step when neither they nor `K` are given: the quick `K`'s cycles
+/// each on its own trajectory, in parallel ([`crate::scene::RunSettings::trajectories`]).
+pub const QUICK_TRAJECTORIES: u32 = 2;
+
 /// Overrides of a scene's run settings; `None` keeps the scene's value.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RunOverrides {
@@ -36,6 +40,12 @@ pub struct RunOverrides {
     pub max_wall_time: Option<f64>,
     /// Simulated cycles per wear stage (default [`QUICK_CYCLES_PER_STAGE`]).
     pub cycles_per_stage: Option<u32>,
+    /// Trajectories per wear sub-step (`run.trajectories`); default [`QUICK_TRAJECTORIES`]
+    /// when `cycles_per_stage` is not given either, else the scene's.
+    pub trajectories: Option<u32>,
+    /// Threads the trajectories run on (default: the machine's cores); results do not depend
+    /// on it.
+    pub threads: Option<usize>,
     /// Folder of an earlier run's worn surfaces to start from.
     pub surfaces: Option<PathBuf>,
 }
@@ -58,6 +68,11 @@ impl RunOverrides {
         if let Some(t) = self.max_wall_time {
             scene.solver.max_wall_time = Some(t);
         }
+        match (self.trajectories, self.cycles_per_stage) {
+            (Some(m), _) => scene.run.trajectories = m,
+            (None, None) => scene.run.trajectories = QUICK_TRAJECTORIES,
+            (None, Some(_)) => {}
+        }
         scene.validate(&format!("{origin} with command-line overrides"))
     }
 
@@ -65,6 +80,7 @@ impl RunOverrides {
     pub fn run_options(&self) -> RunOptions {
         RunOptions {
             cycles_per_stage: Some(self.cycles_per_stage.unwrap_or(QUICK_CYCLES_PER_STAGE)),
+            threads: self.threads,
             surfaces: self.surfaces.clone(),
             ..RunOptions::default()
         }

@@ -5,7 +5,8 @@
 ///
 /// Implement it for any motion law; the derivatives must be exact (not finite differences),
 /// because they enter the velocity and acceleration equations and the energy audit directly.
-pub trait DriveFunction {
+/// `Send`, like force elements, so a system can move to a worker thread.
+pub trait DriveFunction: Send {
     /// f(t)
     fn value(&self, t: f64) -> f64;
     /// df/dt

@@ -17,8 +17,9 @@ pub struct ElementId(pub usize);
 /// mutates them (`&mut self`) only between steps, through the hooks. Everything but
 /// [`ForceElement::add_forces`] has a default, so a simple element is a few lines; see the
 /// crate docs for an example. `Any` is a supertrait so a caller can get its concrete element
-/// back after a run ([`crate::System::element`]) to read what it accumulated.
-pub trait ForceElement: Any {
+/// back after a run ([`crate::System::element`]) to read what it accumulated; `Send` so a system
+/// can be simulated on a worker thread (a wear stage runs its trajectories in parallel).
+pub trait ForceElement: Any + Send {
     /// Shown in reports and energy audits.
     fn name(&self) -> &str;
 

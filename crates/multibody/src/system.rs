@@ -921,3 +921,10 @@ pub(crate) fn first_order<E>(
         Err(_) => dv.fill(f64::NAN),
     }
 }
+
+/// Systems move to worker threads (a wear stage simulates its ensemble of trajectories in
+/// parallel): this fails to compile if a field stops being `Send`.
+const _: fn() = || {
+    fn send<T: Send>() {}
+    send::<System>();
+};

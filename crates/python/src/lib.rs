@@ -317,12 +317,14 @@ fn fill_outcome(d: &Bound<'_, PyDict>, py: Python<'_>, o: &RunOutcome) -> PyResu
     Ok(())
 }
 
-/// Run a scene like `wearsim run` (the same defaults: `cycles_per_stage` 2); returns a dict
+/// Run a scene like `wearsim run` (the same defaults: `cycles_per_stage` 2 on 2
+/// `trajectories`; `threads` for them, default the machine's cores); returns a dict
 /// of the summary (JSON text), response and contact columns and wear grids. `out` also
 /// writes the files `wearsim run --out` writes. Releases the GIL while it runs.
 #[pyfunction]
 #[pyo3(signature = (scene, name, cycles=None, stages=None, rtol=None, surfaces=None,
-    cycles_per_stage=None, max_steps=None, max_wall_time=None, out=None))]
+    cycles_per_stage=None, max_steps=None, max_wall_time=None, out=None, trajectories=None,
+    threads=None))]
 #[allow(clippy::too_many_arguments)]
 fn run<'py>(
     py: Python<'py>,
@@ -336,6 +338,8 @@ fn run<'py>(
     max_steps: Option<usize>,
     max_wall_time: Option<f64>,
     out: Option<PathBuf>,
+    trajectories: Option<u32>,
+    threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (spec_name, table) = if let Ok(spec) = scene.extract::<String>() {
         load_table(&spec).map_err(scene_err)?
@@ -350,6 +354,12 @@ fn run<'py>(
     if cycles_per_stage == Some(0) {
         return Err(scene_err("cycles_per_stage = 0: must be at least 1"));
     }
+    if trajectories == Some(0) {
+        return Err(scene_err("trajectories = 0: must be at least 1"));
+    }
+    if threads == Some(0) {
+        return Err(scene_err("threads = 0: must be at least 1"));
+    }
     let mut scene = lgres::scene::from_table(table, &name).map_err(scene_err)?;
     let overrides = RunOverrides {
         cycles,
@@ -358,6 +368,8 @@ fn run<'py>(
         max_steps,
         max_wall_time,
         cycles_per_stage,
+        trajectories,
+        threads,
         surfaces,
     };
     overrides.apply(&mut scene, &name).map_err(scene_err)?;

@@ -33,6 +33,7 @@ pub(crate) struct RunSection {
     pub stages: Option<u32>,
     pub rtol: Option<f64>,
     pub cycles_per_stage: Option<u32>,
+    pub trajectories: Option<u32>,
     pub max_steps: Option<usize>,
     pub max_wall_time: Option<f64>,
 }
@@ -97,6 +98,9 @@ impl RunSection {
         if self.cycles_per_stage == Some(0) {
             return Err(bad("run.cycles_per_stage", 0, "must be at least 1"));
         }
+        if self.trajectories == Some(0) {
+            return Err(bad("run.trajectories", 0, "must be at least 1"));
+        }
         // The scene refuses more, but only once a sample is built, and the scene's validation
         // of an enormous count itself takes forever (it lists every stage's file names): so
         // here, up front, by this field.
@@ -109,6 +113,9 @@ impl RunSection {
             stages: self.stages,
             rtol: self.rtol,
             cycles_per_stage: self.cycles_per_stage,
+            trajectories: self.trajectories,
+            // The samples already run on the machine's cores: one thread each.
+            threads: Some(1),
             max_steps: self.max_steps,
             max_wall_time: self.max_wall_time,
             surfaces: None,

@@ -195,6 +195,20 @@ impl StageWear {
         }
     }
 
+    /// Adds `other`'s depths to this record, cell by cell: `other` must be a record of the same
+    /// joint (same grids), e.g. another trajectory of an ensemble on the same surfaces.
+    pub fn add(&mut self, other: &StageWear) {
+        for (mine, theirs) in [
+            (&mut self.bearing, &other.bearing),
+            (&mut self.pin, &other.pin),
+        ] {
+            for (h, o) in mine.iter_mut().zip(theirs) {
+                *h += o;
+            }
+        }
+        self.archard_volume += other.archard_volume;
+    }
+
     /// Removes `other`'s depths from this record, cell by cell (clamped at 0 against round-off):
     /// with `other` the first half of the same run, what remains is the second half.
     pub fn subtract(&mut self, other: &StageWear) {

@@ -94,8 +94,13 @@ fn scene_line(s: &Summary) -> String {
         || "no wear stages".to_string(),
         |w| {
             format!(
-                "{} wear stage(s) of {:.3e} cycles each, {} simulated cycles per stage",
-                w.stages, w.cycles_represented_per_stage, w.cycles_per_stage
+                "{} wear stage(s) of {:.3e} cycles each, {} simulated cycles per sub-step on {} \
+                 trajector{}",
+                w.stages,
+                w.cycles_represented_per_stage,
+                w.cycles_per_stage,
+                w.trajectories,
+                if w.trajectories == 1 { "y" } else { "ies" }
             )
         },
     );
@@ -281,13 +286,15 @@ fn wear(html: &mut Html, s: &Summary) {
     html.heading(2, "Wear");
     html.lede(&format!(
         "After {} stage(s): {:.3e} drive cycles applied in sub-steps {:?} ({} extrapolation, {} \
-         simulated cycles per sub-step). Depths are in the body frames; ranges hold the cells \
+         simulated cycles per sub-step on {} trajector{}). Depths are in the body frames; ranges hold the cells \
          at least half as deep as the peak. The stage's two halves {}.",
         w.stages,
         w.cycles_applied,
         w.substeps_per_stage,
         w.extrapolation,
         w.cycles_per_stage,
+        w.trajectories,
+        if w.trajectories == 1 { "y" } else { "ies" },
         if w.converged {
             "agree: the wear is converged in K"
         } else {

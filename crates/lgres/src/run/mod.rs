@@ -79,6 +79,9 @@ pub struct RunOptions {
     /// Simulated cycles per wear stage `K` instead of `run.cycles_per_stage`; the
     /// amplification is rescaled so a stage still stands for `K_scene × amplification` cycles.
     pub cycles_per_stage: Option<u32>,
+    /// Threads a wear sub-step's trajectories run on (`run.trajectories`; default: the
+    /// machine's cores). The results do not depend on it.
+    pub threads: Option<usize>,
     /// Skip the response run on the worn surfaces after the stages.
     pub skip_worn_response: bool,
 }
@@ -98,6 +101,28 @@ pub enum RunError {
         what: String,
         /// Cause, naming the constraints.
         source: AssemblyError,
+    },
+    /// The worker threads of a wear sub-step's trajectories could not be started.
+    #[error(
+        "the {threads} worker thread(s) of the wear trajectories could not be started: {message}"
+    )]
+    Threads {
+        /// How many were asked for.
+        threads: usize,
+        /// The system's reason.
+        message: String,
+    },
+    /// The trajectories of a wear sub-step do not divide its simulated cycles.
+    #[error(
+        "run.trajectories = {trajectories} must divide the simulated cycles per wear stage \
+         K = {cycles_per_stage} (--cycles-per-stage, run.cycles_per_stage): each trajectory \
+         simulates whole drive cycles"
+    )]
+    Trajectories {
+        /// `run.trajectories`.
+        trajectories: u32,
+        /// `K` after the overrides.
+        cycles_per_stage: u32,
     },
     /// The ideal mechanism's kinematic analysis failed.
     #[error(
@@ -204,6 +229,7 @@ impl RunError {
                 | RunError::PinOutsideBearing { .. }
                 | RunError::NoPeriod
                 | RunError::NoResponseBody
+                | RunError::Trajectories { .. }
         )
     }
 }
@@ -256,6 +282,13 @@ pub fn run_scene(
     if let Some(k) = options.cycles_per_stage.filter(|k| *k > 0) {
         scene.run.amplification *= f64::from(scene_k) / f64::from(k);
         scene.run.cycles_per_stage = k;
+    }
+    let (k, m) = (scene.run.cycles_per_stage, scene.run.trajectories);
+    if scene.run.wear_stages > 0 && (m == 0 || !k.is_multiple_of(m)) {
+        return Err(RunError::Trajectories {
+            trajectories: m,
+            cycles_per_stage: k,
+        });
     }
     let (times, body) = run_plan(&scene)?;
     let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
@@ -314,7 +347,8 @@ pub fn run_scene(
         let mut wear_summary = None;
         let mut worn = None;
         if scene.run.wear_stages > 0 && initial.iter().any(Option::is_some) {
-            let (history, mut ws, surfaces) = stages(&scene, &initial, period, progress)?;
+            let (history, mut ws, surfaces) =
+                stages(&scene, &initial, period, options.threads, progress)?;
             ws.scene_cycles_per_stage = scene_k;
             wear_history = history;
             wear_summary = Some(ws);

@@ -327,6 +327,9 @@ pub struct WearSummary {
     pub cycles_per_stage: u32,
     /// `K` the scene asks for (the paper: 100).
     pub scene_cycles_per_stage: u32,
+    /// Trajectories the `K` cycles of a sub-step were spread over (`run.trajectories`; 1: one
+    /// trajectory restarted at every sub-step).
+    pub trajectories: u32,
     /// Amplification used (rescaled when `K` differs from the scene's).
     pub amplification: f64,
     /// Drive cycles one stage stands for (`K × amplification`).

@@ -1,9 +1,11 @@
 //! The wear stages of a run: each sub-step simulates `K` cycles on the frozen worn surfaces,
-//! then extrapolates their wear within the plan's limits (see [`wear::run_stage`]).
+//! on one trajectory or spread over `run.trajectories` trajectories on threads
+//! ([`clearance::Ensemble`]), then extrapolates their wear within the plan's limits (see
+//! [`wear::run_stage`]).
 
 use std::time::Instant;
 
-use clearance::{StageRuns, StageSimulation, WearStagesError, run_wear_stages};
+use clearance::{Ensemble, StageRuns, StageSimulation, WearStagesError, run_ensemble_stages};
 use multibody::{OutputTimes, SimulationError, SimulationResult};
 use wear::{Extrapolation, GeometryLimits, RunContext, StagePlan, WornJoint};
 
@@ -115,6 +117,17 @@ impl StageRuns for SceneRuns<'_> {
         self.progress.finish();
         result
     }
+
+    fn ensemble_progress(&mut self, context: RunContext, done: f64) {
+        let cycles = f64::from(self.k);
+        if done <= 0.0 {
+            self.progress.phase(&run_name(context), cycles);
+        } else if done >= 1.0 {
+            self.progress.finish();
+        } else {
+            self.progress.advance(done * cycles);
+        }
+    }
 }
 
 /// Runs the wear stages; returns the per-stage history, the summary and the final surfaces
@@ -123,6 +136,7 @@ pub(super) fn stages(
     scene: &Scene,
     initial: &[Option<WornJoint>],
     period: f64,
+    threads: Option<usize>,
     progress: &mut dyn Progress,
 ) -> Result<Staged, RunError> {
     let started = Instant::now();
@@ -183,18 +197,28 @@ pub(super) fn stages(
         k,
         progress: &mut *progress,
     };
-    let staged = run_wear_stages(&mut joints, &plan, &mut runs).map_err(|e| match e {
-        WearStagesError::Wear(e) => RunError::Wear(e),
-        WearStagesError::Build { source, .. } => source,
-        WearStagesError::Simulation { context, source } => RunError::Simulation {
-            what: run_name(context),
-            source,
-        },
-        WearStagesError::NotWearing { context, element } => RunError::LostWearBuffer {
-            what: run_name(context),
-            joint: format!("element {element}"),
-        },
-    })?;
+    let threads = threads.unwrap_or_else(|| {
+        std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
+    });
+    let trajectories = r.trajectories.max(1) as usize;
+    let ensemble = Ensemble::new(trajectories, threads.min(trajectories));
+    let staged =
+        run_ensemble_stages(&mut joints, &plan, ensemble, &mut runs).map_err(|e| match e {
+            WearStagesError::Wear(e) => RunError::Wear(e),
+            WearStagesError::Build { source, .. } => source,
+            WearStagesError::Simulation { context, source } => RunError::Simulation {
+                what: run_name(context),
+                source,
+            },
+            WearStagesError::NotWearing { context, element } => RunError::LostWearBuffer {
+                what: run_name(context),
+                joint: format!("element {element}"),
+            },
+            WearStagesError::Threads { threads, source } => RunError::Threads {
+                threads,
+                message: source.to_string(),
+            },
+        })?;
     let (curves, cycles_applied) = life_curves(&start, &staged.reports, k);
     let history: Vec<JointWearHistory> = joints
         .iter()
@@ -271,6 +295,12 @@ pub(super) fn stages(
         .and_then(|all| all.into_iter().reduce(f64::max));
     let converged = worst.is_some_and(|d| d <= STAGE_HALVES_TOLERANCE);
     match worst {
+        None if r.trajectories > 1 => warnings.push(format!(
+            "warning: {} trajectories per sub-step: with an odd number the convergence of the \
+             stage's wear in K cannot be checked (its halves are half of the trajectories \
+             each); give an even run.trajectories",
+            r.trajectories
+        )),
         None => warnings.push(format!(
             "warning: K = {k} simulated cycle(s) per sub-step: with odd K the convergence of \
              the stage's wear in K cannot be checked; give an even K (--cycles-per-stage 2 or \
@@ -325,6 +355,7 @@ pub(super) fn stages(
         stages: r.wear_stages,
         cycles_per_stage: k,
         scene_cycles_per_stage: 0,
+        trajectories: r.trajectories,
         amplification: r.amplification,
         cycles_represented_per_stage: f64::from(k) * r.amplification,
         cycles_applied,

@@ -21,6 +21,8 @@ pub const MAX_JOINTS: usize = 1000;
 pub const MAX_CYCLES: u32 = 10_000;
 /// Most simulated cycles per wear stage and most wear stages.
 pub const MAX_STAGE_CYCLES: u32 = 10_000;
+/// Most trajectories of a wear sub-step (`run.trajectories`): each holds a system and a thread.
+pub const MAX_TRAJECTORIES: u32 = 64;
 /// Most wear stages.
 pub const MAX_WEAR_STAGES: u32 = 1000;
 /// Longest drive period, s (an hour; the shipped scenes: 1 s and 12 ms).
@@ -288,6 +290,13 @@ impl Limits<'_> {
                 "run.cycles_per_stage",
                 r.cycles_per_stage,
                 format!("at most {MAX_STAGE_CYCLES}"),
+            );
+        }
+        if r.trajectories > MAX_TRAJECTORIES {
+            self.0.push(
+                "run.trajectories",
+                r.trajectories,
+                format!("at most {MAX_TRAJECTORIES}"),
             );
         }
         if r.wear_stages > MAX_WEAR_STAGES {

@@ -21,6 +21,15 @@ pub struct RunSettings {
     /// Simulated cycles per wear stage `K`.
     #[serde(default = "cycles_per_stage")]
     pub cycles_per_stage: u32,
+    /// Trajectories the `cycles_per_stage` simulated cycles of a wear sub-step are spread over
+    /// (a divisor of it; default 1). With 1, every sub-step restarts the mechanism from its
+    /// assembled state and simulates its cycles one after the other after the start-up window;
+    /// with `M ≥ 2`, `M` trajectories of `K/M` cycles each run on threads, each continuing from
+    /// where it ended in the previous sub-step ([`clearance::Ensemble`]). Both estimate the same
+    /// average wear of the chaotic motion (docs/convergence.md); the results do not depend on
+    /// the number of threads.
+    #[serde(default = "one")]
+    pub trajectories: u32,
     /// Factor scaling the wear of one stage's simulated cycles (a stage stands for
     /// `cycles_per_stage × amplification` cycles).
     #[serde(default = "amplification")]
@@ -124,6 +133,7 @@ impl Default for RunSettings {
             period: None,
             wear_stages: one(),
             cycles_per_stage: cycles_per_stage(),
+            trajectories: one(),
             amplification: amplification(),
             adaptive_extrapolation: true,
             max_clearance_change: max_clearance_change(),

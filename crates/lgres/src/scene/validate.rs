@@ -403,6 +403,19 @@ impl Validator {
                 "must be positive when wear_stages > 0",
             );
         }
+        if r.trajectories == 0 {
+            self.push("run.trajectories", 0, "must be at least 1");
+        } else if r.wear_stages > 0 && !r.cycles_per_stage.is_multiple_of(r.trajectories) {
+            self.push(
+                "run.trajectories",
+                r.trajectories,
+                format!(
+                    "must divide run.cycles_per_stage = {} (each trajectory simulates whole \
+                     drive cycles)",
+                    r.cycles_per_stage
+                ),
+            );
+        }
         self.number("run.amplification", r.amplification, true);
         let f = r.max_clearance_change;
         if self.number("run.max_clearance_change", f, true) && f > 1.0 {

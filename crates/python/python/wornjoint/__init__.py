@@ -134,11 +134,15 @@ def run(
     max_wall_time: Optional[float] = None,
     name: Optional[str] = None,
     out: "str | os.PathLike[str] | None" = None,
+    trajectories: Optional[int] = None,
+    threads: Optional[int] = None,
 ) -> Result:
     """Simulate a scene like ``wearsim run`` with the same options (``None``: the scene's).
 
     ``scene`` is a built-in name, a TOML file or a dict (from :func:`load`, edited).
-    ``cycles_per_stage`` defaults to 2 as on the command line. ``out`` also writes the files
+    ``cycles_per_stage`` defaults to 2 as on the command line, spread over 2 ``trajectories``
+    (run on ``threads`` threads, default the machine's cores; the results do not depend on
+    it). ``out`` also writes the files
     ``wearsim run --out`` writes. Raises :class:`SceneError` for bad input, :class:`RunError`
     when the run fails. The GIL is released while the simulation runs.
     """
@@ -157,6 +161,8 @@ def run(
         max_steps=max_steps,
         max_wall_time=max_wall_time,
         out=None if out is None else os.fspath(out),
+        trajectories=trajectories,
+        threads=threads,
     )
     return Result(raw)
 
