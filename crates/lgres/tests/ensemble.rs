@@ -1,0 +1,81 @@
+//! A wear sub-step's cycles spread over trajectories on threads (`run.trajectories`): the
+//! same surfaces whatever the thread count, and refused when they do not divide `K`.
+
+use lgres::run::{RunError, RunOptions, run_scene};
+
+/// The worn slider-crank, one stage in two sub-steps or more, `K = 2` on `trajectories`.
+fn scene(trajectories: u32) -> Result<lgres::scene::Scene, lgres::scene::SceneError> {
+    let text = format!(
+        r#"
+extends = "slider-crank"
+[[clearance_joints]]
+name = "rod-slider"
+wear = {{ k_d = 1.8e-13, width = 0.02, cells = 360 }}
+[run]
+cycles = 1
+wear_stages = 1
+cycles_per_stage = 2
+trajectories = {trajectories}
+amplification = 4000.0
+animation = false
+"#
+    );
+    lgres::scene::load_str(&text, "ensemble")
+}
+
+#[test]
+fn the_threads_change_no_bit_of_the_worn_surfaces() -> Result<(), Box<dyn std::error::Error>> {
+    let scene = scene(2)?;
+    let mut worn = Vec::new();
+    for threads in [1, 2] {
+        let options = RunOptions {
+            threads: Some(threads),
+            ..RunOptions::default()
+        };
+        let outcome = run_scene("ensemble", &scene, &options, &mut ())?;
+        let wear = outcome.summary.wear.as_ref().ok_or("stages ran")?;
+        assert_eq!(wear.trajectories, 2);
+        // Sub-steps after the first continue the trajectories.
+        assert!(wear.substeps_per_stage[0] >= 2);
+        // Two trajectories are the two halves of the convergence check.
+        assert!(wear.stage_halves[0].is_some());
+        let surfaces: Vec<_> = outcome.wear.iter().map(|h| h.stages.clone()).collect();
+        eprintln!(
+            "{threads} thread(s): {} sub-steps, peak bearing depth {:.6e} m",
+            wear.substeps_per_stage[0], wear.joints[0].bearing_peak_depth_m
+        );
+        assert!(wear.joints[0].bearing_peak_depth_m > 0.0);
+        worn.push(surfaces);
+    }
+    assert!(
+        worn[0] == worn[1],
+        "1 and 2 threads gave different surfaces"
+    );
+    Ok(())
+}
+
+#[test]
+fn trajectories_must_divide_the_cycles_of_a_sub_step() -> Result<(), Box<dyn std::error::Error>> {
+    let Err(e) = scene(3) else {
+        return Err("3 trajectories for K = 2 were accepted".into());
+    };
+    let text = e.to_string();
+    assert!(
+        text.contains("run.trajectories") && text.contains("must divide"),
+        "{text}"
+    );
+    // K overridden to 3 after the scene was validated with K = 2.
+    let options = RunOptions {
+        cycles_per_stage: Some(3),
+        ..RunOptions::default()
+    };
+    match run_scene("ensemble", &scene(2)?, &options, &mut ()) {
+        Err(e @ RunError::Trajectories { .. }) => {
+            assert!(e.is_bad_input());
+            assert!(e.to_string().contains("--cycles-per-stage"), "{e}");
+            Ok(())
+        }
+        Err(other) => Err(format!("expected RunError::Trajectories, got {other}").into()),
+        Ok(_) => Err("K = 3 on 2 trajectories ran".into()),
+    }
+}
