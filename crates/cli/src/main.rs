@@ -762,17 +762,14 @@ fn main() -> ExitCode {
         "--stages",
         "--rtol",
         "--cycles-per-stage",
+        "--trajectories",
         "--max-steps",
         "--max-wall-time",
     ];
     let flags = match &cli.command {
         Command::Run { .. } => o.only(
             "run",
-            &[
-                &scene_settings[..],
-                &["--out", "--surfaces", "--trajectories", "--jobs"],
-            ]
-            .concat(),
+            &[&scene_settings[..], &["--out", "--surfaces", "--jobs"]].concat(),
             "",
         ),
         Command::Check { .. } => o.only("check", &scene_settings, "; check writes nothing"),

@@ -710,6 +710,11 @@ fn fuzzed_flags_of_every_command_are_refused_at_once_by_name() {
             &["run.cycles_per_stage", "cycles-per-stage"],
         ),
         (
+            "--trajectories",
+            &["0", "-1", "1.5", "abc", "65", "99999999999"],
+            &["run.trajectories"],
+        ),
+        (
             "--max-steps",
             &["0", "-1", "abc", "1e3"],
             &["solver.max_steps"],
@@ -786,6 +791,8 @@ fn fuzzed_flags_of_every_command_are_refused_at_once_by_name() {
         (&["study", "clearance"][..], "--surfaces", "out/lgres"),
         (&["precision"][..], "--surfaces", "out/lgres"),
         (&["precision"][..], "--jobs", "2"),
+        (&["study", "clearance"][..], "--trajectories", "2"),
+        (&["check", "lgres"][..], "--jobs", "2"),
         (&["check", "lgres"][..], "--out", "x"),
         (
             &["sweep", sweep_file.to_str().unwrap()][..],

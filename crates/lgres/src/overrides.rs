@@ -68,18 +68,20 @@ impl RunOverrides {
         if let Some(t) = self.max_wall_time {
             scene.solver.max_wall_time = Some(t);
         }
-        match (self.trajectories, self.cycles_per_stage) {
-            (Some(m), _) => scene.run.trajectories = m,
-            (None, None) => scene.run.trajectories = QUICK_TRAJECTORIES,
-            (None, Some(_)) => {}
+        if let Some(m) = self.trajectories {
+            scene.run.trajectories = m;
         }
         scene.validate(&format!("{origin} with command-line overrides"))
     }
 
-    /// The options of [`crate::run::run_scene`]: `K` defaults to [`QUICK_CYCLES_PER_STAGE`].
+    /// The options of [`crate::run::run_scene`]: `K` defaults to [`QUICK_CYCLES_PER_STAGE`]
+    /// and, with it, the trajectories to [`QUICK_TRAJECTORIES`].
     pub fn run_options(&self) -> RunOptions {
         RunOptions {
             cycles_per_stage: Some(self.cycles_per_stage.unwrap_or(QUICK_CYCLES_PER_STAGE)),
+            trajectories: self
+                .trajectories
+                .or((self.cycles_per_stage.is_none()).then_some(QUICK_TRAJECTORIES)),
             threads: self.threads,
             surfaces: self.surfaces.clone(),
             ..RunOptions::default()

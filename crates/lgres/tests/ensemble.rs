@@ -56,26 +56,51 @@ fn the_threads_change_no_bit_of_the_worn_surfaces() -> Result<(), Box<dyn std::e
 
 #[test]
 fn trajectories_must_divide_the_cycles_of_a_sub_step() -> Result<(), Box<dyn std::error::Error>> {
-    let Err(e) = scene(3) else {
-        return Err("3 trajectories for K = 2 were accepted".into());
-    };
-    let text = e.to_string();
-    assert!(
-        text.contains("run.trajectories") && text.contains("must divide"),
-        "{text}"
-    );
-    // K overridden to 3 after the scene was validated with K = 2.
-    let options = RunOptions {
-        cycles_per_stage: Some(3),
-        ..RunOptions::default()
-    };
-    match run_scene("ensemble", &scene(2)?, &options, &mut ()) {
-        Err(e @ RunError::Trajectories { .. }) => {
-            assert!(e.is_bad_input());
-            assert!(e.to_string().contains("--cycles-per-stage"), "{e}");
-            Ok(())
+    // The scene's K = 2 on 3 trajectories; K overridden to 3 on the scene's 2; the flags'
+    // 2 trajectories with K = 3.
+    let cases = [
+        (scene(3)?, RunOptions::default()),
+        (
+            scene(2)?,
+            RunOptions {
+                cycles_per_stage: Some(3),
+                ..RunOptions::default()
+            },
+        ),
+        (
+            scene(1)?,
+            lgres::overrides::RunOverrides {
+                cycles_per_stage: Some(3),
+                trajectories: Some(2),
+                ..Default::default()
+            }
+            .run_options(),
+        ),
+    ];
+    for (scene, options) in cases {
+        let started = std::time::Instant::now();
+        match run_scene("ensemble", &scene, &options, &mut ()) {
+            Err(e @ RunError::Trajectories { .. }) => {
+                assert!(e.is_bad_input());
+                let text = e.to_string();
+                assert!(
+                    text.contains("run.trajectories") && text.contains("must divide"),
+                    "{text}"
+                );
+                // Refused before any simulation.
+                assert!(started.elapsed().as_secs_f64() < 1.0, "{text}");
+            }
+            Err(other) => {
+                return Err(format!("expected RunError::Trajectories, got {other}").into());
+            }
+            Ok(_) => return Err("trajectories that do not divide K ran".into()),
         }
-        Err(other) => Err(format!("expected RunError::Trajectories, got {other}").into()),
-        Ok(_) => Err("K = 3 on 2 trajectories ran".into()),
     }
+    // The quick default (K = 2 on 2 trajectories) whatever the scene's own K.
+    let options = lgres::overrides::RunOverrides::default().run_options();
+    assert_eq!(
+        (options.cycles_per_stage, options.trajectories),
+        (Some(2), Some(2))
+    );
+    Ok(())
 }

@@ -79,6 +79,9 @@ pub struct RunOptions {
     /// Simulated cycles per wear stage `K` instead of `run.cycles_per_stage`; the
     /// amplification is rescaled so a stage still stands for `K_scene × amplification` cycles.
     pub cycles_per_stage: Option<u32>,
+    /// Trajectories a wear sub-step's `K` cycles are spread over, instead of
+    /// `run.trajectories`; they must divide `K`.
+    pub trajectories: Option<u32>,
     /// Threads a wear sub-step's trajectories run on (`run.trajectories`; default: the
     /// machine's cores). The results do not depend on it.
     pub threads: Option<usize>,
@@ -282,6 +285,9 @@ pub fn run_scene(
     if let Some(k) = options.cycles_per_stage.filter(|k| *k > 0) {
         scene.run.amplification *= f64::from(scene_k) / f64::from(k);
         scene.run.cycles_per_stage = k;
+    }
+    if let Some(m) = options.trajectories {
+        scene.run.trajectories = m;
     }
     let (k, m) = (scene.run.cycles_per_stage, scene.run.trajectories);
     if scene.run.wear_stages > 0 && (m == 0 || !k.is_multiple_of(m)) {

@@ -403,18 +403,9 @@ impl Validator {
                 "must be positive when wear_stages > 0",
             );
         }
+        // That they divide K is checked by the run, once K's override is known.
         if r.trajectories == 0 {
             self.push("run.trajectories", 0, "must be at least 1");
-        } else if r.wear_stages > 0 && !r.cycles_per_stage.is_multiple_of(r.trajectories) {
-            self.push(
-                "run.trajectories",
-                r.trajectories,
-                format!(
-                    "must divide run.cycles_per_stage = {} (each trajectory simulates whole \
-                     drive cycles)",
-                    r.cycles_per_stage
-                ),
-            );
         }
         self.number("run.amplification", r.amplification, true);
         let f = r.max_clearance_change;
