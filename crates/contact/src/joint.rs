@@ -314,7 +314,7 @@ struct Geometry {
 ///
 /// Generic over the surface profiles and the laws, so a fixed configuration is statically
 /// dispatched; the defaults ([`NormalLawKind`], [`FrictionLawKind`]) dispatch at run time.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ClearanceJoint<B, P, N = NormalLawKind, F = FrictionLawKind> {
     bearing_centre: Vector2<f64>,
     pin_centre: Vector2<f64>,
@@ -804,7 +804,7 @@ fn diagnostics(
     pin_body: &BodyState,
     loads: &Loads,
 ) -> ContactDiagnostics {
-    let wrap = |angle: f64| angle.rem_euclid(std::f64::consts::TAU);
+    let wrap = crate::surface::wrap_angle;
     ContactDiagnostics {
         in_contact: kin.penetration >= 0.0,
         penetration: kin.penetration,
