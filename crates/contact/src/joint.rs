@@ -406,7 +406,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     ) -> ContactForces {
         match self.model {
             ContactModel::Foundation(f) => {
-                self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, visit)
+                self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, Some(visit))
             }
             ContactModel::LineOfCentres => self.forces(bearing_body, pin_body, onset_velocity),
         }
@@ -515,7 +515,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         onset_velocity: Option<f64>,
     ) -> ContactForces {
         if let ContactModel::Foundation(f) = self.model {
-            return self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, &mut |_| {});
+            return self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, None);
         }
         let geometry = self.geometry(bearing_body, pin_body);
         let kin = kinematics_from(&geometry, bearing_body, pin_body);

@@ -64,7 +64,7 @@ use crate::error::{ContactError, positive};
 use crate::friction::FrictionLaw;
 use crate::joint::Material;
 use crate::normal::NormalLaw;
-use crate::surface::{SurfaceProfile, floor, wrap_angle};
+use crate::surface::{RadiusSample, SurfaceProfile, floor, wrap_angle};
 
 use std::f64::consts::TAU;
 
@@ -237,6 +237,8 @@ impl NodeLoad {
 pub(super) struct OutlineBounds {
     /// Smallest bearing radius (m; 0 when unknown: every node is visited).
     bearing_min: f64,
+    /// The bearing's sample, the same at every angle, when it is round.
+    round_bearing: Option<RadiusSample>,
     /// Largest pin radius (m; infinite when unknown).
     pin_max: f64,
     /// Smallest pin radius at a node (m).
@@ -245,6 +247,8 @@ pub(super) struct OutlineBounds {
     node_arc: f64,
     /// Smallest bearing radius over each of [`BLOCKS`] equal sectors of its frame (m).
     bearing_block_min: [f64; BLOCKS],
+    /// The smallest of `bearing_block_min` (m): no sector's bound is below it.
+    bearing_floor: f64,
     /// Largest pin radius at the nodes of each sector of the pin's frame (m).
     pin_block_max: [f64; BLOCKS],
     /// Each node's offset from the pin centre in the pin's frame, `r_k u(α_k)` (m): the pin's
@@ -307,10 +311,15 @@ impl OutlineBounds {
         });
         Self {
             bearing_min,
+            round_bearing: bearing.is_round().then(|| bearing.sample(0.0)),
             pin_max: pin_bounds.map_or(f64::INFINITY, |(_, hi)| hi),
             pin_min,
             node_arc: pin_reference * TAU / cells as f64,
             bearing_block_min,
+            bearing_floor: bearing_block_min
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min),
             pin_block_max,
             pin_nodes,
         }
@@ -349,8 +358,8 @@ struct Node<T> {
     pin_arm: [T; 2],
     /// `P_k` from the bearing body's centroid.
     bearing_arm: [T; 2],
-    /// `ψ_k − θ_i` (rad, unwrapped).
-    bearing_angle: f64,
+    /// `D_k`, whose angle less `θ_i` is where the node meets the bearing.
+    ray: [f64; 2],
     /// The overlap as [`ClearanceJoint::overlap_at`] gives it (m): `g_k`, or the distance
     /// below the bearing's smallest radius where the node cannot touch.
     overlap: f64,
@@ -579,7 +588,18 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         };
         let mut candidate = [false; BLOCKS];
         let mut bound = f64::NEG_INFINITY;
-        for (block, is_candidate) in candidate.iter_mut().enumerate() {
+        // Sectors from the one facing the eccentricity outwards, alternating sides: the margins
+        // fall with the angle from it, so the nearest non-candidates set the bound early and
+        // the rest are settled by a cheap upper bound on their margin (below).
+        let facing = ((wrap_angle(direction - theta_pin) / BLOCK) as usize).min(BLOCKS - 1);
+        for step in 0..BLOCKS {
+            let turn = if step % 2 == 1 {
+                step.div_ceil(2)
+            } else {
+                BLOCKS - step / 2
+            };
+            let block = (facing + turn) % BLOCKS;
+            let is_candidate = &mut candidate[block];
             let reach = b.pin_block_max[block];
             if reach == f64::NEG_INFINITY {
                 continue;
@@ -595,6 +615,19 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 && rho * rho + reach * reach <= b.bearing_min * b.bearing_min
             {
                 bound = bound.max((rho * rho + reach * reach).sqrt() - b.bearing_min);
+                continue;
+            }
+            // `1 − g²/2 + g⁴/24 ≥ cos g` for every g (and 1e-14 over its rounding): a reach at
+            // least the exact one, computed the same way. A sector it keeps within the bearing's
+            // smallest sector radius by no more than the bound so far is not a candidate and
+            // cannot raise the bound: the exact margin would leave both as they are.
+            let gap2 = gap * gap;
+            let cos_above = 1.0 - gap2 * (0.5 - gap2 / 24.0) + 1e-14;
+            let farthest_above = (rho * rho + reach * reach + 2.0 * reach * rho * cos_above)
+                .max(0.0)
+                .sqrt();
+            let margin_above = farthest_above - b.bearing_floor;
+            if margin_above <= 0.0 && margin_above <= bound {
                 continue;
             }
             let farthest = (rho * rho + reach * reach + 2.0 * reach * rho * gap.cos())
@@ -732,9 +765,16 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     ) -> Node<T> {
         let (alpha, pin_arm, d) = self.node_point(cell, cells, bearing, pin, bearing_centre_arm);
         let rho = dot(&d, &d).sqrt();
-        let psi = d[1].atan2(d[0]);
-        let angle = psi - theta_bearing;
-        let sample = self.bearing_profile.sample(angle.value());
+        // The ray's angle matters for a worn bearing's sample and for the partials; a plain
+        // node on a round bearing needs neither (its bearing angle for wear is found only when
+        // the node is visited).
+        let (angle, sample) = match self.bounds.round_bearing {
+            Some(sample) if T::PLAIN => (theta_bearing, sample),
+            _ => {
+                let angle = d[1].atan2(d[0]) - theta_bearing;
+                (angle, self.bearing_profile.sample(angle.value()))
+            }
+        };
         let bearing_radius = angle.chain(sample.radius, sample.slope);
         let bearing_slope = angle.chain(sample.slope, sample.curvature);
         let n = [d[0] / rho, d[1] / rho];
@@ -767,18 +807,18 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             ],
             pin_arm,
             bearing_arm,
-            bearing_angle: angle.value(),
+            ray: [d[0].value(), d[1].value()],
         }
     }
 
-    /// The kernel: forces on both bodies, diagnostics, and each loaded node to `visit`.
+    /// The kernel: forces on both bodies, diagnostics, and each loaded node to `visit` if any.
     fn foundation_eval<T: Real>(
         &self,
         foundation: &Foundation,
         bearing_state: [T; 6],
         pin_state: [T; 6],
         onset_velocity: Option<f64>,
-        visit: &mut dyn FnMut(&NodeLoad),
+        mut visit: Option<&mut dyn FnMut(&NodeLoad)>,
     ) -> Output<T> {
         let cells = foundation.cells;
         let bearing = Body::new(bearing_state);
@@ -823,70 +863,75 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let weight = 0.5 * foundation.line_modulus * self.bounds.node_arc;
         let candidates = self.candidates(cells, e_value, theta_pin, theta_bearing.value());
 
-        let mut carry =
-            |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| -> f64 {
-                let g_k = load_gradient * weight;
-                if g_k.value() <= 0.0 {
-                    return 0.0;
-                }
-                let (factor, d_factor) = self.normal_law.hysteresis(node.g_rate.value(), onset);
-                if factor <= 0.0 {
-                    // Clamped: the layer does not pull; its elastic load is released as damping.
-                    books.damping_power -= g_k.value() * node.g_rate.value();
-                    return 0.0;
-                }
-                let load = g_k * node.g_rate.chain(factor, d_factor);
-                let m_norm = dot(&node.m, &node.m).sqrt();
-                let t_hat = [-node.m[1] / m_norm, node.m[0] / m_norm];
-                let normal = load * m_norm;
-                let material = dot(&node.relative_velocity, &t_hat);
-                let paper = if node.g.value() > 0.0 {
-                    node.g * phi_rate
-                } else {
-                    zero
-                };
-                let sliding = match self.friction_sliding {
-                    SlidingVelocity::Material => material,
-                    SlidingVelocity::Paper => paper,
-                };
-                let friction = self.friction_law.evaluate(sliding.value(), normal.value());
-                let friction_force = sliding.chain2(
-                    normal,
-                    friction.force,
-                    friction.d_velocity,
-                    friction.d_normal_force,
-                );
-                let force_on_pin = [
-                    -(load * node.m[0]) - friction_force * t_hat[0],
-                    -(load * node.m[1]) - friction_force * t_hat[1],
-                ];
-                out.pin[0] = out.pin[0] + force_on_pin[0];
-                out.pin[1] = out.pin[1] + force_on_pin[1];
-                out.pin[2] = out.pin[2] + cross(&node.pin_arm, &force_on_pin);
-                out.bearing[0] = out.bearing[0] - force_on_pin[0];
-                out.bearing[1] = out.bearing[1] - force_on_pin[1];
-                out.bearing[2] = out.bearing[2] - cross(&node.bearing_arm, &force_on_pin);
-
-                let (load_v, normal_v, material_v) =
-                    (load.value(), normal.value(), material.value());
-                books.damping_power += (load_v - g_k.value()) * node.g_rate.value();
-                books.friction_power += friction.force * material_v;
-                books.friction_force += friction.force;
-                books.normal_resultant[0] += load_v * node.m[0].value();
-                books.normal_resultant[1] += load_v * node.m[1].value();
-                books.load += normal_v;
-                books.load_sliding += normal_v * material_v;
-                visit(&NodeLoad {
-                    cell: node.cell,
-                    pin_angle: node.alpha,
-                    bearing_angle: wrap_angle(node.bearing_angle),
-                    normal_force: normal_v,
-                    arc: self.bounds.node_arc,
-                    material_sliding: material_v,
-                    paper_sliding: paper.value(),
-                });
-                normal_v
+        let mut carry = |node: &Node<T>,
+                         load_gradient: T,
+                         books: &mut Books,
+                         out: &mut Output<T>|
+         -> f64 {
+            let g_k = load_gradient * weight;
+            if g_k.value() <= 0.0 {
+                return 0.0;
+            }
+            let (factor, d_factor) = self.normal_law.hysteresis(node.g_rate.value(), onset);
+            if factor <= 0.0 {
+                // Clamped: the layer does not pull; its elastic load is released as damping.
+                books.damping_power -= g_k.value() * node.g_rate.value();
+                return 0.0;
+            }
+            let load = g_k * node.g_rate.chain(factor, d_factor);
+            let m_norm = dot(&node.m, &node.m).sqrt();
+            let t_hat = [-node.m[1] / m_norm, node.m[0] / m_norm];
+            let normal = load * m_norm;
+            let material = dot(&node.relative_velocity, &t_hat);
+            let paper = if node.g.value() > 0.0 {
+                node.g * phi_rate
+            } else {
+                zero
             };
+            let sliding = match self.friction_sliding {
+                SlidingVelocity::Material => material,
+                SlidingVelocity::Paper => paper,
+            };
+            let friction = self.friction_law.evaluate(sliding.value(), normal.value());
+            let friction_force = sliding.chain2(
+                normal,
+                friction.force,
+                friction.d_velocity,
+                friction.d_normal_force,
+            );
+            let force_on_pin = [
+                -(load * node.m[0]) - friction_force * t_hat[0],
+                -(load * node.m[1]) - friction_force * t_hat[1],
+            ];
+            out.pin[0] = out.pin[0] + force_on_pin[0];
+            out.pin[1] = out.pin[1] + force_on_pin[1];
+            out.pin[2] = out.pin[2] + cross(&node.pin_arm, &force_on_pin);
+            out.bearing[0] = out.bearing[0] - force_on_pin[0];
+            out.bearing[1] = out.bearing[1] - force_on_pin[1];
+            out.bearing[2] = out.bearing[2] - cross(&node.bearing_arm, &force_on_pin);
+
+            let (load_v, normal_v, material_v) = (load.value(), normal.value(), material.value());
+            books.damping_power += (load_v - g_k.value()) * node.g_rate.value();
+            books.friction_power += friction.force * material_v;
+            books.friction_force += friction.force;
+            books.normal_resultant[0] += load_v * node.m[0].value();
+            books.normal_resultant[1] += load_v * node.m[1].value();
+            books.load += normal_v;
+            books.load_sliding += normal_v * material_v;
+            let Some(visit) = visit.as_mut() else {
+                return normal_v;
+            };
+            visit(&NodeLoad {
+                cell: node.cell,
+                pin_angle: node.alpha,
+                bearing_angle: wrap_angle(node.ray[1].atan2(node.ray[0]) - theta_bearing.value()),
+                normal_force: normal_v,
+                arc: self.bounds.node_arc,
+                material_sliding: material_v,
+                paper_sliding: paper.value(),
+            });
+            normal_v
+        };
         // Every computed node passes here in order: its load, and the zone it belongs to.
         let mut emit =
             |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| {
@@ -1076,7 +1121,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         bearing: &BodyState,
         pin: &BodyState,
         onset_velocity: Option<f64>,
-        visit: &mut dyn FnMut(&NodeLoad),
+        visit: Option<&mut dyn FnMut(&NodeLoad)>,
     ) -> ContactForces {
         let out = self.foundation_eval(
             foundation,
@@ -1117,7 +1162,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             seed(bearing, 0),
             seed(pin, 3),
             onset_velocity,
-            &mut |_| {},
+            None,
         );
         let mut jacobian = ContactJacobian::zeros();
         for (row, value) in out.bearing.iter().chain(&out.pin).enumerate() {
