@@ -218,7 +218,7 @@ impl WornProfile {
     }
 
     /// `h`, `dh/dθ` and `d²h/dθ²` of the B-spline at `angle`.
-    #[inline]
+    #[inline(always)]
     fn spline(&self, angle: f64) -> (f64, f64, f64) {
         let n = self.depth.len();
         // Control point k sits at u = k (the cell centre).
@@ -359,7 +359,7 @@ fn shape_of(depths: &[f64], per_rad: f64) -> (f64, f64) {
 }
 
 impl SurfaceProfile for WornProfile {
-    #[inline]
+    #[inline(always)]
     fn sample(&self, angle: f64) -> RadiusSample {
         let (h, dh, ddh) = self.spline(angle);
         let k = self.side.radius_per_depth();

@@ -360,6 +360,8 @@ struct Node<T> {
     bearing_arm: [T; 2],
     /// `D_k`, whose angle less `θ_i` is where the node meets the bearing.
     ray: [f64; 2],
+    /// `ψ_k − θ_i` (rad, unwrapped) when it was needed for the node (else found from `ray`).
+    bearing_angle: Option<f64>,
     /// The overlap as [`ClearanceJoint::overlap_at`] gives it (m): `g_k`, or the distance
     /// below the bearing's smallest radius where the node cannot touch.
     overlap: f64,
@@ -768,11 +770,12 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         // The ray's angle matters for a worn bearing's sample and for the partials; a plain
         // node on a round bearing needs neither (its bearing angle for wear is found only when
         // the node is visited).
-        let (angle, sample) = match self.bounds.round_bearing {
-            Some(sample) if T::PLAIN => (theta_bearing, sample),
+        let (angle, sample, bearing_angle) = match self.bounds.round_bearing {
+            Some(sample) if T::PLAIN => (theta_bearing, sample, None),
             _ => {
                 let angle = d[1].atan2(d[0]) - theta_bearing;
-                (angle, self.bearing_profile.sample(angle.value()))
+                let sample = self.bearing_profile.sample(angle.value());
+                (angle, sample, Some(angle.value()))
             }
         };
         let bearing_radius = angle.chain(sample.radius, sample.slope);
@@ -808,6 +811,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             pin_arm,
             bearing_arm,
             ray: [d[0].value(), d[1].value()],
+            bearing_angle,
         }
     }
 
@@ -863,75 +867,77 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let weight = 0.5 * foundation.line_modulus * self.bounds.node_arc;
         let candidates = self.candidates(cells, e_value, theta_pin, theta_bearing.value());
 
-        let mut carry = |node: &Node<T>,
-                         load_gradient: T,
-                         books: &mut Books,
-                         out: &mut Output<T>|
-         -> f64 {
-            let g_k = load_gradient * weight;
-            if g_k.value() <= 0.0 {
-                return 0.0;
-            }
-            let (factor, d_factor) = self.normal_law.hysteresis(node.g_rate.value(), onset);
-            if factor <= 0.0 {
-                // Clamped: the layer does not pull; its elastic load is released as damping.
-                books.damping_power -= g_k.value() * node.g_rate.value();
-                return 0.0;
-            }
-            let load = g_k * node.g_rate.chain(factor, d_factor);
-            let m_norm = dot(&node.m, &node.m).sqrt();
-            let t_hat = [-node.m[1] / m_norm, node.m[0] / m_norm];
-            let normal = load * m_norm;
-            let material = dot(&node.relative_velocity, &t_hat);
-            let paper = if node.g.value() > 0.0 {
-                node.g * phi_rate
-            } else {
-                zero
-            };
-            let sliding = match self.friction_sliding {
-                SlidingVelocity::Material => material,
-                SlidingVelocity::Paper => paper,
-            };
-            let friction = self.friction_law.evaluate(sliding.value(), normal.value());
-            let friction_force = sliding.chain2(
-                normal,
-                friction.force,
-                friction.d_velocity,
-                friction.d_normal_force,
-            );
-            let force_on_pin = [
-                -(load * node.m[0]) - friction_force * t_hat[0],
-                -(load * node.m[1]) - friction_force * t_hat[1],
-            ];
-            out.pin[0] = out.pin[0] + force_on_pin[0];
-            out.pin[1] = out.pin[1] + force_on_pin[1];
-            out.pin[2] = out.pin[2] + cross(&node.pin_arm, &force_on_pin);
-            out.bearing[0] = out.bearing[0] - force_on_pin[0];
-            out.bearing[1] = out.bearing[1] - force_on_pin[1];
-            out.bearing[2] = out.bearing[2] - cross(&node.bearing_arm, &force_on_pin);
+        let mut carry =
+            |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| -> f64 {
+                let g_k = load_gradient * weight;
+                if g_k.value() <= 0.0 {
+                    return 0.0;
+                }
+                let (factor, d_factor) = self.normal_law.hysteresis(node.g_rate.value(), onset);
+                if factor <= 0.0 {
+                    // Clamped: the layer does not pull; its elastic load is released as damping.
+                    books.damping_power -= g_k.value() * node.g_rate.value();
+                    return 0.0;
+                }
+                let load = g_k * node.g_rate.chain(factor, d_factor);
+                let m_norm = dot(&node.m, &node.m).sqrt();
+                let t_hat = [-node.m[1] / m_norm, node.m[0] / m_norm];
+                let normal = load * m_norm;
+                let material = dot(&node.relative_velocity, &t_hat);
+                let paper = if node.g.value() > 0.0 {
+                    node.g * phi_rate
+                } else {
+                    zero
+                };
+                let sliding = match self.friction_sliding {
+                    SlidingVelocity::Material => material,
+                    SlidingVelocity::Paper => paper,
+                };
+                let friction = self.friction_law.evaluate(sliding.value(), normal.value());
+                let friction_force = sliding.chain2(
+                    normal,
+                    friction.force,
+                    friction.d_velocity,
+                    friction.d_normal_force,
+                );
+                let force_on_pin = [
+                    -(load * node.m[0]) - friction_force * t_hat[0],
+                    -(load * node.m[1]) - friction_force * t_hat[1],
+                ];
+                out.pin[0] = out.pin[0] + force_on_pin[0];
+                out.pin[1] = out.pin[1] + force_on_pin[1];
+                out.pin[2] = out.pin[2] + cross(&node.pin_arm, &force_on_pin);
+                out.bearing[0] = out.bearing[0] - force_on_pin[0];
+                out.bearing[1] = out.bearing[1] - force_on_pin[1];
+                out.bearing[2] = out.bearing[2] - cross(&node.bearing_arm, &force_on_pin);
 
-            let (load_v, normal_v, material_v) = (load.value(), normal.value(), material.value());
-            books.damping_power += (load_v - g_k.value()) * node.g_rate.value();
-            books.friction_power += friction.force * material_v;
-            books.friction_force += friction.force;
-            books.normal_resultant[0] += load_v * node.m[0].value();
-            books.normal_resultant[1] += load_v * node.m[1].value();
-            books.load += normal_v;
-            books.load_sliding += normal_v * material_v;
-            let Some(visit) = visit.as_mut() else {
-                return normal_v;
+                let (load_v, normal_v, material_v) =
+                    (load.value(), normal.value(), material.value());
+                books.damping_power += (load_v - g_k.value()) * node.g_rate.value();
+                books.friction_power += friction.force * material_v;
+                books.friction_force += friction.force;
+                books.normal_resultant[0] += load_v * node.m[0].value();
+                books.normal_resultant[1] += load_v * node.m[1].value();
+                books.load += normal_v;
+                books.load_sliding += normal_v * material_v;
+                let Some(visit) = visit.as_mut() else {
+                    return normal_v;
+                };
+                visit(&NodeLoad {
+                    cell: node.cell,
+                    pin_angle: node.alpha,
+                    bearing_angle: wrap_angle(
+                        node.bearing_angle.unwrap_or_else(|| {
+                            node.ray[1].atan2(node.ray[0]) - theta_bearing.value()
+                        }),
+                    ),
+                    normal_force: normal_v,
+                    arc: self.bounds.node_arc,
+                    material_sliding: material_v,
+                    paper_sliding: paper.value(),
+                });
+                normal_v
             };
-            visit(&NodeLoad {
-                cell: node.cell,
-                pin_angle: node.alpha,
-                bearing_angle: wrap_angle(node.ray[1].atan2(node.ray[0]) - theta_bearing.value()),
-                normal_force: normal_v,
-                arc: self.bounds.node_arc,
-                material_sliding: material_v,
-                paper_sliding: paper.value(),
-            });
-            normal_v
-        };
         // Every computed node passes here in order: its load, and the zone it belongs to.
         let mut emit =
             |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| {
