@@ -5,13 +5,14 @@
 //! ```sh
 //! CARGO_PROFILE_RELEASE_DEBUG=true cargo build --release -p lgres --example cycle_cost
 //! valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measured_cycle*' \
-//!     target/release/examples/cycle_cost [surfaces-folder]
+//!     target/release/examples/cycle_cost [surfaces-folder [end-time]]
 //! ```
 //!
 //! Only `measured_cycle` (the integration, as the bench times it) is counted. With a folder
 //! (the `wear_<joint>_stage<k>.csv` files of an earlier run, as `--surfaces` reads them) the
-//! cycle runs on those worn surfaces. Prints the solver statistics and, for comparing outputs,
-//! the final state and worn depths' sums.
+//! cycle runs on those worn surfaces (an empty argument: unworn); a second argument ends the
+//! run at that time (s) instead of one period. Prints the solver statistics and, for comparing
+//! outputs, the final state and worn depths' sums.
 
 use std::path::Path;
 
@@ -24,10 +25,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scene = lgres::scenes::builtin("lgres")?;
     let period = scene.cycle_period().ok_or("the default scene is driven")?;
     let unworn = unworn_joints(&scene)?;
-    let worn = match std::env::args().nth(1) {
-        Some(dir) => load_last_stage(Path::new(&dir), &scene, &unworn)?,
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let worn = match args.first().filter(|dir| !dir.is_empty()) {
+        Some(dir) => load_last_stage(Path::new(dir), &scene, &unworn)?,
         None => unworn,
     };
+    let end: f64 = args.get(1).map_or(Ok(period), |s| s.parse())?;
     let mut built = build(
         &scene,
         Surfaces {
@@ -38,7 +41,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     )?;
     let (q, qd) = built.system.initial_guess();
     let state = built.system.assemble(0.0, &q, &qd)?;
-    let mut options = simulation_options(&scene, period, OutputTimes::At(vec![period]), false);
+    let mut options = simulation_options(&scene, end, OutputTimes::At(vec![end]), false);
     options.energy_audit = false;
     options.formulation = Formulation::JointCoordinates;
     let result = measured_cycle(&mut built, &state, &options)?;
