@@ -50,6 +50,106 @@ pub fn floor(x: f64) -> f64 {
     }
 }
 
+/// `atan(j/64)` for `j = 0..=64` (rounded to nearest).
+const ATAN_64THS: [f64; 65] = [
+    0.0,
+    0.015623728620476831,
+    0.031239833430268277,
+    0.046840712915969654,
+    0.06241880999595735,
+    0.0779666338315423,
+    0.09347678115858947,
+    0.10894195698986579,
+    0.12435499454676144,
+    0.13970887428916365,
+    0.15499674192394097,
+    0.1702119252854744,
+    0.18534794999569476,
+    0.2003985538258785,
+    0.21535769969773805,
+    0.23021958727684372,
+    0.24497866312686414,
+    0.2596296294082575,
+    0.2741674511196588,
+    0.2885873618940774,
+    0.3028848683749714,
+    0.31705575320914703,
+    0.3310960767041321,
+    0.34500217720710513,
+    0.35877067027057225,
+    0.3723984466767542,
+    0.38588266939807375,
+    0.39922076957525254,
+    0.4124104415973873,
+    0.42544963737004227,
+    0.43833655985795783,
+    0.4510696559885235,
+    0.4636476090008061,
+    0.4760693303227612,
+    0.48833395105640554,
+    0.5004408131472942,
+    0.5123894603107377,
+    0.5241796287829132,
+    0.5358112379604637,
+    0.5472843809874369,
+    0.5585993153435624,
+    0.5697564534829784,
+    0.5807563535676704,
+    0.5915997103351114,
+    0.6022873461349642,
+    0.6128202021652414,
+    0.6231993299340659,
+    0.6334258829691446,
+    0.6435011087932844,
+    0.6534263411807619,
+    0.6632029927060933,
+    0.6728325475937632,
+    0.6823165548747481,
+    0.6916566218531999,
+    0.7008544078844502,
+    0.7099116184635249,
+    0.7188299996216245,
+    0.7276113326265107,
+    0.7362574289814281,
+    0.7447701257160751,
+    0.7531512809621944,
+    0.7614027698055784,
+    0.7695264804056583,
+    0.7775243103733478,
+    0.7853981633974483,
+];
+
+/// `y.atan2(x)` to within 2 ulp of the exact angle, in about a quarter of libm's instructions.
+///
+/// The foundation contact takes the ray angle of every node it computes (hundreds per
+/// evaluation on worn surfaces), where libm's correctly rounded `atan2` was a fifth of a
+/// worn cycle. `atan(t)` for `t = min/max(|x|, |y|)` is `atan(c) + atan((t − c)/(1 + tc))`
+/// with `c` the nearest 64th, whose arctangent is tabulated, and `|(t − c)/(1 + tc)| ≤ 1/128`,
+/// where five terms of the series leave less than 1e-24; `t − c` is exact (Sterbenz). Zero,
+/// infinite and NaN arguments take libm's `atan2`, so the special values are its own.
+#[inline]
+pub fn ray_angle(y: f64, x: f64) -> f64 {
+    let (ax, ay) = (x.abs(), y.abs());
+    let (small, big) = if ay > ax { (ax, ay) } else { (ay, ax) };
+    if !(big < f64::INFINITY && small > 0.0) {
+        return y.atan2(x);
+    }
+    let t = small / big;
+    let j = (t * 64.0 + 0.5) as usize;
+    let c = j as f64 / 64.0;
+    let z = (t - c) / (1.0 + t * c);
+    let z2 = z * z;
+    let series = z - z * z2 * (1.0 / 3.0 - z2 * (1.0 / 5.0 - z2 * (1.0 / 7.0 - z2 / 9.0)));
+    let mut angle = ATAN_64THS[j] + series;
+    if ay > ax {
+        angle = std::f64::consts::FRAC_PI_2 - angle;
+    }
+    if x < 0.0 {
+        angle = std::f64::consts::PI - angle;
+    }
+    angle.copysign(y)
+}
+
 /// Radius and slope of a surface at one body-frame angle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RadiusSample {
@@ -184,6 +284,53 @@ mod tests {
             assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "{x}");
         }
         assert!(wrap_angle(f64::NAN).is_nan() && floor(f64::NAN).is_nan());
+    }
+
+    /// The ray angle agrees with libm's `atan2` to 2 ulp in every octant and at the octants'
+    /// edges, and takes its special values from it.
+    #[test]
+    fn ray_angle_matches_atan2() {
+        use super::ray_angle;
+        let ulps = |a: f64, b: f64| (a - b).abs() / f64::EPSILON / b.abs().max(f64::MIN_POSITIVE);
+        let mut worst: f64 = 0.0;
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = || {
+            // xorshift64*: reproducible uniform numbers without a dependency.
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            (state.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..400_000 {
+            let angle = (next() - 0.5) * 2.0 * std::f64::consts::PI;
+            let radius = 1e-3 * (1.0 + 1e3 * next());
+            let (y, x) = (radius * angle.sin(), radius * angle.cos());
+            worst = worst.max(ulps(ray_angle(y, x), y.atan2(x)));
+        }
+        for k in 0..=64 {
+            for (y, x) in [(k as f64, 64.0), (64.0, k as f64), (-(k as f64), -64.0)] {
+                let near = [y, y.next_up(), y.next_down()];
+                for y in near {
+                    worst = worst.max(ulps(ray_angle(y, x), y.atan2(x)));
+                }
+            }
+        }
+        assert!(worst <= 2.0, "{worst} ulp");
+        for (y, x) in [
+            (0.0, 1.0),
+            (-0.0, 1.0),
+            (0.0, -1.0),
+            (-0.0, -1.0),
+            (1.0, 0.0),
+            (-1.0, -0.0),
+            (0.0, 0.0),
+            (f64::INFINITY, 1.0),
+            (1.0, f64::NEG_INFINITY),
+            (1e-320, 1.0),
+        ] {
+            assert_eq!(ray_angle(y, x).to_bits(), y.atan2(x).to_bits(), "{y} {x}");
+        }
+        assert!(ray_angle(f64::NAN, 1.0).is_nan());
     }
 
     proptest! {
