@@ -272,9 +272,6 @@ struct Candidates {
     runs: [(i64, i64); MAX_RUNS],
     count: usize,
     outside_bound: f64,
-    /// Per sector of the pin's frame, a lower bound on the bearing's radius where its nodes
-    /// can land (m): the exact sector bound where the sector was checked, else `R_i⁻`.
-    landing_min: [f64; BLOCKS],
 }
 
 impl OutlineBounds {
@@ -579,7 +576,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             runs: [(0, 0); MAX_RUNS],
             count: 0,
             outside_bound: rho + b.pin_max.min(1e300) - b.bearing_min,
-            landing_min: [b.bearing_min; BLOCKS],
         };
         if found.outside_bound <= 0.0 {
             return found;
@@ -643,7 +639,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 start - slack - theta_bearing,
                 start + BLOCK + slack - theta_bearing,
             );
-            found.landing_min[block] = nearest_bearing;
             let margin = farthest - nearest_bearing;
             *is_candidate = margin > 0.0;
             if !*is_candidate {
@@ -694,10 +689,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
 
     /// The overlap of node `cell` alone (m), cheaply: a node nearer the bearing centre than the
     /// bearing's smallest radius returns that (negative) distance without sampling the bearing.
-    /// `None` when the overlap cannot exceed `deepest`: beyond `R_i⁻` it is at most
-    /// `ρ_k − landing`, `landing` (≥ `R_i⁻`) a lower bound on the bearing's radius where the
-    /// node can land, so a node whose bound does not beat the deepest one so far is not sampled
-    /// (`deepest = −∞`: always sampled).
+    /// `None` when the overlap cannot exceed `deepest`: it is at most `ρ_k − R_i⁻`, so a node
+    /// whose bound does not beat the deepest one so far is not sampled (`−∞`: always sampled).
+    #[allow(clippy::too_many_arguments)]
     #[inline]
     fn overlap_at(
         &self,
@@ -707,15 +701,16 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin: &Body<f64>,
         bearing_centre_arm: &[f64; 2],
         theta_bearing: f64,
-        (deepest, landing): (f64, f64),
+        deepest: f64,
     ) -> Option<f64> {
         let (_, _, d) = self.node_point(cell, cells, bearing, pin, bearing_centre_arm);
         let rho = d[0].hypot(d[1]);
-        if rho <= self.bounds.bearing_min {
-            return Some(rho - self.bounds.bearing_min);
-        }
-        if rho - landing <= deepest {
+        let below = rho - self.bounds.bearing_min;
+        if below <= deepest {
             return None;
+        }
+        if rho <= self.bounds.bearing_min {
+            return Some(below);
         }
         Some(
             rho - self
@@ -973,7 +968,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                     &plain.1,
                     &plain_arm,
                     theta_bearing.value(),
-                    (f64::NEG_INFINITY, self.bounds.bearing_min),
+                    f64::NEG_INFINITY,
                 )
                 .unwrap_or(f64::NEG_INFINITY)
             };
@@ -1211,18 +1206,14 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             .iter()
             .flat_map(|&(first, last)| first..=last)
         {
-            let cell = k.rem_euclid(cells as i64) as usize;
-            let block = ((node_angle(cell, cells) / BLOCK) as usize).min(BLOCKS - 1);
-            // Less a margin far above the rounding of the spline and its bounds (~1e-17 m).
-            let landing = (candidates.landing_min[block] - 1e-12).max(self.bounds.bearing_min);
             if let Some(g) = self.overlap_at(
-                cell,
+                k.rem_euclid(cells as i64) as usize,
                 cells,
                 &bearing,
                 &pin,
                 &bearing_centre_arm,
                 bearing_body.theta,
-                (deepest, landing),
+                deepest,
             ) {
                 deepest = deepest.max(g);
             }
