@@ -33,7 +33,7 @@ pub(crate) trait Real:
     fn value(self) -> f64;
     fn sqrt(self) -> Self;
     fn sin_cos(self) -> (Self, Self);
-    /// `atan2(self, x)`, by [`crate::surface::ray_angle`] (within 2 ulp of libm's).
+    /// `atan2(self, x)`.
     fn atan2(self, x: Self) -> Self;
     /// `f(self)` for a function with value `f` and derivative `df` at `self.value()`.
     fn chain(self, f: f64, df: f64) -> Self;
@@ -61,7 +61,7 @@ impl Real for f64 {
     }
     #[inline]
     fn atan2(self, x: Self) -> Self {
-        crate::surface::ray_angle(self, x)
+        f64::atan2(self, x)
     }
     #[inline]
     fn chain(self, f: f64, _df: f64) -> Self {
@@ -210,8 +210,7 @@ impl Real for Dual {
     fn atan2(self, x: Self) -> Self {
         // d atan2(y, x) = (x dy − y dx)/(x² + y²).
         let r2 = x.value * x.value + self.value * self.value;
-        let angle = crate::surface::ray_angle(self.value, x.value);
-        self.combine(x.value / r2, x, -self.value / r2, angle)
+        self.combine(x.value / r2, x, -self.value / r2, self.value.atan2(x.value))
     }
     #[inline]
     fn chain(self, f: f64, df: f64) -> Self {

@@ -64,7 +64,7 @@ use crate::error::{ContactError, positive};
 use crate::friction::FrictionLaw;
 use crate::joint::Material;
 use crate::normal::NormalLaw;
-use crate::surface::{RadiusSample, SurfaceProfile, floor, ray_angle, wrap_angle};
+use crate::surface::{RadiusSample, SurfaceProfile, floor, wrap_angle};
 
 use std::f64::consts::TAU;
 
@@ -715,7 +715,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         Some(
             rho - self
                 .bearing_profile
-                .sample(ray_angle(d[1], d[0]) - theta_bearing)
+                .sample(d[1].atan2(d[0]) - theta_bearing)
                 .radius,
         )
     }
@@ -926,9 +926,11 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 visit(&NodeLoad {
                     cell: node.cell,
                     pin_angle: node.alpha,
-                    bearing_angle: wrap_angle(node.bearing_angle.unwrap_or_else(|| {
-                        ray_angle(node.ray[1], node.ray[0]) - theta_bearing.value()
-                    })),
+                    bearing_angle: wrap_angle(
+                        node.bearing_angle.unwrap_or_else(|| {
+                            node.ray[1].atan2(node.ray[0]) - theta_bearing.value()
+                        }),
+                    ),
                     normal_force: normal_v,
                     arc: self.bounds.node_arc,
                     material_sliding: material_v,
