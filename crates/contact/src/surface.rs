@@ -16,7 +16,7 @@ use std::f64::consts::TAU;
 #[inline]
 pub fn wrap_angle(angle: f64) -> f64 {
     let size = angle.abs();
-    if !(size < 2.0 * TAU) || size == TAU {
+    if size.is_nan() || size >= 2.0 * TAU || size == TAU {
         return angle.rem_euclid(TAU);
     }
     let remainder = if size > TAU {
@@ -35,8 +35,8 @@ pub fn wrap_angle(angle: f64) -> f64 {
 /// target (no SSE4.1 `roundsd`) makes: the spline and sector lookups floor once per node.
 #[inline]
 pub fn floor(x: f64) -> f64 {
-    // 2^52: from here on every f64 is an integer (and NaN and infinities fail the test).
-    if !(x.abs() < 4_503_599_627_370_496.0) {
+    // 2^52: from here on every f64 is an integer.
+    if x.is_nan() || x.abs() >= 4_503_599_627_370_496.0 {
         return x.floor();
     }
     let truncated = x as i64 as f64;

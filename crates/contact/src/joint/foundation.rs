@@ -733,7 +733,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     ) -> Option<f64> {
         let (_, _, d) = self.node_point(cell, cells, bearing, pin, bearing_centre_arm);
         let rho = dot(&d, &d).sqrt();
-        (rho <= self.bounds.bearing_min).then(|| rho - self.bounds.bearing_min)
+        (rho <= self.bounds.bearing_min).then_some(rho - self.bounds.bearing_min)
     }
 
     /// Node `cell`'s angle on the pin, its arm from the pin body's centroid, and its offset
