@@ -112,6 +112,7 @@ fn bench(c: &mut Criterion) {
     });
     // The same contact on worn (non-round) surfaces: the energy-consistent general kernel.
     let worn = static_joint
+        .clone()
         .with_profiles(Dented(0.05), Dented(0.0495 - 1e-5))
         .expect("valid profiles");
     c.bench_function("force (worn surfaces)", |b| {

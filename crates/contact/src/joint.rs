@@ -314,7 +314,7 @@ struct Geometry {
 ///
 /// Generic over the surface profiles and the laws, so a fixed configuration is statically
 /// dispatched; the defaults ([`NormalLawKind`], [`FrictionLawKind`]) dispatch at run time.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ClearanceJoint<B, P, N = NormalLawKind, F = FrictionLawKind> {
     bearing_centre: Vector2<f64>,
     pin_centre: Vector2<f64>,
@@ -406,7 +406,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     ) -> ContactForces {
         match self.model {
             ContactModel::Foundation(f) => {
-                self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, visit)
+                self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, Some(visit))
             }
             ContactModel::LineOfCentres => self.forces(bearing_body, pin_body, onset_velocity),
         }
@@ -515,7 +515,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         onset_velocity: Option<f64>,
     ) -> ContactForces {
         if let ContactModel::Foundation(f) = self.model {
-            return self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, &mut |_| {});
+            return self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, None);
         }
         let geometry = self.geometry(bearing_body, pin_body);
         let kin = kinematics_from(&geometry, bearing_body, pin_body);
@@ -804,7 +804,7 @@ fn diagnostics(
     pin_body: &BodyState,
     loads: &Loads,
 ) -> ContactDiagnostics {
-    let wrap = |angle: f64| angle.rem_euclid(std::f64::consts::TAU);
+    let wrap = crate::surface::wrap_angle;
     ContactDiagnostics {
         in_contact: kin.penetration >= 0.0,
         penetration: kin.penetration,

@@ -99,4 +99,4 @@ pub use normal::{
     HertzParams, HuntCrossley, ImpactMemory, LankaraniNikravesh, NormalForce, NormalLaw,
     NormalLawKind, NormalLawParams,
 };
-pub use surface::{CircularProfile, RadiusSample, SurfaceProfile};
+pub use surface::{CircularProfile, RadiusSample, SurfaceProfile, floor, wrap_angle};

@@ -86,7 +86,7 @@ fn power_law_with_damping(
     let delta_n = penetration.powf(exponent);
     let elastic = stiffness * delta_n;
     let potential = elastic * penetration / (exponent + 1.0);
-    let factor = 1.0 + damping_rate * velocity;
+    let (factor, d_factor) = damping_factor(velocity, damping_rate);
     if factor <= 0.0 {
         return NormalForce {
             elastic,
@@ -97,10 +97,23 @@ fn power_law_with_damping(
     NormalForce {
         force: elastic * factor,
         d_penetration: exponent * elastic / penetration * factor,
-        d_velocity: elastic * damping_rate,
+        d_velocity: elastic * d_factor,
         d_stiffness: delta_n * factor,
         elastic,
         potential,
+    }
+}
+
+/// The damping factor `1 + damping_rate · δ̇` of [`power_law_with_damping`] and its `δ̇`
+/// partial, both 0 where it clamps: the laws' [`NormalLaw::hysteresis`], which the foundation
+/// asks for per node (the default's `evaluate(1, 1, …)` costs a `powf` for the same numbers).
+#[inline]
+fn damping_factor(velocity: f64, damping_rate: f64) -> (f64, f64) {
+    let factor = 1.0 + damping_rate * velocity;
+    if factor <= 0.0 {
+        (0.0, 0.0)
+    } else {
+        (factor, damping_rate)
     }
 }
 
@@ -238,6 +251,12 @@ macro_rules! damped_hertz_law {
                     self.hysteresis / onset,
                 )
             }
+
+            #[inline]
+            fn hysteresis(&self, velocity: f64, onset_velocity: f64) -> (f64, f64) {
+                let onset = onset_velocity.abs().max(self.params.onset_velocity_floor);
+                damping_factor(velocity, self.hysteresis / onset)
+            }
         }
 
         impl TryFrom<DampedHertzParams> for $name {
@@ -331,6 +350,11 @@ impl NormalLaw for Hertz {
         _onset: f64,
     ) -> NormalForce {
         power_law_with_damping(stiffness, penetration, velocity, self.exponent, 0.0)
+    }
+
+    #[inline]
+    fn hysteresis(&self, velocity: f64, _onset: f64) -> (f64, f64) {
+        damping_factor(velocity, 0.0)
     }
 }
 
@@ -430,12 +454,27 @@ impl NormalLaw for NormalLawKind {
             Self::Hertz(law) => law.evaluate(stiffness, penetration, velocity, onset),
         }
     }
+
+    #[inline]
+    fn hysteresis(&self, velocity: f64, onset: f64) -> (f64, f64) {
+        match self {
+            Self::LankaraniNikravesh(law) => law.hysteresis(velocity, onset),
+            Self::HuntCrossley(law) => law.hysteresis(velocity, onset),
+            Self::Flores(law) => law.hysteresis(velocity, onset),
+            Self::Hertz(law) => law.hysteresis(velocity, onset),
+        }
+    }
 }
 
 impl<L: NormalLaw + ?Sized> NormalLaw for &L {
     #[inline]
     fn evaluate(&self, stiffness: f64, penetration: f64, velocity: f64, onset: f64) -> NormalForce {
         (**self).evaluate(stiffness, penetration, velocity, onset)
+    }
+
+    #[inline]
+    fn hysteresis(&self, velocity: f64, onset: f64) -> (f64, f64) {
+        (**self).hysteresis(velocity, onset)
     }
 }
 

@@ -5,6 +5,51 @@
 //! surface, from that body's local x axis, counter-clockwise: a global contact direction at angle
 //! `φ` meets the surface of a body turned by `θ` at body-frame angle `φ − θ`.
 
+use std::f64::consts::TAU;
+
+/// `angle.rem_euclid(2π)`, bit for bit, cheaply for `|angle| < 4π`.
+///
+/// `f64::rem_euclid` calls `fmod`, a software routine of ~100 instructions on the baseline
+/// x86-64 target, and the contact kernels wrap an angle per node. Below `4π` the remainder is
+/// one exact subtraction (Sterbenz), so this gives `fmod`'s result, sign of zero included;
+/// other angles take `rem_euclid` itself.
+#[inline]
+pub fn wrap_angle(angle: f64) -> f64 {
+    let size = angle.abs();
+    if size.is_nan() || size >= 2.0 * TAU || size == TAU {
+        return angle.rem_euclid(TAU);
+    }
+    let remainder = if size > TAU {
+        angle - TAU.copysign(angle)
+    } else {
+        angle
+    };
+    if remainder < 0.0 {
+        remainder + TAU
+    } else {
+        remainder
+    }
+}
+
+/// `x.floor()`, bit for bit, without the call to a software `floor` that the baseline x86-64
+/// target (no SSE4.1 `roundsd`) makes: the spline and sector lookups floor once per node.
+#[inline]
+pub fn floor(x: f64) -> f64 {
+    // 2^52: from here on every f64 is an integer.
+    if x.is_nan() || x.abs() >= 4_503_599_627_370_496.0 {
+        return x.floor();
+    }
+    let truncated = x as i64 as f64;
+    if truncated == x {
+        // An integer is its own floor, −0.0 included.
+        x
+    } else if truncated > x {
+        truncated - 1.0
+    } else {
+        truncated
+    }
+}
+
 /// Radius and slope of a surface at one body-frame angle.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RadiusSample {
@@ -98,5 +143,55 @@ impl<P: SurfaceProfile + ?Sized> SurfaceProfile for &P {
 
     fn radius_bounds_between(&self, start: f64, end: f64) -> Option<(f64, f64)> {
         (**self).radius_bounds_between(start, end)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{floor, wrap_angle};
+    use proptest::prelude::*;
+    use std::f64::consts::TAU;
+
+    #[test]
+    fn wrap_and_floor_match_std_at_the_edges() {
+        let edges = [
+            0.0,
+            -0.0,
+            TAU,
+            -TAU,
+            2.0 * TAU,
+            -2.0 * TAU,
+            TAU.next_up(),
+            TAU.next_down(),
+            (-TAU).next_up(),
+            (-TAU).next_down(),
+            (2.0 * TAU).next_down(),
+            (-2.0 * TAU).next_up(),
+            1e-300,
+            -1e-300,
+            0.5,
+            -0.5,
+            -1.0,
+            4_503_599_627_370_495.5,
+            -4_503_599_627_370_495.5,
+            1e17,
+            -1e17,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for x in edges {
+            assert_eq!(wrap_angle(x).to_bits(), x.rem_euclid(TAU).to_bits(), "{x}");
+            assert_eq!(floor(x).to_bits(), x.floor().to_bits(), "{x}");
+        }
+        assert!(wrap_angle(f64::NAN).is_nan() && floor(f64::NAN).is_nan());
+    }
+
+    proptest! {
+        #[test]
+        fn wrap_and_floor_match_std(x in -30.0..30.0f64, scale in -20i32..20) {
+            let x = x * 2f64.powi(scale);
+            prop_assert_eq!(wrap_angle(x).to_bits(), x.rem_euclid(TAU).to_bits());
+            prop_assert_eq!(floor(x).to_bits(), x.floor().to_bits());
+        }
     }
 }

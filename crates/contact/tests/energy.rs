@@ -174,6 +174,7 @@ fn general_kernel_on_round_surfaces_matches_the_round_kernel() {
         contact::Ambrosio::new(0.15, 1e-4, 1e-3).expect("valid"),
     );
     let general = round
+        .clone()
         .with_profiles(
             UndeclaredRound(*round.bearing_profile()),
             UndeclaredRound(*round.pin_profile()),

@@ -127,8 +127,9 @@ fn outline_overlap_equals_penetration_on_round_surfaces_and_sees_a_dent_wall() {
         base: BEARING_RADIUS,
         modes: [(6.0, -5e-5, 0.0), (1.0, 0.0, 0.0)],
     };
+    let pin_profile = *joint.pin_profile();
     let worn = joint
-        .with_profiles(bumpy, *joint.pin_profile())
+        .with_profiles(bumpy, pin_profile)
         .expect("valid profiles");
     let bearing = BodyState::at_rest(0.0, 0.0, 0.0);
     let direction = -std::f64::consts::FRAC_PI_6;

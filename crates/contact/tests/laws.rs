@@ -152,6 +152,10 @@ proptest! {
             if delta <= 0.0 {
                 prop_assert_eq!(f.force, 0.0);
             }
+            // The per-node hysteresis factor is the force at K = δ = 1, bit for bit.
+            let unit = law.evaluate(1.0, 1.0, vel, onset);
+            let (factor, d_factor) = law.hysteresis(vel, onset);
+            prop_assert_eq!((factor.to_bits(), d_factor.to_bits()), (unit.force.to_bits(), unit.d_velocity.to_bits()), "{:?}", law);
         }
     }
 }

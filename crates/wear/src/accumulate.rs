@@ -269,8 +269,8 @@ fn spread_factor(arc: f64, radius: f64, cells: usize) -> f64 {
 /// cell centres in proportion to closeness (all in one cell when `angle` is a centre).
 fn deposit_linear(cells: &mut [f64], angle: f64, amount: f64) {
     let n = cells.len();
-    let u = angle.rem_euclid(TAU) * n as f64 / TAU - 0.5;
-    let base = u.floor();
+    let u = contact::wrap_angle(angle) * n as f64 / TAU - 0.5;
+    let base = contact::floor(u);
     let t = u - base;
     let i = (base as i64).rem_euclid(n as i64) as usize;
     cells[i] += amount * (1.0 - t);

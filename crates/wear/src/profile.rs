@@ -15,7 +15,8 @@
 //!
 //! The price is that it smooths rather than interpolates: a single-cell spike shows 2/3 of its
 //! height. Archard depth is spread over arcs of tens of cells, so this is immaterial.
-//! Cost per sample: one `rem_euclid`, one floor, 4 loads, about 25 flops; no allocation.
+//! Cost per sample: one angle wrap, one floor (both without library calls), 4 loads, about 25
+//! flops; no allocation.
 
 use std::f64::consts::TAU;
 
@@ -217,17 +218,23 @@ impl WornProfile {
     }
 
     /// `h`, `dh/dθ` and `d²h/dθ²` of the B-spline at `angle`.
-    #[inline]
+    #[inline(always)]
     fn spline(&self, angle: f64) -> (f64, f64, f64) {
         let n = self.depth.len();
         // Control point k sits at u = k (the cell centre).
-        let u = angle.rem_euclid(TAU) * self.cells_per_rad - 0.5;
-        let base = u.floor();
+        let u = contact::wrap_angle(angle) * self.cells_per_rad - 0.5;
+        let base = contact::floor(u);
         let t = u - base;
-        // u ∈ [−0.5, N − 0.5], so base ∈ [−1, N − 1]; shift by N to stay unsigned.
-        let i = (base + n as f64) as usize;
-        let c = |offset: usize| self.depth[(i + offset) % n];
-        let (c0, c1, c2, c3) = (c(n - 1), c(0), c(1), c(2));
+        // u ∈ [−0.5, N − 0.5], so base ∈ [−1, N − 1]: the four cells are base − 1 … base + 2,
+        // one slice away from the ends of the grid, wrapped only near them.
+        let i = base as i64;
+        let (c0, c1, c2, c3) = match self.depth.get((i - 1).max(0) as usize..(i + 3) as usize) {
+            Some(&[c0, c1, c2, c3]) if i >= 1 => (c0, c1, c2, c3),
+            _ => {
+                let c = |offset: i64| self.depth[(i + offset).rem_euclid(n as i64) as usize];
+                (c(-1), c(0), c(1), c(2))
+            }
+        };
         let s = 1.0 - t;
         let t2 = t * t;
         let value = (s * s * s * c0
@@ -352,7 +359,7 @@ fn shape_of(depths: &[f64], per_rad: f64) -> (f64, f64) {
 }
 
 impl SurfaceProfile for WornProfile {
-    #[inline]
+    #[inline(always)]
     fn sample(&self, angle: f64) -> RadiusSample {
         let (h, dh, ddh) = self.spline(angle);
         let k = self.side.radius_per_depth();
@@ -382,8 +389,8 @@ impl SurfaceProfile for WornProfile {
     /// the smallest and largest of those cells.
     fn radius_bounds_between(&self, start: f64, end: f64) -> Option<(f64, f64)> {
         let n = self.depth.len() as i64;
-        let first = (start * self.cells_per_rad - 0.5).floor() as i64 - 1;
-        let last = ((end * self.cells_per_rad - 0.5).floor() as i64 + 2).min(first + n - 1);
+        let first = contact::floor(start * self.cells_per_rad - 0.5) as i64 - 1;
+        let last = (contact::floor(end * self.cells_per_rad - 0.5) as i64 + 2).min(first + n - 1);
         let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
         for k in first..=last {
             let h = self.depth[k.rem_euclid(n) as usize];

@@ -64,7 +64,7 @@ use crate::error::{ContactError, positive};
 use crate::friction::FrictionLaw;
 use crate::joint::Material;
 use crate::normal::NormalLaw;
-use crate::surface::SurfaceProfile;
+use crate::surface::{RadiusSample, SurfaceProfile, floor, wrap_angle};
 
 use std::f64::consts::TAU;
 
@@ -231,11 +231,14 @@ impl NodeLoad {
 }
 
 /// Bounds on the two outlines, fixed while the profiles are: the visited-node window needs
-/// them. Computed once per joint from [`SurfaceProfile::radius_bounds`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// them. Computed once per joint from [`SurfaceProfile::radius_bounds`], with the pin's node
+/// table.
+#[derive(Clone, Debug, PartialEq)]
 pub(super) struct OutlineBounds {
     /// Smallest bearing radius (m; 0 when unknown: every node is visited).
     bearing_min: f64,
+    /// The bearing's sample, the same at every angle, when it is round.
+    round_bearing: Option<RadiusSample>,
     /// Largest pin radius (m; infinite when unknown).
     pin_max: f64,
     /// Smallest pin radius at a node (m).
@@ -244,8 +247,14 @@ pub(super) struct OutlineBounds {
     node_arc: f64,
     /// Smallest bearing radius over each of [`BLOCKS`] equal sectors of its frame (m).
     bearing_block_min: [f64; BLOCKS],
+    /// The smallest of `bearing_block_min` (m): no sector's bound is below it.
+    bearing_floor: f64,
     /// Largest pin radius at the nodes of each sector of the pin's frame (m).
     pin_block_max: [f64; BLOCKS],
+    /// Each node's offset from the pin centre in the pin's frame, `r_k u(α_k)` (m): the pin's
+    /// profile is fixed while the joint is, so its spline and the node's `sin_cos` are
+    /// evaluated once here instead of once per node per evaluation.
+    pin_nodes: Vec<[f64; 2]>,
 }
 
 /// Sectors of 5.6° in which the outlines' radius bounds are kept, to skip the parts of the pin
@@ -284,12 +293,15 @@ impl OutlineBounds {
         );
         let mut pin_block_max = [f64::NEG_INFINITY; BLOCKS];
         let mut pin_min = f64::INFINITY;
+        let mut pin_nodes = Vec::with_capacity(cells);
         for k in 0..cells {
             let alpha = node_angle(k, cells);
             let radius = pin.sample(alpha).radius;
             let block = ((alpha / BLOCK) as usize).min(BLOCKS - 1);
             pin_block_max[block] = pin_block_max[block].max(radius);
             pin_min = pin_min.min(radius);
+            let (s, c) = alpha.sin_cos();
+            pin_nodes.push([radius * c, radius * s]);
         }
         let bearing_block_min = std::array::from_fn(|b| {
             let start = b as f64 * BLOCK;
@@ -299,18 +311,24 @@ impl OutlineBounds {
         });
         Self {
             bearing_min,
+            round_bearing: bearing.is_round().then(|| bearing.sample(0.0)),
             pin_max: pin_bounds.map_or(f64::INFINITY, |(_, hi)| hi),
             pin_min,
             node_arc: pin_reference * TAU / cells as f64,
             bearing_block_min,
+            bearing_floor: bearing_block_min
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min),
             pin_block_max,
+            pin_nodes,
         }
     }
 
     /// Smallest bearing radius over bearing-frame angles `[start, end]` (from the sectors).
     fn bearing_min_between(&self, start: f64, end: f64) -> f64 {
-        let first = (start / BLOCK).floor() as i64;
-        let last = ((end / BLOCK).floor() as i64).min(first + BLOCKS as i64 - 1);
+        let first = floor(start / BLOCK) as i64;
+        let last = (floor(end / BLOCK) as i64).min(first + BLOCKS as i64 - 1);
         (first..=last)
             .map(|b| self.bearing_block_min[b.rem_euclid(BLOCKS as i64) as usize])
             .fold(f64::INFINITY, f64::min)
@@ -340,8 +358,10 @@ struct Node<T> {
     pin_arm: [T; 2],
     /// `P_k` from the bearing body's centroid.
     bearing_arm: [T; 2],
-    /// `ψ_k − θ_i` (rad, unwrapped).
-    bearing_angle: f64,
+    /// `D_k`, whose angle less `θ_i` is where the node meets the bearing.
+    ray: [f64; 2],
+    /// `ψ_k − θ_i` (rad, unwrapped) when it was needed for the node (else found from `ray`).
+    bearing_angle: Option<f64>,
     /// The overlap as [`ClearanceJoint::overlap_at`] gives it (m): `g_k`, or the distance
     /// below the bearing's smallest radius where the node cannot touch.
     overlap: f64,
@@ -570,16 +590,26 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         };
         let mut candidate = [false; BLOCKS];
         let mut bound = f64::NEG_INFINITY;
-        for (block, is_candidate) in candidate.iter_mut().enumerate() {
+        // Sectors from the one facing the eccentricity outwards, alternating sides: the margins
+        // fall with the angle from it, so the nearest non-candidates set the bound early and
+        // the rest are settled by a cheap upper bound on their margin (below).
+        let facing = ((wrap_angle(direction - theta_pin) / BLOCK) as usize).min(BLOCKS - 1);
+        for step in 0..BLOCKS {
+            let turn = if step % 2 == 1 {
+                step.div_ceil(2)
+            } else {
+                BLOCKS - step / 2
+            };
+            let block = (facing + turn) % BLOCKS;
+            let is_candidate = &mut candidate[block];
             let reach = b.pin_block_max[block];
             if reach == f64::NEG_INFINITY {
                 continue;
             }
             let start = block as f64 * BLOCK + theta_pin;
             let mid = start + 0.5 * BLOCK;
-            let off = ((direction - mid + std::f64::consts::PI).rem_euclid(TAU)
-                - std::f64::consts::PI)
-                .abs();
+            let off =
+                (wrap_angle(direction - mid + std::f64::consts::PI) - std::f64::consts::PI).abs();
             let gap = (off - 0.5 * BLOCK).max(0.0);
             // A sector turned away from the eccentricity is nearer the bearing centre than the
             // pin's own radius can reach out, √(ρ² + r²) < R_i⁻ in practice: check that first.
@@ -587,6 +617,19 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 && rho * rho + reach * reach <= b.bearing_min * b.bearing_min
             {
                 bound = bound.max((rho * rho + reach * reach).sqrt() - b.bearing_min);
+                continue;
+            }
+            // `1 − g²/2 + g⁴/24 ≥ cos g` for every g (and 1e-14 over its rounding): a reach at
+            // least the exact one, computed the same way. A sector it keeps within the bearing's
+            // smallest sector radius by no more than the bound so far is not a candidate and
+            // cannot raise the bound: the exact margin would leave both as they are.
+            let gap2 = gap * gap;
+            let cos_above = 1.0 - gap2 * (0.5 - gap2 / 24.0) + 1e-14;
+            let farthest_above = (rho * rho + reach * reach + 2.0 * reach * rho * cos_above)
+                .max(0.0)
+                .sqrt();
+            let margin_above = farthest_above - b.bearing_floor;
+            if margin_above <= 0.0 && margin_above <= bound {
                 continue;
             }
             let farthest = (rho * rho + reach * reach + 2.0 * reach * rho * gap.cos())
@@ -646,6 +689,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
 
     /// The overlap of node `cell` alone (m), cheaply: a node nearer the bearing centre than the
     /// bearing's smallest radius returns that (negative) distance without sampling the bearing.
+    /// `None` when the overlap cannot exceed `deepest`: it is at most `ρ_k − R_i⁻`, so a node
+    /// whose bound does not beat the deepest one so far is not sampled (`−∞`: always sampled).
+    #[allow(clippy::too_many_arguments)]
     #[inline]
     fn overlap_at(
         &self,
@@ -655,16 +701,39 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin: &Body<f64>,
         bearing_centre_arm: &[f64; 2],
         theta_bearing: f64,
-    ) -> f64 {
+        deepest: f64,
+    ) -> Option<f64> {
         let (_, _, d) = self.node_point(cell, cells, bearing, pin, bearing_centre_arm);
         let rho = d[0].hypot(d[1]);
-        if rho <= self.bounds.bearing_min {
-            return rho - self.bounds.bearing_min;
+        let below = rho - self.bounds.bearing_min;
+        if below <= deepest {
+            return None;
         }
-        rho - self
-            .bearing_profile
-            .sample(d[1].atan2(d[0]) - theta_bearing)
-            .radius
+        if rho <= self.bounds.bearing_min {
+            return Some(below);
+        }
+        Some(
+            rho - self
+                .bearing_profile
+                .sample(d[1].atan2(d[0]) - theta_bearing)
+                .radius,
+        )
+    }
+
+    /// Node `cell`'s overlap when it lies within the bearing's smallest radius, `ρ_k − R_i⁻ ≤ 0`
+    /// (with `ρ_k` as [`Self::node`] computes it, so the value is the node's `overlap` bit for
+    /// bit); `None` when it lies beyond and may overlap. No angle, no bearing sample.
+    #[inline]
+    fn overlap_below_bearing(
+        &self,
+        cell: usize,
+        cells: usize,
+        (bearing, pin): &(Body<f64>, Body<f64>),
+        bearing_centre_arm: &[f64; 2],
+    ) -> Option<f64> {
+        let (_, _, d) = self.node_point(cell, cells, bearing, pin, bearing_centre_arm);
+        let rho = dot(&d, &d).sqrt();
+        (rho <= self.bounds.bearing_min).then_some(rho - self.bounds.bearing_min)
     }
 
     /// Node `cell`'s angle on the pin, its arm from the pin body's centroid, and its offset
@@ -679,12 +748,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         bearing_centre_arm: &[T; 2],
     ) -> (f64, [T; 2], [T; 2]) {
         let alpha = node_angle(cell, cells);
-        let radius = self.pin_profile.sample(alpha).radius;
-        let (s, c) = alpha.sin_cos();
-        let pin_arm = pin.rotate([
-            self.pin_centre.x + radius * c,
-            self.pin_centre.y + radius * s,
-        ]);
+        let [x, y] = self.bounds.pin_nodes[cell];
+        let pin_arm = pin.rotate([self.pin_centre.x + x, self.pin_centre.y + y]);
         let d = offset(pin, &pin_arm, bearing, bearing_centre_arm);
         (alpha, pin_arm, d)
     }
@@ -702,9 +767,17 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     ) -> Node<T> {
         let (alpha, pin_arm, d) = self.node_point(cell, cells, bearing, pin, bearing_centre_arm);
         let rho = dot(&d, &d).sqrt();
-        let psi = d[1].atan2(d[0]);
-        let angle = psi - theta_bearing;
-        let sample = self.bearing_profile.sample(angle.value());
+        // The ray's angle matters for a worn bearing's sample and for the partials; a plain
+        // node on a round bearing needs neither (its bearing angle for wear is found only when
+        // the node is visited).
+        let (angle, sample, bearing_angle) = match self.bounds.round_bearing {
+            Some(sample) if T::PLAIN => (theta_bearing, sample, None),
+            _ => {
+                let angle = d[1].atan2(d[0]) - theta_bearing;
+                let sample = self.bearing_profile.sample(angle.value());
+                (angle, sample, Some(angle.value()))
+            }
+        };
         let bearing_radius = angle.chain(sample.radius, sample.slope);
         let bearing_slope = angle.chain(sample.slope, sample.curvature);
         let n = [d[0] / rho, d[1] / rho];
@@ -737,18 +810,19 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             ],
             pin_arm,
             bearing_arm,
-            bearing_angle: angle.value(),
+            ray: [d[0].value(), d[1].value()],
+            bearing_angle,
         }
     }
 
-    /// The kernel: forces on both bodies, diagnostics, and each loaded node to `visit`.
+    /// The kernel: forces on both bodies, diagnostics, and each loaded node to `visit` if any.
     fn foundation_eval<T: Real>(
         &self,
         foundation: &Foundation,
         bearing_state: [T; 6],
         pin_state: [T; 6],
         onset_velocity: Option<f64>,
-        visit: &mut dyn FnMut(&NodeLoad),
+        mut visit: Option<&mut dyn FnMut(&NodeLoad)>,
     ) -> Output<T> {
         let cells = foundation.cells;
         let bearing = Body::new(bearing_state);
@@ -846,10 +920,17 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 books.normal_resultant[1] += load_v * node.m[1].value();
                 books.load += normal_v;
                 books.load_sliding += normal_v * material_v;
+                let Some(visit) = visit.as_mut() else {
+                    return normal_v;
+                };
                 visit(&NodeLoad {
                     cell: node.cell,
                     pin_angle: node.alpha,
-                    bearing_angle: node.bearing_angle.rem_euclid(TAU),
+                    bearing_angle: wrap_angle(
+                        node.bearing_angle.unwrap_or_else(|| {
+                            node.ray[1].atan2(node.ray[0]) - theta_bearing.value()
+                        }),
+                    ),
                     normal_force: normal_v,
                     arc: self.bounds.node_arc,
                     material_sliding: material_v,
@@ -889,7 +970,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                     &plain.1,
                     &plain_arm,
                     theta_bearing.value(),
+                    f64::NEG_INFINITY,
                 )
+                .unwrap_or(f64::NEG_INFINITY)
             };
             // Stream the nodes, closing each node's load once both its segments are seen. A node
             // whose overlap and both neighbours' are ≤ 0 carries nothing and touches no loaded
@@ -897,8 +980,18 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             // window starts opposite the contact, so no segment closes the circle.)
             let mut previous: Option<(Node<T>, T)> = None;
             let mut overlap_before = f64::NEG_INFINITY;
-            // Plain arithmetic computes every node anyway: its overlap comes with it.
-            let lookahead = |k: i64| if T::PLAIN { 0.0 } else { overlap_at(k) };
+            // Plain arithmetic would compute a node's overlap twice (here and in `node_at`), so
+            // it looks ahead with the node's distance from the bearing centre only: below the
+            // bearing's smallest radius that is the overlap `node_at` gives, bit for bit, and
+            // above it the node may overlap (+∞) and is computed in full.
+            let lookahead = |k: i64| {
+                if T::PLAIN {
+                    self.overlap_below_bearing(k.rem_euclid(n) as usize, cells, &plain, &plain_arm)
+                        .unwrap_or(f64::INFINITY)
+                } else {
+                    overlap_at(k)
+                }
+            };
             let mut overlap_here = lookahead(first);
             for k in first..=last {
                 let overlap_after = if k < last {
@@ -906,8 +999,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 } else {
                     f64::NEG_INFINITY
                 };
-                let early = (!(T::PLAIN)).then(|| books.see_overlap(overlap_here));
-                if (T::PLAIN) || overlap_before > 0.0 || overlap_here > 0.0 || overlap_after > 0.0 {
+                let early =
+                    (!T::PLAIN || overlap_here <= 0.0).then(|| books.see_overlap(overlap_here));
+                if overlap_before > 0.0 || overlap_here > 0.0 || overlap_after > 0.0 {
                     let node = node_at(k);
                     if early.unwrap_or_else(|| books.see_overlap(node.overlap)) {
                         books.deepest_rate = node.g_rate.value();
@@ -971,8 +1065,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         } else {
             direction[1].atan2(direction[0])
         };
-        let bearing_angle = (contact_angle - bearing_pose[2]).rem_euclid(TAU);
-        let pin_angle = (contact_angle - theta_pin).rem_euclid(TAU);
+        let bearing_angle = wrap_angle(contact_angle - bearing_pose[2]);
+        let pin_angle = wrap_angle(contact_angle - theta_pin);
         let bearing_sample = self.bearing_profile.sample(bearing_angle);
         let pin_sample = self.pin_profile.sample(pin_angle);
         let (sin, cos) = contact_angle.sin_cos();
@@ -1033,7 +1127,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         bearing: &BodyState,
         pin: &BodyState,
         onset_velocity: Option<f64>,
-        visit: &mut dyn FnMut(&NodeLoad),
+        visit: Option<&mut dyn FnMut(&NodeLoad)>,
     ) -> ContactForces {
         let out = self.foundation_eval(
             foundation,
@@ -1074,7 +1168,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             seed(bearing, 0),
             seed(pin, 3),
             onset_velocity,
-            &mut |_| {},
+            None,
         );
         let mut jacobian = ContactJacobian::zeros();
         for (row, value) in out.bearing.iter().chain(&out.pin).enumerate() {
@@ -1109,20 +1203,24 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let e = offset(&pin, &pin_centre_arm, &bearing, &bearing_centre_arm);
         let cells = foundation.cells;
         let candidates = self.candidates(cells, e, pin_body.theta, bearing_body.theta);
-        candidates.runs[..candidates.count]
+        let mut deepest = candidates.outside_bound;
+        for k in candidates.runs[..candidates.count]
             .iter()
             .flat_map(|&(first, last)| first..=last)
-            .map(|k| {
-                self.overlap_at(
-                    k.rem_euclid(cells as i64) as usize,
-                    cells,
-                    &bearing,
-                    &pin,
-                    &bearing_centre_arm,
-                    bearing_body.theta,
-                )
-            })
-            .fold(candidates.outside_bound, f64::max)
+        {
+            if let Some(g) = self.overlap_at(
+                k.rem_euclid(cells as i64) as usize,
+                cells,
+                &bearing,
+                &pin,
+                &bearing_centre_arm,
+                bearing_body.theta,
+                deepest,
+            ) {
+                deepest = deepest.max(g);
+            }
+        }
+        deepest
     }
 }
 
