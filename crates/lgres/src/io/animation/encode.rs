@@ -152,6 +152,11 @@ impl Encoder {
         };
         self.advance(current);
         frame.make_lzw_pre_encoded();
+        // The compressed frame is kept until written, in a buffer reserved at half the
+        // uncompressed size: about ten times what it holds.
+        if let Cow::Owned(compressed) = &mut frame.buffer {
+            compressed.shrink_to_fit();
+        }
         frame
     }
 
