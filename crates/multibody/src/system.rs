@@ -374,8 +374,20 @@ impl System {
                 coordinates: n,
             });
         }
+        self.assemble_in(&mut Projector::new(n, m), t, q_guess, qd_guess)
+    }
+
+    /// [`System::assemble`] in `projector`'s storage (sized for this system), so that a
+    /// series of assemblies ([`System::kinematics`]) allocates it once.
+    fn assemble_in(
+        &self,
+        projector: &mut Projector,
+        t: f64,
+        q_guess: &[f64],
+        qd_guess: &[f64],
+    ) -> Result<State, AssemblyError> {
+        let m = self.constraint_count();
         let mut q = q_guess.to_vec();
-        let mut projector = Projector::new(n, m);
         let mut converged = false;
         for _ in 0..MAX_NEWTON_ITERATIONS {
             projector.evaluate(self, t, &q)?;
@@ -387,7 +399,7 @@ impl System {
                 converged = true;
                 break;
             }
-            let step = projector.least_norm(&projector.residual.clone());
+            let step = projector.least_norm(&projector.residual);
             for (qi, dqi) in q.iter_mut().zip(step) {
                 *qi -= dqi;
             }
@@ -478,10 +490,33 @@ impl System {
             constraints: m,
             ..Trajectory::default()
         };
+        self.check_length(q_guess, "position guess")?;
         let mut evaluator = self.evaluator(Baumgarte::NONE);
+        let mut projector = Projector::new(n, m);
         let mut guess = q_guess.to_vec();
         for &t in times {
-            let state = self.assemble(t, &guess, &zero)?;
+            // Newton starts from the previous time's solution carried forward to second
+            // order, `q + q̇ Δt + q̈ Δt²/2`: closer than the previous `q` by a factor of about
+            // `Δt`, it saves an iteration (a Jacobian and its factorization) at most times.
+            if let Some(&previous) = solution.times.last() {
+                let dt = t - previous;
+                let k = solution.times.len() - 1;
+                let frame = k * n..(k + 1) * n;
+                let (q, qd, qdd) = (
+                    &solution.q[frame.clone()],
+                    &solution.qd[frame.clone()],
+                    &solution.qdd[frame],
+                );
+                for (i, g) in guess.iter_mut().enumerate() {
+                    let predicted = q[i] + dt * (qd[i] + 0.5 * dt * qdd[i]);
+                    *g = if predicted.is_finite() {
+                        predicted
+                    } else {
+                        q[i]
+                    };
+                }
+            }
+            let state = self.assemble_in(&mut projector, t, &guess, &zero)?;
             evaluator
                 .solve_accelerations(&self.elements, t, &state.q, &state.qd)
                 .map_err(|error| KinematicsError::Evaluation { t, error })?;
@@ -490,7 +525,6 @@ impl System {
             solution.qd.extend_from_slice(&state.qd);
             solution.qdd.extend_from_slice(evaluator.accelerations());
             solution.lambda.extend_from_slice(evaluator.multipliers());
-            guess = state.q;
         }
         Ok(solution)
     }

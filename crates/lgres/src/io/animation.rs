@@ -128,31 +128,50 @@ pub fn write_animation(
     let n = frames.frames.len().min(MAX_ANIMATION_FRAMES);
     register_fonts();
     let (w, h) = ANIMATION_SIZE;
-    let mut encoder = encode::Encoder::new(w, h, &colours::ALL, FRAME_DELAY_CS);
-    let mut rgb = vec![255u8; (w * h * 3) as usize];
     let period = scene.cycle_period().unwrap_or(f64::NAN);
+    let scene_frame = |i| SceneFrame {
+        title,
+        mechanism: &mechanism,
+        view: &view,
+        insets: &insets,
+        frames,
+        response,
+        period,
+        i,
+    };
+    // Drawing and compressing the frames is most of the animation's cost and each frame
+    // depends only on its own data: contiguous runs of frames are drawn and compressed on
+    // their own threads (memory: one RGB buffer and two index buffers per worker, plus the
+    // compressed frames), then written in order by this one, so the bytes stay the same.
+    let workers = std::thread::available_parallelism()
+        .map_or(1, usize::from)
+        .clamp(1, MAX_WORKERS)
+        .min(n.max(1));
+    let chunk = n.div_ceil(workers);
+    let workers = n.div_ceil(chunk);
+    let encoded: Vec<Result<Vec<gif::Frame<'static>>, String>> = std::thread::scope(|s| {
+        let handles: Vec<_> = (0..workers)
+            .map(|k| {
+                let range = k * chunk..((k + 1) * chunk).min(n);
+                let scene_frame = &scene_frame;
+                s.spawn(move || encode_frames(range, scene_frame))
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| {
+                h.join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+            })
+            .collect()
+    });
+    let encoder = encode::Encoder::new(w, h, &colours::ALL, FRAME_DELAY_CS);
     write_via_temp(path, |tmp| {
         let mut gif = encoder.start(tmp).map_err(|e| plot_err(e.to_string()))?;
-        for i in 0..n {
-            {
-                let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
-                let scene_frame = SceneFrame {
-                    title,
-                    mechanism: &mechanism,
-                    view: &view,
-                    insets: &insets,
-                    frames,
-                    response,
-                    period,
-                    i,
-                };
-                draw_frame(&root, &scene_frame)
-                    .and_then(|()| root.present().map_err(Into::into))
-                    .map_err(|e| plot_err(e.to_string()))?;
+        for frames in encoded {
+            for frame in frames.map_err(plot_err)? {
+                encode::write_encoded(&mut gif, &frame).map_err(|e| plot_err(e.to_string()))?;
             }
-            encoder
-                .frame(&mut gif, &rgb)
-                .map_err(|e| plot_err(e.to_string()))?;
         }
         encode::finish(gif).map_err(|e| plot_err(e.to_string()))
     })?;
@@ -170,6 +189,38 @@ pub fn write_animation(
             .map(|i| (i.name.clone(), i.magnification))
             .collect(),
     })
+}
+
+/// Threads that draw and compress an animation's frames at most: beyond a few, the extra
+/// frame each draws to prime its encoder and the memory cost more than they save.
+const MAX_WORKERS: usize = 4;
+
+/// Draws and compresses the frames `range` (indices into the animation's frames), priming
+/// the encoder with the frame before the first, so that the frames are those one encoder
+/// drawing every frame in turn would make.
+fn encode_frames<'a>(
+    range: std::ops::Range<usize>,
+    scene_frame: &(dyn Fn(usize) -> SceneFrame<'a> + Sync),
+) -> Result<Vec<gif::Frame<'static>>, String> {
+    let (w, h) = ANIMATION_SIZE;
+    let mut encoder = encode::Encoder::new(w, h, &colours::ALL, FRAME_DELAY_CS);
+    let mut rgb = vec![255u8; (w * h * 3) as usize];
+    let mut out = Vec::with_capacity(range.len());
+    let first = range.start.checked_sub(1).unwrap_or(range.start);
+    for i in first..range.end {
+        {
+            let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+            draw_frame(&root, &scene_frame(i))
+                .and_then(|()| root.present().map_err(Into::into))
+                .map_err(|e| e.to_string())?;
+        }
+        if i < range.start {
+            encoder.prime(&rgb);
+        } else {
+            out.push(encoder.encode(&rgb));
+        }
+    }
+    Ok(out)
 }
 
 /// Everything one frame needs.

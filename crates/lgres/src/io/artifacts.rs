@@ -32,6 +32,26 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
     {
         return Err(OutputError::UnsafeName { name: name.clone() });
     }
+    // The animations (most of the writing's cost) are drawn on their own threads while the
+    // CSVs and figures are written; the files and their order stay the same, and an
+    // error of the files before the animations is reported first, as when written in turn.
+    let (files, animations) = std::thread::scope(|s| {
+        let animations = s.spawn(|| animation_files(outcome, dir));
+        let files = data_files(outcome, dir);
+        let animations = animations
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        files.and_then(|files| Ok((files, animations?)))
+    })?;
+    let mut files = files;
+    files.extend(animations.iter().map(|a| a.path.clone()));
+    let report = crate::io::report::write_run_report(outcome, dir, &files, &animations)?;
+    files.push(report);
+    Ok(files)
+}
+
+/// Every file of [`write_run`] but the animations and the report, in order.
+fn data_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
     let mut files = Vec::new();
     let body = &outcome.summary.response_body;
     files.extend(response_files(&outcome.response, body, dir, "")?);
@@ -111,10 +131,6 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
     let path = dir.join("scene.toml");
     write_atomic(&path, outcome.scene.to_toml().as_bytes())?;
     files.push(path);
-    let animations = animation_files(outcome, dir)?;
-    files.extend(animations.iter().map(|a| a.path.clone()));
-    let report = crate::io::report::write_run_report(outcome, dir, &files, &animations)?;
-    files.push(report);
     Ok(files)
 }
 

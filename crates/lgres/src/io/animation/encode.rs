@@ -99,9 +99,72 @@ impl Encoder {
         })
     }
 
-    /// Adds one frame (RGB, 3 bytes a pixel, rows top to bottom).
-    pub(super) fn frame(&mut self, gif: &mut Gif, rgb: &[u8]) -> Result<(), Box<dyn Error>> {
+    /// Maps one frame (RGB, 3 bytes a pixel, rows top to bottom) to the palette and makes it
+    /// the previous frame, without encoding it: a worker that starts in the middle of the
+    /// animation primes itself with the frame before its first, so its first changed
+    /// rectangle is the one a single encoder would store.
+    pub(super) fn prime(&mut self, rgb: &[u8]) {
+        let current = self.map(rgb);
+        self.advance(current);
+    }
+
+    /// One frame (RGB, 3 bytes a pixel, rows top to bottom) as the GIF stores it: after the
+    /// first, only the rectangle that changed from the previous frame, already LZW-compressed
+    /// (for [`write_encoded`]) so that workers can compress frames in parallel; the bytes are
+    /// those `gif::Encoder::write_frame` would write.
+    pub(super) fn encode(&mut self, rgb: &[u8]) -> Frame<'static> {
+        let current = self.map(rgb);
+        let (w, h) = (usize::from(self.width), usize::from(self.height));
+        let mut frame = Frame {
+            delay: self.delay,
+            dispose: DisposalMethod::Keep,
+            width: self.width,
+            height: self.height,
+            ..Frame::default()
+        };
+        frame.buffer = match &self.previous {
+            None => Cow::Owned(current.clone()),
+            Some(prev) => {
+                let rect = changed_rect(prev, &current, w, h);
+                // Nothing changed: one transparent pixel keeps the frame (and its delay).
+                let (x0, y0, x1, y1) = rect.unwrap_or((0, 0, 0, 0));
+                let mut sub = Vec::with_capacity((x1 - x0 + 1) * (y1 - y0 + 1));
+                for y in y0..=y1 {
+                    let row = y * w + x0..=y * w + x1;
+                    if rect.is_some() {
+                        sub.extend(
+                            current[row.clone()]
+                                .iter()
+                                .zip(&prev[row])
+                                .map(|(&c, &p)| if c != p { c } else { self.transparent }),
+                        );
+                    } else {
+                        sub.extend(row.map(|_| self.transparent));
+                    }
+                }
+                frame.left = x0 as u16;
+                frame.top = y0 as u16;
+                frame.width = (x1 - x0 + 1) as u16;
+                frame.height = (y1 - y0 + 1) as u16;
+                frame.transparent = Some(self.transparent);
+                Cow::Owned(sub)
+            }
+        };
+        self.advance(current);
+        frame.make_lzw_pre_encoded();
+        // The compressed frame is kept until written, in a buffer reserved at half the
+        // uncompressed size: about ten times what it holds.
+        if let Cow::Owned(compressed) = &mut frame.buffer {
+            compressed.shrink_to_fit();
+        }
+        frame
+    }
+
+    /// The palette indices of `rgb`, in the buffer the frame before last used.
+    fn map(&mut self, rgb: &[u8]) -> Vec<u8> {
+        let (w, h) = (usize::from(self.width), usize::from(self.height));
         let mut current = std::mem::take(&mut self.current);
+        current.resize(w * h, 0);
         let mut last: Option<([u8; 3], u8)> = None;
         for (out, px) in current.iter_mut().zip(rgb.chunks_exact(3)) {
             let c = [px[0], px[1], px[2]];
@@ -114,46 +177,19 @@ impl Encoder {
                 }
             };
         }
-        let (w, h) = (usize::from(self.width), usize::from(self.height));
-        let mut frame = Frame {
-            delay: self.delay,
-            dispose: DisposalMethod::Keep,
-            width: self.width,
-            height: self.height,
-            ..Frame::default()
-        };
-        let sub: Vec<u8>;
-        frame.buffer = match &self.previous {
-            None => Cow::Borrowed(&current),
-            Some(prev) => {
-                let rect = changed_rect(prev, &current, w, h);
-                // Nothing changed: one transparent pixel keeps the frame (and its delay).
-                let (x0, y0, x1, y1) = rect.unwrap_or((0, 0, 0, 0));
-                sub = (y0..=y1)
-                    .flat_map(|y| (x0..=x1).map(move |x| y * w + x))
-                    .map(|k| {
-                        if rect.is_some() && current[k] != prev[k] {
-                            current[k]
-                        } else {
-                            self.transparent
-                        }
-                    })
-                    .collect();
-                frame.left = x0 as u16;
-                frame.top = y0 as u16;
-                frame.width = (x1 - x0 + 1) as u16;
-                frame.height = (y1 - y0 + 1) as u16;
-                frame.transparent = Some(self.transparent);
-                Cow::Borrowed(&sub)
-            }
-        };
-        gif.write_frame(&frame)?;
-        self.current = self.previous.replace(current).unwrap_or_default();
-        if self.current.len() != w * h {
-            self.current = vec![0; w * h];
-        }
-        Ok(())
+        current
     }
+
+    /// `current` becomes the previous frame; the old previous one's buffer is reused.
+    fn advance(&mut self, current: Vec<u8>) {
+        self.current = self.previous.replace(current).unwrap_or_default();
+    }
+}
+
+/// Writes a frame made by [`Encoder::encode`].
+pub(super) fn write_encoded(gif: &mut Gif, frame: &Frame<'_>) -> Result<(), Box<dyn Error>> {
+    gif.write_lzw_pre_encoded_frame(frame)?;
+    Ok(())
 }
 
 /// The smallest rectangle `(x0, y0, x1, y1)` (inclusive) holding every pixel that differs,
