@@ -144,6 +144,7 @@ mod iteration;
 pub mod joint_coordinates;
 mod linalg;
 mod model;
+mod radau;
 mod sparse_iteration;
 mod system;
 mod trajectory;
