@@ -9,6 +9,18 @@ use lgres::scene::Integrator;
 
 /// The start-up window only (first impacts at ~0.012 s), two methods, two tolerances.
 fn short_sweep() -> PrecisionReport {
+    sweep(
+        vec![Integrator::Bdf, Integrator::Esdirk34],
+        vec![1e-5, 1e-8],
+        [(Integrator::Bdf, 1e-11), (Integrator::Esdirk34, 1e-11)],
+    )
+}
+
+fn sweep(
+    methods: Vec<Integrator>,
+    rtols: Vec<f64>,
+    references: [(Integrator, f64); 2],
+) -> PrecisionReport {
     let mut scene = lgres::scenes::builtin("lgres").expect("built-in scene");
     // The bounds below were set on the Cartesian formulation. In joint coordinates the 1e-11
     // references agree to 2.8e-9 m and BDF at 1e-8 is off by 1.0e-8 m: resolved, but not by
@@ -21,9 +33,9 @@ fn short_sweep() -> PrecisionReport {
         joint.contact = lgres::scene::ContactSpec::line_of_centres();
     }
     let options = PrecisionOptions {
-        methods: vec![Integrator::Bdf, Integrator::Esdirk34],
-        rtols: vec![1e-5, 1e-8],
-        references: [(Integrator::Bdf, 1e-11), (Integrator::Esdirk34, 1e-11)],
+        methods,
+        rtols,
+        references,
         duration: Some(0.02),
         repeats: 1,
         ..PrecisionOptions::default()
@@ -69,6 +81,37 @@ fn short_sweep_measures_errors_that_fall_with_the_tolerance_above_the_reference_
         assert!(loose.timed_runs_identical && tight.timed_runs_identical);
         assert!(tight.wall_s.is_finite() && tight.wall_wear_s.is_finite());
     }
+}
+
+#[test]
+fn radau_agrees_with_bdf_on_the_clearance_start_up() {
+    // BDF at rtol 1e-11 and Radau IIA at 1e-13 (its rtol is RADAU5's, applied internally as
+    // 0.1 rtol^(2/3): 2e-10 here) as the two references: their start-up paths must agree
+    // about as closely as BDF's and ESDIRK34's at 1e-11 do in the test above (measured
+    // 1.8e-9 m). Measured 6.5e-10 m; bound 5e-9 m.
+    let report = sweep(
+        vec![Integrator::Radau5],
+        vec![1e-5, 1e-8],
+        [(Integrator::Bdf, 1e-11), (Integrator::Radau5, 1e-13)],
+    );
+    let floor = report.reference_agreement.start_up_m();
+    assert!(floor < 5e-9, "Radau and BDF disagree by {floor:e} m");
+    assert_eq!(report.reference_agreement.separation_s, None);
+    let [loose, tight] = report.rows.as_slice() else {
+        panic!("two rows");
+    };
+    let (el, et) = (
+        loose.errors().expect("completes"),
+        tight.errors().expect("completes"),
+    );
+    // Looser than BDF at the same rtol value (above): measured 1.2e-4 m at 1e-5 and 1.3e-5 m
+    // at 1e-8, both far above the floor.
+    assert!(
+        et.start_up_m() * 5.0 < el.start_up_m() && et.start_up_m() > 10.0 * floor,
+        "{:e} at 1e-8 vs {:e} at 1e-5",
+        et.start_up_m(),
+        el.start_up_m()
+    );
 }
 
 #[test]

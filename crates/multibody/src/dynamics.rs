@@ -23,11 +23,13 @@ use crate::force::ForceElement;
 use crate::formulation::{Equations, Formulation};
 use crate::iteration::SecondOrderLu;
 use crate::joint_coordinates::{JointEvaluator, Tree};
+use crate::radau::{Radau5, RadauError, RadauLimits, RadauStop, VectorFunction};
 use crate::sparse_iteration::SparseSecondOrderLu;
 use crate::system::{Baumgarte, Evaluator, State, System};
 use crate::trajectory::Trajectory;
 
-/// Time integrator (all from diffsol); named in kebab case in scene files (`tr-bdf2`).
+/// Time integrator (diffsol's, and Radau IIA of this crate); named in kebab case in scene
+/// files (`tr-bdf2`, `radau`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Integrator {
@@ -40,6 +42,10 @@ pub enum Integrator {
     Esdirk34,
     /// Tsitouras 5(4), explicit: cheapest per step, for non-stiff runs.
     Tsit45,
+    /// Three-stage Radau IIA, an L-stable collocation method of order 5 (Hairer & Wanner's
+    /// RADAU5; `crate::radau`). Dense linear algebra whatever the [`LinearSolverKind`].
+    #[serde(rename = "radau")]
+    Radau5,
 }
 
 /// How the implicit integrators get `∂f/∂y`.
@@ -458,6 +464,36 @@ struct JacobianCache<'s> {
     products: usize,
 }
 
+impl JacobianCache<'_> {
+    /// Makes `matrix` the Jacobian at `(t, y)` unless it already is; a failed evaluation
+    /// leaves NaNs (the step fails) and is recorded in `singular`.
+    fn update(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        y: &[f64],
+        singular: &RefCell<Option<(f64, EvaluationError)>>,
+    ) {
+        if self.valid && self.t == t && self.y == y {
+            return;
+        }
+        let result = match self.method {
+            JacobianMethod::Exact => self.evaluator.jacobian(elements, t, y, &mut self.matrix),
+            JacobianMethod::FiniteDifference => {
+                self.evaluator
+                    .finite_difference_jacobian(elements, t, y, &mut self.matrix)
+            }
+        };
+        if let Err(error) = result {
+            self.matrix.fill(f64::NAN);
+            singular.borrow_mut().get_or_insert((t, error));
+        }
+        self.t = t;
+        self.y.copy_from_slice(y);
+        self.valid = true;
+    }
+}
+
 /// Shared state of one run: what the closures read and the loop updates.
 struct Run<'s, 'o, 'c> {
     system: &'s System,
@@ -574,25 +610,7 @@ impl System {
             let mut cache = cache.borrow_mut();
             let cache = &mut *cache;
             cache.products += 1;
-            if !(cache.valid && cache.t == t && cache.y == y) {
-                let elements = elements.borrow();
-                let result =
-                    match cache.method {
-                        JacobianMethod::Exact => {
-                            cache.evaluator.jacobian(&elements, t, y, &mut cache.matrix)
-                        }
-                        JacobianMethod::FiniteDifference => cache
-                            .evaluator
-                            .finite_difference_jacobian(&elements, t, y, &mut cache.matrix),
-                    };
-                if let Err(error) = result {
-                    cache.matrix.fill(f64::NAN);
-                    singular.borrow_mut().get_or_insert((t, error));
-                }
-                cache.t = t;
-                cache.y.copy_from_slice(y);
-                cache.valid = true;
-            }
+            cache.update(&elements.borrow(), t, y, &singular);
             // diffsol assembles its matrix from products with unit vectors: those are columns
             // (the same numbers as the sum below, whose other terms are zeros), copied in O(n)
             // instead of the O(n²) strided sum, which made assembly O(n³) (docs/performance.md).
@@ -610,7 +628,7 @@ impl System {
         let builder = OdeBuilder::<NalgebraMat<f64>>::new()
             .t0(initial.t)
             .rtol(options.rtol)
-            .atol(atol)
+            .atol(atol.clone())
             .rhs_implicit(&rhs, &jacobian_vector)
             .init(&init, size);
 
@@ -657,25 +675,48 @@ impl System {
         run.track_drift(initial.t, &y0);
 
         let event_count = run.event_owner.len();
-        if event_count == 0 {
+        let root_map = RefCell::new((equations(), vec![0.0; 2 * n]));
+        let roots = |x: &[f64], _p: &[f64], t: f64, g: &mut [f64]| {
+            let mut map = root_map.borrow_mut();
+            let (map, scratch) = &mut *map;
+            let (q, qd) = map.cartesian(t, x, scratch).split_at(n);
+            let mut offset = 0;
+            for element in elements.borrow().iter() {
+                let count = element.event_count();
+                element.event_functions(t, q, qd, &mut g[offset..offset + count]);
+                offset += count;
+            }
+        };
+        if options.integrator == Integrator::Radau5 {
+            let jacobian = |y: &[f64], t: f64, out: &mut DMatrix<f64>| {
+                let mut cache = cache.borrow_mut();
+                cache.update(&elements.borrow(), t, y, &singular);
+                out.copy_from(&cache.matrix);
+            };
+            let limits = RadauLimits {
+                min_step: options.min_step,
+                max_error_test_failures: options.max_error_test_failures,
+                max_nonlinear_failures: options.max_nonlinear_solver_failures,
+            };
+            let roots = (event_count > 0).then_some((&roots as VectorFunction, event_count));
+            let stepper = Radau5::new(
+                &rhs,
+                &jacobian,
+                roots,
+                initial.t,
+                &x0,
+                options.rtol,
+                &atol,
+                limits,
+            );
+            run.step_loop(stepper)?;
+        } else if event_count == 0 {
             let problem = builder
                 .build()
                 .map_err(|e| integrator_error(initial.t, e))?;
             let problem = configure(problem, options);
             run.integrate(&problem)?;
         } else {
-            let root_map = RefCell::new((equations(), vec![0.0; 2 * n]));
-            let roots = |x: &[f64], _p: &[f64], t: f64, g: &mut [f64]| {
-                let mut map = root_map.borrow_mut();
-                let (map, scratch) = &mut *map;
-                let (q, qd) = map.cartesian(t, x, scratch).split_at(n);
-                let mut offset = 0;
-                for element in elements.borrow().iter() {
-                    let count = element.event_count();
-                    element.event_functions(t, q, qd, &mut g[offset..offset + count]);
-                    offset += count;
-                }
-            };
             let problem = builder
                 .root(&roots, event_count)
                 .build()
@@ -712,7 +753,7 @@ impl System {
     }
 }
 
-fn integrator_error(t: f64, error: diffsol::DiffsolError) -> SimulationError {
+fn integrator_error(t: f64, error: impl std::fmt::Display) -> SimulationError {
     SimulationError::Integrator {
         t,
         message: error.to_string(),
@@ -730,6 +771,170 @@ where
     problem.ode_options.max_error_test_failures = options.max_error_test_failures;
     problem.ode_options.min_timestep = options.min_step;
     problem
+}
+
+/// How an accepted step ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum StepOutcome {
+    /// An ordinary step.
+    Step,
+    /// The step ended at the stop time.
+    StopTime,
+    /// Root `index` changed sign at the time given, within the step.
+    Root(f64, usize),
+}
+
+/// What [`Run::step_loop`] needs of an integrator, so that one loop (outputs, hooks, events,
+/// energy audit, limits) serves diffsol's methods ([`Diffsol`]) and [`Radau5`].
+trait Stepper {
+    type Error: std::fmt::Display;
+    /// Time of the current state.
+    fn t(&self) -> f64;
+    /// The current state.
+    fn y(&self) -> &[f64];
+    /// Time, state and derivative slot, for re-evaluating `dy` after an event.
+    fn derivative_mut(&mut self) -> (f64, &[f64], &mut [f64]);
+    /// Steps end exactly at `t` rather than pass it.
+    fn set_stop_time(&mut self, t: f64) -> Result<(), Self::Error>;
+    /// One accepted step.
+    fn step(&mut self) -> Result<StepOutcome, Self::Error>;
+    /// The dense output of the last step at `t`.
+    fn interpolate(&mut self, t: f64, y: &mut [f64]) -> Result<(), Self::Error>;
+    /// Moves the state back to `t` (a root) within the last step and restarts there.
+    fn state_mut_back(&mut self, t: f64) -> Result<(), Self::Error>;
+    /// Writes the integrator's counters into `statistics`.
+    fn statistics(&self, statistics: &mut SolverStatistics);
+}
+
+/// A diffsol method as a [`Stepper`] (the wrapper names `Eqn`, which the method's trait
+/// takes as a parameter), with a buffer for its interpolation into diffsol's vector type.
+struct Diffsol<'a, Eqn, S> {
+    solver: S,
+    buffer: NalgebraVec<f64>,
+    equations: std::marker::PhantomData<&'a Eqn>,
+}
+
+impl<'a, Eqn, S> Diffsol<'a, Eqn, S>
+where
+    Eqn: OdeEquationsImplicit<
+            T = f64,
+            V = NalgebraVec<f64>,
+            M = NalgebraMat<f64>,
+            C = NalgebraContext,
+        > + 'a,
+    S: OdeSolverMethod<'a, Eqn>,
+{
+    fn new(solver: S) -> Self {
+        let buffer = solver.state().y.clone();
+        Self {
+            solver,
+            buffer,
+            equations: std::marker::PhantomData,
+        }
+    }
+}
+
+impl<'a, Eqn, S> Stepper for Diffsol<'a, Eqn, S>
+where
+    Eqn: OdeEquationsImplicit<
+            T = f64,
+            V = NalgebraVec<f64>,
+            M = NalgebraMat<f64>,
+            C = NalgebraContext,
+        > + 'a,
+    S: OdeSolverMethod<'a, Eqn>,
+{
+    type Error = diffsol::DiffsolError;
+
+    fn t(&self) -> f64 {
+        self.solver.state().t
+    }
+
+    fn y(&self) -> &[f64] {
+        self.solver.state().y.inner().as_slice()
+    }
+
+    fn derivative_mut(&mut self) -> (f64, &[f64], &mut [f64]) {
+        let diffsol::StateRefMut { y, dy, t, .. } = self.solver.state_mut();
+        let y: &NalgebraVec<f64> = y;
+        (*t, y.inner().as_slice(), dy.inner_mut().as_mut_slice())
+    }
+
+    fn set_stop_time(&mut self, t: f64) -> Result<(), Self::Error> {
+        self.solver.set_stop_time(t)
+    }
+
+    fn step(&mut self) -> Result<StepOutcome, Self::Error> {
+        Ok(match self.solver.step()? {
+            OdeSolverStopReason::RootFound(t, index) => StepOutcome::Root(t, index),
+            OdeSolverStopReason::TstopReached => StepOutcome::StopTime,
+            OdeSolverStopReason::InternalTimestep => StepOutcome::Step,
+        })
+    }
+
+    fn interpolate(&mut self, t: f64, y: &mut [f64]) -> Result<(), Self::Error> {
+        self.solver.interpolate_inplace(t, &mut self.buffer)?;
+        y.copy_from_slice(self.buffer.inner().as_slice());
+        Ok(())
+    }
+
+    fn state_mut_back(&mut self, t: f64) -> Result<(), Self::Error> {
+        self.solver.state_mut_back(t)
+    }
+
+    fn statistics(&self, statistics: &mut SolverStatistics) {
+        let counts = self.solver.get_statistics();
+        statistics.steps = counts.number_of_steps;
+        statistics.rejected_steps = counts.number_of_error_test_failures;
+        statistics.nonlinear_solver_failures = counts.number_of_nonlinear_solver_fails;
+        statistics.nonlinear_iterations = counts.number_of_nonlinear_solver_iterations;
+        statistics.factorizations = counts.number_of_linear_solver_setups;
+    }
+}
+
+impl Stepper for Radau5<'_> {
+    type Error = RadauError;
+
+    fn t(&self) -> f64 {
+        Radau5::t(self)
+    }
+
+    fn y(&self) -> &[f64] {
+        Radau5::y(self)
+    }
+
+    fn derivative_mut(&mut self) -> (f64, &[f64], &mut [f64]) {
+        Radau5::derivative_mut(self)
+    }
+
+    fn set_stop_time(&mut self, t: f64) -> Result<(), Self::Error> {
+        Radau5::set_stop_time(self, t)
+    }
+
+    fn step(&mut self) -> Result<StepOutcome, Self::Error> {
+        Ok(match Radau5::step(self)? {
+            RadauStop::Step => StepOutcome::Step,
+            RadauStop::StopTime => StepOutcome::StopTime,
+            RadauStop::Root(t, index) => StepOutcome::Root(t, index),
+        })
+    }
+
+    fn interpolate(&mut self, t: f64, y: &mut [f64]) -> Result<(), Self::Error> {
+        Radau5::interpolate(self, t, y)
+    }
+
+    fn state_mut_back(&mut self, t: f64) -> Result<(), Self::Error> {
+        self.move_back(t)
+    }
+
+    fn statistics(&self, statistics: &mut SolverStatistics) {
+        let counts = Radau5::statistics(self);
+        statistics.steps = counts.steps;
+        statistics.rejected_steps = counts.error_test_failures;
+        statistics.nonlinear_solver_failures = counts.nonlinear_failures;
+        statistics.nonlinear_iterations = counts.nonlinear_iterations;
+        statistics.factorizations = counts.factorizations;
+    }
 }
 
 /// Gauss–Legendre nodes and weights on [0, 1], exact for polynomials of degree 5.
@@ -753,24 +958,30 @@ impl Run<'_, '_, '_> {
         let error = |e| integrator_error(t0, e);
         match (self.options.integrator, self.options.linear_solver) {
             (Integrator::Bdf, LinearSolverKind::Dense) => {
-                self.step_loop(problem.bdf::<SecondOrderLu>().map_err(error)?)
+                self.step_loop(Diffsol::new(problem.bdf::<SecondOrderLu>().map_err(error)?))
             }
-            (Integrator::TrBdf2, LinearSolverKind::Dense) => {
-                self.step_loop(problem.tr_bdf2::<SecondOrderLu>().map_err(error)?)
+            (Integrator::TrBdf2, LinearSolverKind::Dense) => self.step_loop(Diffsol::new(
+                problem.tr_bdf2::<SecondOrderLu>().map_err(error)?,
+            )),
+            (Integrator::Esdirk34, LinearSolverKind::Dense) => self.step_loop(Diffsol::new(
+                problem.esdirk34::<SecondOrderLu>().map_err(error)?,
+            )),
+            (Integrator::Bdf, LinearSolverKind::SparseFaer) => self.step_loop(Diffsol::new(
+                problem.bdf::<SparseSecondOrderLu>().map_err(error)?,
+            )),
+            (Integrator::TrBdf2, LinearSolverKind::SparseFaer) => self.step_loop(Diffsol::new(
+                problem.tr_bdf2::<SparseSecondOrderLu>().map_err(error)?,
+            )),
+            (Integrator::Esdirk34, LinearSolverKind::SparseFaer) => self.step_loop(Diffsol::new(
+                problem.esdirk34::<SparseSecondOrderLu>().map_err(error)?,
+            )),
+            (Integrator::Tsit45, _) => {
+                self.step_loop(Diffsol::new(problem.tsit45().map_err(error)?))
             }
-            (Integrator::Esdirk34, LinearSolverKind::Dense) => {
-                self.step_loop(problem.esdirk34::<SecondOrderLu>().map_err(error)?)
-            }
-            (Integrator::Bdf, LinearSolverKind::SparseFaer) => {
-                self.step_loop(problem.bdf::<SparseSecondOrderLu>().map_err(error)?)
-            }
-            (Integrator::TrBdf2, LinearSolverKind::SparseFaer) => {
-                self.step_loop(problem.tr_bdf2::<SparseSecondOrderLu>().map_err(error)?)
-            }
-            (Integrator::Esdirk34, LinearSolverKind::SparseFaer) => {
-                self.step_loop(problem.esdirk34::<SparseSecondOrderLu>().map_err(error)?)
-            }
-            (Integrator::Tsit45, _) => self.step_loop(problem.tsit45().map_err(error)?),
+            // `System::run` steps Radau IIA itself: it needs no diffsol problem.
+            (Integrator::Radau5, _) => Err(SimulationError::InvalidOptions(
+                "Radau IIA is not a diffsol method".into(),
+            )),
         }
     }
 
@@ -783,27 +994,18 @@ impl Run<'_, '_, '_> {
         }
     }
 
-    fn failure(&self, t: f64, error: diffsol::DiffsolError) -> SimulationError {
+    fn failure(&self, t: f64, error: impl std::fmt::Display) -> SimulationError {
         match self.singular.borrow_mut().take() {
             Some((t, error)) => SimulationError::Evaluation { t, error },
             None => integrator_error(t, error),
         }
     }
 
-    fn step_loop<'a, Eqn, S>(&mut self, mut solver: S) -> Result<(), SimulationError>
-    where
-        Eqn: OdeEquationsImplicit<
-                T = f64,
-                V = NalgebraVec<f64>,
-                M = NalgebraMat<f64>,
-                C = NalgebraContext,
-            > + 'a,
-        S: OdeSolverMethod<'a, Eqn>,
-    {
+    fn step_loop<S: Stepper>(&mut self, mut solver: S) -> Result<(), SimulationError> {
         let t_end = self.options.t_end;
         let n = self.system.coordinate_count();
-        let mut t_previous = solver.state().t;
-        let mut interpolated = solver.state().y.clone();
+        let mut t_previous = solver.t();
+        let mut interpolated = solver.y().to_vec();
         let mut accepted = 0_usize;
         let started = Instant::now();
         let outcome = loop {
@@ -829,15 +1031,16 @@ impl Run<'_, '_, '_> {
             }
             let reason = match solver.step() {
                 Ok(reason) => reason,
-                Err(e) => break Err(self.failure(solver.state().t, e)),
+                Err(e) => break Err(self.failure(solver.t(), e)),
             };
             // A singular matrix met in a rejected trial step is not a failure.
             self.singular.borrow_mut().take();
             let (t_now, root) = match reason {
-                OdeSolverStopReason::RootFound(t_root, index) => (t_root, Some(index)),
-                _ => (solver.state().t, None),
+                StepOutcome::Root(t_root, index) => (t_root, Some(index)),
+                _ => (solver.t(), None),
             };
-            if let Err(e) = self.process_interval(&solver, t_previous, t_now, &mut interpolated) {
+            if let Err(e) = self.process_interval(&mut solver, t_previous, t_now, &mut interpolated)
+            {
                 break Err(e);
             }
             if root.is_some()
@@ -845,11 +1048,9 @@ impl Run<'_, '_, '_> {
             {
                 break Err(integrator_error(t_now, e));
             }
-            let y = self.equations.cartesian(
-                t_now,
-                solver.state().y.inner().as_slice(),
-                &mut self.mapped,
-            );
+            let y = self
+                .equations
+                .cartesian(t_now, solver.y(), &mut self.mapped);
             self.current.copy_from_slice(y);
             let step = t_now - t_previous;
             if step > 0.0 {
@@ -873,17 +1074,11 @@ impl Run<'_, '_, '_> {
             t_previous = t_now;
             accepted += 1;
             let at_end = t_now >= t_end - 1e-12 * t_end.abs().max(1.0);
-            if matches!(reason, OdeSolverStopReason::TstopReached) && at_end {
+            if matches!(reason, StepOutcome::StopTime) && at_end {
                 break Ok(());
             }
         };
-        let diffsol_statistics = solver.get_statistics();
-        let statistics = &mut self.statistics;
-        statistics.steps = diffsol_statistics.number_of_steps;
-        statistics.rejected_steps = diffsol_statistics.number_of_error_test_failures;
-        statistics.nonlinear_solver_failures = diffsol_statistics.number_of_nonlinear_solver_fails;
-        statistics.nonlinear_iterations = diffsol_statistics.number_of_nonlinear_solver_iterations;
-        statistics.factorizations = diffsol_statistics.number_of_linear_solver_setups;
+        solver.statistics(&mut self.statistics);
         let (q, qd) = self.current.split_at(n);
         self.final_state = Some(State {
             t: t_previous,
@@ -895,16 +1090,7 @@ impl Run<'_, '_, '_> {
 
     /// Lets the element owning root `index` react, then restarts the integrator from the
     /// (unchanged) state with a freshly evaluated derivative, since the force law may change.
-    fn handle_event<'a, Eqn, S>(&mut self, solver: &mut S, t: f64, index: usize)
-    where
-        Eqn: OdeEquationsImplicit<
-                T = f64,
-                V = NalgebraVec<f64>,
-                M = NalgebraMat<f64>,
-                C = NalgebraContext,
-            > + 'a,
-        S: OdeSolverMethod<'a, Eqn>,
-    {
+    fn handle_event<S: Stepper>(&mut self, solver: &mut S, t: f64, index: usize) {
         let n = self.system.coordinate_count();
         let Some(&(element, local)) = self.event_owner.get(index) else {
             return;
@@ -920,50 +1106,32 @@ impl Run<'_, '_, '_> {
             element,
             index: local,
         });
-        let state = solver.state_mut();
+        let (_, y, dy) = solver.derivative_mut();
         let elements = self.elements.borrow();
         // A singular system shows up as NaN here and fails the next step with a clear error.
-        if let Err(error) = self.equations.rhs(
-            &elements,
-            t,
-            state.y.inner().as_slice(),
-            state.dy.inner_mut().as_mut_slice(),
-        ) {
+        if let Err(error) = self.equations.rhs(&elements, t, y, dy) {
             self.singular.borrow_mut().get_or_insert((t, error));
         }
     }
 
     /// Output frames and energy quadrature over the accepted step `(t_start, t_end]`, from the
     /// integrator's interpolant.
-    fn process_interval<'a, Eqn, S>(
+    fn process_interval<S: Stepper>(
         &mut self,
-        solver: &S,
+        solver: &mut S,
         t_start: f64,
         t_end: f64,
-        y: &mut NalgebraVec<f64>,
-    ) -> Result<(), SimulationError>
-    where
-        Eqn: OdeEquationsImplicit<
-                T = f64,
-                V = NalgebraVec<f64>,
-                M = NalgebraMat<f64>,
-                C = NalgebraContext,
-            > + 'a,
-        S: OdeSolverMethod<'a, Eqn>,
-    {
+        y: &mut [f64],
+    ) -> Result<(), SimulationError> {
         while self.next_output < self.output_times.len()
             && self.output_times[self.next_output] <= t_end
         {
             let t = self.output_times[self.next_output];
             solver
-                .interpolate_inplace(t, y)
+                .interpolate(t, y)
                 .map_err(|e| integrator_error(t, e))?;
             let mut values = std::mem::take(&mut self.frame_buffer);
-            values.copy_from_slice(self.equations.cartesian(
-                t,
-                y.inner().as_slice(),
-                &mut self.mapped,
-            ));
+            values.copy_from_slice(self.equations.cartesian(t, y, &mut self.mapped));
             let emitted = self.emit_frame(t, &values);
             self.frame_buffer = values;
             emitted?;
@@ -972,9 +1140,9 @@ impl Run<'_, '_, '_> {
             for (node, weight) in GAUSS_NODES {
                 let t = t_start + node * (t_end - t_start);
                 solver
-                    .interpolate_inplace(t, y)
+                    .interpolate(t, y)
                     .map_err(|e| integrator_error(t, e))?;
-                self.accumulate_power(t, y.inner().as_slice(), weight * (t_end - t_start));
+                self.accumulate_power(t, y, weight * (t_end - t_start));
             }
         }
         Ok(())

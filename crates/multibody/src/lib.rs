@@ -20,7 +20,8 @@
 //!   velocities, accelerations and multipliers at the requested times, without integration.
 //! - [`System::simulate`]: `M q̈ + Φ_qᵀλ = G`, `Φ_q q̈ = γ − 2αΦ̇ − β²Φ` ([`Baumgarte`], α = β
 //!   = 50 by default), integrated by diffsol ([`Integrator`]: BDF by default, TR-BDF2,
-//!   ESDIRK34, Tsit45) with output at requested times by interpolation. The result carries
+//!   ESDIRK34, Tsit45) or by this crate's three-stage Radau IIA (`radau`), all through one step
+//!   loop, with output at requested times by interpolation. The result carries
 //!   [`SolverStatistics`], [`ConstraintDrift`], the multipliers of every frame (joint reactions:
 //!   [`System::reaction`]) and an [`EnergyAudit`]. An [`Observer`] sees every output frame and
 //!   every accepted step.
@@ -144,6 +145,7 @@ mod iteration;
 pub mod joint_coordinates;
 mod linalg;
 mod model;
+mod radau;
 mod sparse_iteration;
 mod system;
 mod trajectory;

@@ -164,7 +164,12 @@ fn every_integrator_runs_the_free_slider_crank() {
             .expect("integrates")
             .final_state
     };
-    for integrator in [Integrator::TrBdf2, Integrator::Esdirk34, Integrator::Tsit45] {
+    for integrator in [
+        Integrator::TrBdf2,
+        Integrator::Esdirk34,
+        Integrator::Radau5,
+        Integrator::Tsit45,
+    ] {
         let (model, _) = SliderCrank::STANDARD.model(PI / 3.0);
         let mut system = with_gravity(model);
         let (q, qd) = system.initial_guess();

@@ -385,7 +385,8 @@ fn wear_cells() -> usize {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Solver {
-    /// Integration method.
+    /// Integration method: `bdf` (default), `tr-bdf2`, `esdirk34`, `radau` (Radau IIA, order
+    /// 5) or `tsit45` (explicit).
     #[serde(default)]
     pub integrator: Integrator,
     /// Coordinates to integrate in (`cartesian` or `joint`); both give the same motion within

@@ -44,10 +44,11 @@ use crate::scene::{Integrator, SceneError};
 /// Relative tolerances of the sweep.
 pub const DEFAULT_RTOLS: [f64; 8] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10];
 /// Every integrator the project offers, in the order of the report.
-pub const ALL_METHODS: [Integrator; 4] = [
+pub const ALL_METHODS: [Integrator; 5] = [
     Integrator::Bdf,
     Integrator::TrBdf2,
     Integrator::Esdirk34,
+    Integrator::Radau5,
     Integrator::Tsit45,
 ];
 /// The references: much tighter than the sweep, two different methods.
@@ -144,6 +145,7 @@ pub fn method_name(method: Integrator) -> &'static str {
         Integrator::TrBdf2 => "tr-bdf2",
         Integrator::Esdirk34 => "esdirk34",
         Integrator::Tsit45 => "tsit45",
+        Integrator::Radau5 => "radau",
     }
 }
 
