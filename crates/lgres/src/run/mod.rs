@@ -7,7 +7,9 @@
 //! - **Response run**: assembled from the scene's initial poses (pins concentric), integrated
 //!   over `run.cycles` periods on unworn surfaces, sampled every `solver.output_interval`.
 //! - **Reference**: the all-ideal mechanism ([`Scene::idealized`]) by kinematic analysis at the
-//!   same times. A scene without active clearance joints runs this kinematic path only.
+//!   same times, on its own thread while the response is integrated (after a check at the
+//!   first output time, so that a mechanism that does not assemble is refused before any
+//!   simulation). A scene without active clearance joints runs this kinematic path only.
 //! - **Wear stages** ([`wear::run_stage`]): each sub-step rebuilds the system on the current
 //!   (frozen) worn surfaces and integrates `run.transient_window + K` periods, gathering wear
 //!   over the last `K` only: the concentric start-up impact (docs/model.md §8) is not amplified, and a
@@ -46,7 +48,7 @@ pub use outcome::{
     JointWearSummary, LifePoint, MechanismFrames, Motion, Numerics, PeakStats, Response,
     ResponseSummary, RunOutcome, SubstepSummary, Summary, WearSummary,
 };
-use record::{Ideal, assemble, respond};
+use record::{Ideal, assemble, respond, simulate};
 use stages::stages;
 use summary::summarize;
 pub use summary::{ENERGY_BOOKS_TOLERANCE_J, STAGE_HALVES_TOLERANCE, peak_stats};
@@ -307,7 +309,6 @@ pub fn run_scene(
         Some(dir) => crate::io::surfaces::load_last_stage(dir, &scene, &unworn)?,
         None => unworn,
     };
-    progress.phase("ideal mechanism", f64::from(cycles));
     let frames = scene.run.animation.then(|| {
         animation_frames(
             &times,
@@ -316,68 +317,87 @@ pub fn run_scene(
             MAX_ANIMATION_FRAMES,
         )
     });
-    let ideal = ideal_motion(&scene, &times, body, frames)?;
-    progress.finish();
+    // The ideal reference is computed on its own thread while the response is simulated (it
+    // is needed only to compare them): most of its cost leaves the run's wall time. A
+    // mechanism that is not fully driven or does not assemble is still refused before any
+    // simulation: the kinematic analysis at the first output time is done first, here.
+    ideal_motion(&scene, &times[..times.len().min(1)], body, None)?;
+    let start: &[Option<WornJoint>] = if options.surfaces.is_some() {
+        &initial
+    } else {
+        &[]
+    };
+    let indices = frames.clone().unwrap_or_default();
+    let (ideal, simulated) = std::thread::scope(|s| {
+        let job = s.spawn(|| ideal_motion(&scene, &times, body, frames));
+        // The unworn response samples round surfaces (no wear code); one from loaded
+        // surfaces samples those.
+        let simulated =
+            active.then(|| simulate(&scene, start, &times, &indices, body, progress, "response"));
+        let ideal = job
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (ideal, simulated)
+    });
+    // The ideal mechanism's failure first, as when it was computed before the response.
+    let ideal = ideal?;
 
     let mut wear_history = Vec::new();
-    let (response, response_summary, wear_summary, worn) = if !active {
-        // Without clearance the mechanism is its ideal self.
-        let frames = ideal.frames.map(|f| MechanismFrames {
-            poses: f.ideal_poses.clone(),
-            ..f
-        });
-        let response = Response {
-            times: times.clone(),
-            motion: ideal.motion.clone(),
-            ideal: ideal.motion,
-            contact: Vec::new(),
-            frames,
-        };
-        let summary = summarize(&scene, &response, None, cycles, t_end);
-        (response, summary, None, None)
-    } else {
-        // The unworn response samples round surfaces (no wear code); one from loaded surfaces
-        // samples those.
-        let start: &[Option<WornJoint>] = if options.surfaces.is_some() {
-            &initial
-        } else {
-            &[]
-        };
-        let (response, summary) =
-            respond(&scene, start, &times, &ideal, body, progress, "response")?;
-        // Worn surfaces may legitimately open the clearance past the limit: warn only there.
-        match crate::scene::limits::check_penetration(&scene, "response", &response.contact) {
-            Err(e) if options.surfaces.is_some() => progress.note(&format!("warning: {e}")),
-            checked => checked?,
+    let (response, response_summary, wear_summary, worn) = match simulated {
+        None => {
+            // Without clearance the mechanism is its ideal self.
+            let frames = ideal.frames.map(|f| MechanismFrames {
+                poses: f.ideal_poses.clone(),
+                ..f
+            });
+            let response = Response {
+                times: times.clone(),
+                motion: ideal.motion.clone(),
+                ideal: ideal.motion,
+                contact: Vec::new(),
+                frames,
+            };
+            let summary = summarize(&scene, &response, None, cycles, t_end);
+            (response, summary, None, None)
         }
-        let mut wear_summary = None;
-        let mut worn = None;
-        if scene.run.wear_stages > 0 && initial.iter().any(Option::is_some) {
-            let (history, mut ws, surfaces) =
-                stages(&scene, &initial, period, options.threads, progress)?;
-            ws.scene_cycles_per_stage = scene_k;
-            wear_history = history;
-            wear_summary = Some(ws);
-            if !options.skip_worn_response {
-                let run = respond(
-                    &scene,
-                    &surfaces,
-                    &times,
-                    &ideal,
-                    body,
-                    progress,
-                    "worn response",
-                )?;
-                // Worn surfaces may legitimately open the clearance past the limit: warn only.
-                if let Err(e) =
-                    crate::scene::limits::check_penetration(&scene, "worn response", &run.0.contact)
-                {
-                    progress.note(&format!("warning: {e}"));
-                }
-                worn = Some(run);
+        Some(simulated) => {
+            let (response, summary) = simulated?.compare(&scene, &ideal)?;
+            // Worn surfaces may legitimately open the clearance past the limit: warn only there.
+            match crate::scene::limits::check_penetration(&scene, "response", &response.contact) {
+                Err(e) if options.surfaces.is_some() => progress.note(&format!("warning: {e}")),
+                checked => checked?,
             }
+            let mut wear_summary = None;
+            let mut worn = None;
+            if scene.run.wear_stages > 0 && initial.iter().any(Option::is_some) {
+                let (history, mut ws, surfaces) =
+                    stages(&scene, &initial, period, options.threads, progress)?;
+                ws.scene_cycles_per_stage = scene_k;
+                wear_history = history;
+                wear_summary = Some(ws);
+                if !options.skip_worn_response {
+                    let run = respond(
+                        &scene,
+                        &surfaces,
+                        &times,
+                        &ideal,
+                        body,
+                        progress,
+                        "worn response",
+                    )?;
+                    // Worn surfaces may legitimately open the clearance past the limit: warn only.
+                    if let Err(e) = crate::scene::limits::check_penetration(
+                        &scene,
+                        "worn response",
+                        &run.0.contact,
+                    ) {
+                        progress.note(&format!("warning: {e}"));
+                    }
+                    worn = Some(run);
+                }
+            }
+            (response, summary, wear_summary, worn)
         }
-        (response, summary, wear_summary, worn)
     };
     let summary = Summary {
         scene: name.to_string(),

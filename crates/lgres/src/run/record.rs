@@ -118,6 +118,38 @@ pub(super) fn respond(
     progress: &mut dyn Progress,
     what: &str,
 ) -> Result<(Response, ResponseSummary), RunError> {
+    let frames = ideal.frames.as_ref().map_or(&[][..], |f| &f.frames);
+    simulate(scene, worn, times, frames, body, progress, what)?.compare(scene, ideal)
+}
+
+/// A response simulated, before it is compared with the ideal mechanism: the simulation
+/// needs only the animation's frame indices, so the ideal reference can be computed
+/// meanwhile ([`super::run_scene`]).
+pub(super) struct Simulated {
+    built: Built,
+    joints: Vec<JointHandle>,
+    initial_energy: Vec<f64>,
+    result: multibody::SimulationResult,
+    times: Vec<f64>,
+    motion: Motion,
+    contact: Vec<ContactSeries>,
+    poses: Vec<Vec<[f64; 3]>>,
+    t_end: f64,
+    cycles: u32,
+    what: String,
+}
+
+/// Simulates the response on `worn` surfaces (empty: round), recording every body's pose at
+/// the output frames `frames` (indices into `times`).
+pub(super) fn simulate(
+    scene: &Scene,
+    worn: &[Option<WornJoint>],
+    times: &[f64],
+    frames: &[usize],
+    body: usize,
+    progress: &mut dyn Progress,
+    what: &str,
+) -> Result<Simulated, RunError> {
     let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
     let t_end = times.last().copied().unwrap_or(period);
     let cycles = scene.run.cycles.max(1);
@@ -161,8 +193,8 @@ pub(super) fn respond(
             .collect(),
         progress,
         record: true,
-        frames: ideal.frames.as_ref().map_or(&[], |f| &f.frames),
-        poses: Vec::with_capacity(ideal.frames.as_ref().map_or(0, |f| f.frames.len())),
+        frames,
+        poses: Vec::with_capacity(frames.len()),
     };
     let result = built
         .system
@@ -184,32 +216,65 @@ pub(super) fn respond(
     for (series, tally) in contact.iter_mut().zip(validity) {
         series.validity = Some(tally.finish());
     }
-    if let Some(k) = (0..rec_times.len()).find(|&k| {
-        motion.series().iter().any(|s| !s[k].is_finite())
-            || contact.iter().any(|c| !c.normal_force[k].is_finite())
-    }) {
-        return Err(RunError::NonFinite {
-            what: what.to_string(),
-            t: rec_times[k],
-        });
-    }
-    let response = Response {
+    Ok(Simulated {
+        built,
+        joints,
+        initial_energy,
+        result,
         times: rec_times,
         motion,
-        ideal: ideal.motion.clone(),
         contact,
-        frames: ideal.frames.as_ref().map(|f| MechanismFrames {
-            frames: f.frames.clone(),
+        poses,
+        t_end,
+        cycles,
+        what: what.to_string(),
+    })
+}
+
+impl Simulated {
+    /// The response against the `ideal` mechanism, with its summary.
+    pub(super) fn compare(
+        self,
+        scene: &Scene,
+        ideal: &Ideal,
+    ) -> Result<(Response, ResponseSummary), RunError> {
+        let Simulated {
+            built,
+            joints,
+            initial_energy,
+            result,
+            times,
+            motion,
+            contact,
             poses,
-            ideal_poses: f.ideal_poses.clone(),
-        }),
-    };
-    let audit = Audit {
-        built: &built,
-        result: &result,
-        joints: &joints,
-        initial_energy: &initial_energy,
-    };
-    let summary = summarize(scene, &response, Some(audit), cycles, t_end);
-    Ok((response, summary))
+            t_end,
+            cycles,
+            what,
+        } = self;
+        if let Some(k) = (0..times.len()).find(|&k| {
+            motion.series().iter().any(|s| !s[k].is_finite())
+                || contact.iter().any(|c| !c.normal_force[k].is_finite())
+        }) {
+            return Err(RunError::NonFinite { what, t: times[k] });
+        }
+        let response = Response {
+            times,
+            motion,
+            ideal: ideal.motion.clone(),
+            contact,
+            frames: ideal.frames.as_ref().map(|f| MechanismFrames {
+                frames: f.frames.clone(),
+                poses,
+                ideal_poses: f.ideal_poses.clone(),
+            }),
+        };
+        let audit = Audit {
+            built: &built,
+            result: &result,
+            joints: &joints,
+            initial_energy: &initial_energy,
+        };
+        let summary = summarize(scene, &response, Some(audit), cycles, t_end);
+        Ok((response, summary))
+    }
 }
