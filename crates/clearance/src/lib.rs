@@ -10,6 +10,10 @@
 //! ([`WornClearanceForce`]) samples [`WornProfile`]s that stay frozen for the whole run (a wear
 //! stage) and accumulates the stage's depth into a [`StageWear`] on **accepted** steps only, so
 //! rejected trial steps never wear the surfaces. No method allocates once the element is built.
+//!
+//! [`run_wear_stages`] drives the wear stages of any mechanism the caller builds; with
+//! [`run_ensemble_stages`] a sub-step's cycles run as an [`Ensemble`] of trajectories on
+//! threads, each continuing from where it ended, with results independent of the threads.
 
 #![warn(missing_docs)]
 
