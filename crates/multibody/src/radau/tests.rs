@@ -22,6 +22,20 @@ fn oscillator_jacobian(_y: &[f64], _t: f64, j: &mut DMatrix<f64>) {
 
 const STIFFNESS: f64 = 1e6;
 
+/// Radau on the oscillator from `x = 1, ẋ = 0` at `t0`, with one absolute tolerance.
+fn oscillator_radau(t0: f64, rtol: f64, atol: f64) -> Radau5<'static> {
+    Radau5::new(
+        &oscillator,
+        &oscillator_jacobian,
+        None,
+        t0,
+        &[1.0, 0.0],
+        rtol,
+        &[atol, atol],
+        LIMITS,
+    )
+}
+
 /// Prothero–Robinson: `y' = −k (y − cos t) − sin t`, smooth solution `cos t`.
 fn prothero_robinson(y: &[f64], _p: &[f64], t: f64, dy: &mut [f64]) {
     dy[0] = -STIFFNESS * (y[0] - t.cos()) - t.sin();
@@ -58,16 +72,7 @@ fn fixed_steps_converge_with_order_five() {
     let errors: Vec<f64> = [0.2, 0.1, 0.05]
         .iter()
         .map(|&h| {
-            let mut radau = Radau5::new(
-                &oscillator,
-                &oscillator_jacobian,
-                None,
-                0.0,
-                &[1.0, 0.0],
-                1e-13,
-                &[1e-13, 1e-13],
-                LIMITS,
-            );
+            let mut radau = oscillator_radau(0.0, 1e-13, 1e-13);
             for _ in 0..(2.0_f64 / h).round() as usize {
                 radau.step_fixed(h);
             }
@@ -86,16 +91,7 @@ fn fixed_steps_converge_with_order_five() {
 fn adaptive_error_follows_the_tolerance() {
     let mut previous = f64::INFINITY;
     for rtol in [1e-4, 1e-6, 1e-8, 1e-10] {
-        let mut radau = Radau5::new(
-            &oscillator,
-            &oscillator_jacobian,
-            None,
-            0.0,
-            &[1.0, 0.0],
-            rtol,
-            &[rtol, rtol],
-            LIMITS,
-        );
+        let mut radau = oscillator_radau(0.0, rtol, rtol);
         run_to(&mut radau, 10.0);
         let error = (radau.y()[0] - 10f64.cos()).hypot(radau.y()[1] + 10f64.sin());
         // Global error over ~1.6 periods within a few tolerances, and falling with it
@@ -192,16 +188,7 @@ fn roots_are_located_on_the_dense_output() {
 
 #[test]
 fn dense_output_is_accurate_between_steps() {
-    let mut radau = Radau5::new(
-        &oscillator,
-        &oscillator_jacobian,
-        None,
-        0.0,
-        &[1.0, 0.0],
-        1e-8,
-        &[1e-10, 1e-10],
-        LIMITS,
-    );
+    let mut radau = oscillator_radau(0.0, 1e-8, 1e-10);
     radau.set_stop_time(5.0).expect("after the start");
     let mut worst_inside: f64 = 0.0;
     let mut worst_end: f64 = 0.0;
@@ -231,16 +218,7 @@ fn dense_output_is_accurate_between_steps() {
 
 #[test]
 fn stop_time_in_the_past_is_refused() {
-    let mut radau = Radau5::new(
-        &oscillator,
-        &oscillator_jacobian,
-        None,
-        1.0,
-        &[1.0, 0.0],
-        1e-6,
-        &[1e-8, 1e-8],
-        LIMITS,
-    );
+    let mut radau = oscillator_radau(1.0, 1e-6, 1e-8);
     assert!(radau.set_stop_time(0.5).is_err());
     assert!(radau.set_stop_time(1.0).is_err());
 }
