@@ -57,8 +57,9 @@ pub trait StageRuns {
     }
 
     /// An ensemble's trajectories simulate on worker threads; the driver reports their
-    /// progress here, on its own thread, about every tenth of a second: `done` is the
-    /// fraction of the sub-step's simulated time, 0 at the start and 1 at the end.
+    /// progress here, on its own thread: `done` is the fraction of the sub-step's simulated
+    /// time, exactly 0 once at the start, then values strictly between 0 and 1 about every
+    /// tenth of a second, and exactly 1 once at the end.
     fn ensemble_progress(&mut self, context: RunContext, done: f64) {
         let _ = (context, done);
     }
@@ -496,7 +497,11 @@ impl Members {
                     .iter()
                     .map(|f| f64::from_bits(f.load(Ordering::Relaxed)))
                     .sum();
-                runs.ensemble_progress(context, done / count as f64);
+                // Strictly between the start (0) and the end (1), which are reported once each.
+                let done = done / count as f64;
+                if done > 0.0 && done < 1.0 {
+                    runs.ensemble_progress(context, done);
+                }
             }
             worker
                 .join()
