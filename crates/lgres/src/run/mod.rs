@@ -13,8 +13,11 @@
 //! - **Wear stages** ([`wear::run_stage`]): each sub-step rebuilds the system on the current
 //!   (frozen) worn surfaces and integrates `run.transient_window + K` periods, gathering wear
 //!   over the last `K` only: the concentric start-up impact (docs/model.md §8) is not amplified, and a
-//!   periodic drive makes any `K` consecutive periods `K` full cycles. After the stages the
-//!   response is simulated once more on the worn surfaces.
+//!   periodic drive makes any `K` consecutive periods `K` full cycles. With
+//!   `run.trajectories = M ≥ 2` the `K` periods are spread over `M` trajectories on threads
+//!   that continue from sub-step to sub-step, so only the first sub-step integrates the
+//!   start-up window ([`clearance::Ensemble`]). After the stages the response is simulated
+//!   once more on the worn surfaces.
 //! - **Peaks** are statistics over cycles, with and without the start-up window (docs/model.md §8:
 //!   the clearance dynamics are chaotic, single peaks are not reproducible).
 //!
