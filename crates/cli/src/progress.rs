@@ -116,11 +116,17 @@ impl lgres::analysis::study::StudyProgress for StudyBars {
     }
 }
 
+/// A phase's length in cycles for a log line: `2.175`, not the binary residue `2.1750000000000003`
+/// of `K + window / period` (six decimals are finer than any phase needs).
+fn rounded(cycles: f64) -> f64 {
+    (cycles * 1e6).round() / 1e6
+}
+
 impl lgres::run::Progress for Bars {
     fn phase(&mut self, label: &str, cycles: f64) {
         self.finish();
         if !self.visible {
-            eprintln!("{}{label}: {cycles} cycle(s)", self.prefix);
+            eprintln!("{}{label}: {} cycle(s)", self.prefix, rounded(cycles));
             self.line = Some(LinePhase {
                 label: label.to_string(),
                 cycles,
@@ -159,7 +165,7 @@ impl lgres::run::Progress for Bars {
                     "{}{}: {percent:>3} % ({cycles:.2} of {} cycles, {:.0} s)",
                     self.prefix,
                     line.label,
-                    line.cycles,
+                    rounded(line.cycles),
                     line.started.elapsed().as_secs_f64()
                 );
             }
