@@ -347,12 +347,7 @@ fn run_once<R: StageRuns>(
     for &id in &run.elements {
         let element = worn_element(&mut run.system, id, context)?;
         let first = element.take_first_half();
-        let total = element
-            .take_stage_wear()
-            .ok_or(WearStagesError::NotWearing {
-                context,
-                element: id.0,
-            })?;
+        let total = take_stage_wear(element, id, context)?;
         gathered.push((total, first));
     }
     Ok(smoothed(gathered, smoothing))
@@ -366,6 +361,20 @@ fn worn_element<E>(
 ) -> Result<&mut WornClearanceForce, WearStagesError<E>> {
     system
         .element_mut::<WornClearanceForce>(id)
+        .ok_or(WearStagesError::NotWearing {
+            context,
+            element: id.0,
+        })
+}
+
+/// The stage wear element `id` gathered (its buffer taken out), or the error naming it.
+fn take_stage_wear<E>(
+    element: &mut WornClearanceForce,
+    id: ElementId,
+    context: RunContext,
+) -> Result<StageWear, WearStagesError<E>> {
+    element
+        .take_stage_wear()
         .ok_or(WearStagesError::NotWearing {
             context,
             element: id.0,
@@ -525,12 +534,7 @@ impl Members {
             for (k, &id) in run.elements.iter().enumerate() {
                 let element = worn_element(&mut run.system, id, context)?;
                 memories.push(element.impact_memory());
-                let wear = element
-                    .take_stage_wear()
-                    .ok_or(WearStagesError::NotWearing {
-                        context,
-                        element: id.0,
-                    })?;
+                let wear = take_stage_wear(element, id, context)?;
                 let in_first_half = count.is_multiple_of(2) && member < count / 2;
                 match gathered.get_mut(k) {
                     None => gathered.push((wear.clone(), in_first_half.then_some(wear))),
