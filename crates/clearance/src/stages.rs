@@ -14,7 +14,9 @@ use multibody::{
     System,
 };
 use rayon::prelude::*;
-use wear::{RunContext, StagePlan, StageReport, StageWear, StagingError, WearError, WornJoint};
+use wear::{
+    RunContext, StagePlan, StageReport, StageWear, StagingError, WearError, WearSample, WornJoint,
+};
 
 use crate::WornClearanceForce;
 
@@ -256,8 +258,13 @@ pub fn run_ensemble_stages<R: StageRuns>(
                 Some(members) => members.run(runs, context, surfaces, plan.smoothing)?,
             };
             out.halves_differences.push(difference);
+            let sample = WearSample {
+                wear,
+                halves: (!split.is_empty())
+                    .then(|| split.iter().map(|(a, b)| [a.clone(), b.clone()]).collect()),
+            };
             halves.push(split);
-            Ok(wear)
+            Ok(sample)
         };
         let report = wear::run_stage(joints, stage, plan, &mut runner).map_err(|e| match e {
             StagingError::Wear(e) => WearStagesError::Wear(e),
@@ -276,14 +283,20 @@ pub fn run_ensemble_stages<R: StageRuns>(
 /// half) when the halves were kept.
 type RunWear = (Vec<StageWear>, Option<f64>, Vec<(StageWear, StageWear)>);
 
-/// The [`StageHalves`] of one stage from its runs' halves (one entry per run, in order; the
-/// runs whose wear was applied are the report's sub-steps).
+/// The [`StageHalves`] of one stage from its runs' halves (one entry per run, in order), each
+/// run weighted with the amplification its wear received ([`StageReport::run_weights`]).
 fn stage_halves(
     halves: &[Vec<(StageWear, StageWear)>],
     report: &StageReport,
     joints: &[WornJoint],
 ) -> Option<StageHalves> {
-    if report.substeps.is_empty() || halves.iter().take(report.substeps.len()).any(Vec::is_empty) {
+    let weighted = || {
+        halves
+            .iter()
+            .zip(&report.run_weights)
+            .filter(|(_, w)| **w > 0.0)
+    };
+    if report.substeps.is_empty() || weighted().any(|(run, _)| run.is_empty()) {
         return None;
     }
     let mut result = StageHalves {
@@ -304,14 +317,14 @@ fn stage_halves(
             (vec![0.0; cells.0], vec![0.0; cells.1]),
             (vec![0.0; cells.0], vec![0.0; cells.1]),
         ];
-        for (run, substep) in halves.iter().zip(&report.substeps) {
+        for (run, weight) in weighted() {
             let (first, second) = &run[j];
             for (sum, half) in sums.iter_mut().zip([first, second]) {
                 for (s, h) in sum.0.iter_mut().zip(half.bearing()) {
-                    *s += substep.amplification * h;
+                    *s += weight * h;
                 }
                 for (s, h) in sum.1.iter_mut().zip(half.pin()) {
-                    *s += substep.amplification * h;
+                    *s += weight * h;
                 }
             }
         }

@@ -263,3 +263,68 @@ fn three_trajectories_have_no_halves() -> Result<(), Box<dyn std::error::Error>>
     assert_eq!(stages.stage_halves, vec![None]);
     Ok(())
 }
+
+/// Error-controlled sub-steps through the driver: the runs' halves reach the estimate, every
+/// run's wear is weighted into the stage, and under the dead load (a constant Archard rate)
+/// the stage wears its Archard volume however it was split.
+#[test]
+fn controlled_sub_steps_wear_the_archard_volume() -> Result<(), Box<dyn std::error::Error>> {
+    let amplification = 1000.0;
+    let params = WearParams::new(1e-13, 0.02, 720)?;
+    let fresh = shaft_joint(ContactModel::LineOfCentres)?.unworn_surfaces(&params)?;
+    let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
+        hanging_shaft(&surfaces[0], ContactModel::LineOfCentres)
+    };
+    // The clearance change of the whole stage in one jump sets bounds that need ≥ 4 sub-steps.
+    let jump = StagePlan::new(
+        1,
+        amplification,
+        Extrapolation::SingleJump { warn_fraction: 1.0 },
+    );
+    let whole = run_wear_stages(&mut [fresh.clone()], &jump, &mut runs)
+        .map_err(|e| e.to_string())?
+        .reports[0]
+        .substeps[0]
+        .max_change_fraction;
+    let plan = StagePlan::new(
+        1,
+        amplification,
+        Extrapolation::Controlled {
+            tolerance: 0.05,
+            min_fraction: whole / 8.0,
+            max_fraction: whole / 4.0,
+            max_runs: 100,
+        },
+    );
+    let mut joints = vec![fresh];
+    let stages = run_wear_stages(&mut joints, &plan, &mut runs).map_err(|e| e.to_string())?;
+    let report = &stages.reports[0];
+    let per_run = 1e-13 * MASS * 9.81 * SPEED * PIN_RADIUS * (T_END - WEAR_FROM);
+    let volume = joints[0].worn_volume();
+    let expected = amplification * per_run;
+    eprintln!(
+        "{} sub-steps, {} runs ({} rejected): worn volume {volume:.5e} m³, Archard \
+         {expected:.5e} m³ ({:+.3} %)",
+        report.substeps.len(),
+        report.run_weights.len(),
+        report.rejected_runs(),
+        100.0 * (volume / expected - 1.0)
+    );
+    assert!(report.substeps.len() >= 4);
+    assert_eq!(
+        report.run_weights.len(),
+        report.substeps.len() + 1 + report.rejected_runs()
+    );
+    assert_eq!(stages.halves_differences.len(), report.run_weights.len());
+    // Runs on worn surfaces add the arc-to-chord excess of the deposit (the pressure spread
+    // over the arc of a conforming contact, θ²/6): +0.2 % here, against +0.003 % for the single
+    // jump, whose one run is on fresh surfaces.
+    assert!((volume / expected - 1.0).abs() < 5e-3);
+    // The halves were kept and weighted like the runs: they agree under the dead load.
+    let halves = stages.stage_halves[0].ok_or("stage halves")?;
+    assert!(halves.worn_volume < 0.01, "{halves:?}");
+    for s in &report.substeps {
+        assert!(s.error_estimate.is_some_and(|e| e <= 0.05), "{s:?}");
+    }
+    Ok(())
+}

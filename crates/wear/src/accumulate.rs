@@ -209,6 +209,15 @@ impl StageWear {
         self.archard_volume += other.archard_volume;
     }
 
+    /// Multiplies every depth (and the Archard volume) by `factor` (≥ 0): with [`add`](Self::add),
+    /// the mean of two records of the same joint.
+    pub fn scale(&mut self, factor: f64) {
+        for h in self.bearing.iter_mut().chain(self.pin.iter_mut()) {
+            *h *= factor;
+        }
+        self.archard_volume *= factor;
+    }
+
     /// Removes `other`'s depths from this record, cell by cell (clamped at 0 against round-off):
     /// with `other` the first half of the same run, what remains is the second half.
     pub fn subtract(&mut self, other: &StageWear) {

@@ -19,8 +19,10 @@
 //!   turns a few chaotic cycles' wear into an estimate of its expectation, and
 //!   [`WornJoint::apply`] moves it in, amplified.
 //! - [`run_stages`]: the staged extrapolation (K cycles → ×factor → update → next stage),
-//!   adaptive by default so no sub-step grows a local clearance by more than 10 %; the
-//!   caller's integrator is a closure.
+//!   adaptive by default so no sub-step grows a local clearance by more than 10 %, or
+//!   error-controlled ([`Extrapolation::Controlled`]: a predictor–corrector in cycles whose
+//!   error estimate discounts the sampling noise the runner's [`WearSample`] halves measure);
+//!   the caller's integrator is a closure.
 //!
 //! ```
 //! use contact::{ContactDiagnostics, SurfaceProfile};
@@ -73,5 +75,5 @@ pub use joint::{ContactArc, DEFAULT_CELLS, ShapeBound, WearParams, WornJoint};
 pub use profile::{AngularRange, Peak, Side, WornProfile};
 pub use staging::{
     Extrapolation, ExtrapolationWarning, GeometryLimits, JointSubstep, RunContext, StagePlan,
-    StageReport, StagingError, SubstepReport, run_stage, run_stages,
+    StageReport, StagingError, SubstepReport, WearSample, run_stage, run_stages,
 };

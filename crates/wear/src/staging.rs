@@ -9,6 +9,13 @@
 //! re-running the K cycles on the updated surfaces in between. Sub-step amplifications sum to
 //! the stage's factor, unless the plan's [`GeometryLimits`] end the stage early where the worn
 //! shape would leave what a line-of-centres contact describes ([`StageReport::ended_at_limits`]).
+//!
+//! [`Extrapolation::Controlled`] chooses the sub-steps by an error estimate instead: a
+//! predictor–corrector in cycles (an explicit step predicts the surfaces, the K cycles are
+//! simulated on them, and the sub-step applies the mean of the wear rates at both ends), whose
+//! step grows while the rate changes slowly and shrinks where it changes fast. Since K chaotic
+//! cycles are a noisy sample of the rate, the estimate removes the sampling noise that the
+//! runner's two halves of the cycles measure ([`WearSample::halves`]).
 
 use std::fmt;
 
@@ -40,6 +47,43 @@ pub enum Extrapolation {
         #[serde(default = "unbounded")]
         max_curvature_change: f64,
     },
+    /// Error-controlled sub-steps (explicit trapezoidal predictor–corrector in cycles).
+    ///
+    /// A sub-step of amplification `a` from surfaces `h` with wear rate `w` (the wear of the K
+    /// cycles simulated on `h`) predicts `h* = h + a·w`, simulates the K cycles on `h*` for the
+    /// rate `w*`, and applies `a·(w + w*)/2`; `w*` is the next sub-step's rate, so a sub-step
+    /// costs one K-cycle run. Its error estimate is the predictor's local error per unit of
+    /// the sub-step's wear, `‖w* − w‖ / (2‖(w + w*)/2‖)` (root sum of squares over a joint's
+    /// cells, largest over the joints), with the sampling noise of both rates taken out of
+    /// `‖w* − w‖²` when the runner reports halves ([`WearSample::halves`]). A sub-step is
+    /// accepted when the estimate is at most `tolerance`, else simulated again with a smaller
+    /// step; the next step is scaled by `0.9·tolerance/estimate` (between ×0.5 and ×2). This
+    /// first-order estimate bounds the error of the second-order step applied, which is far
+    /// smaller (tests/controlled.rs measures it on a closed form).
+    ///
+    /// With halves, a step is also kept small enough that the stage's wear carries sampling
+    /// noise of about `tolerance` of it (root mean square over the cells; each sub-step's noise
+    /// grows with the square of its amplification, so a stage of few large sub-steps averages
+    /// fewer samples): more cycles per run (less noise per run) allow fewer sub-steps. No
+    /// sub-step changes a local clearance by more than `max_fraction`. The first sub-step changes a local clearance by at most
+    /// `min_fraction`, and the error estimate cuts no sub-step below that bound: the
+    /// noise the halves do not remove (all of it without halves) does not fall with the step,
+    /// so without this floor it would shrink the steps without end; at the floor the
+    /// sub-steps are [`Adaptive`](Self::Adaptive)'s at `max_fraction = min_fraction`. Fails
+    /// with [`WearError::SubstepLimit`] after `max_runs` runs of the K cycles in a stage
+    /// (accepted or not).
+    Controlled {
+        /// Largest estimated error per unit of a sub-step's wear, and the stage's relative
+        /// sampling noise, in `(0, 1]`.
+        tolerance: f64,
+        /// Relative clearance change of the first sub-step, and the smallest to which the error
+        /// estimate cuts a sub-step, in `(0, 1]`.
+        min_fraction: f64,
+        /// Largest relative clearance change of any sub-step, in `[min_fraction, 1]`.
+        max_fraction: f64,
+        /// Most K-cycle runs per stage.
+        max_runs: usize,
+    },
     /// The paper's single jump; the stage report carries a warning when the jump changes a
     /// local clearance by more than `warn_fraction`.
     SingleJump {
@@ -66,6 +110,21 @@ impl Extrapolation {
             max_substeps: Self::DEFAULT_MAX_SUBSTEPS,
             max_slope_change: Self::DEFAULT_SLOPE_CHANGE,
             max_curvature_change: Self::DEFAULT_CURVATURE_CHANGE,
+        }
+    }
+
+    /// Default largest relative clearance change of a controlled sub-step.
+    pub const DEFAULT_CONTROLLED_MAX_FRACTION: f64 = 0.5;
+
+    /// Controlled sub-steps at `tolerance` (see [`Extrapolation::Controlled`]), the first
+    /// bounded like [`adaptive`](Self::adaptive)'s, none changing a local clearance by more than
+    /// half, at most [`DEFAULT_MAX_SUBSTEPS`](Self::DEFAULT_MAX_SUBSTEPS) runs a stage.
+    pub fn controlled(tolerance: f64) -> Self {
+        Self::Controlled {
+            tolerance,
+            min_fraction: Self::DEFAULT_FRACTION,
+            max_fraction: Self::DEFAULT_CONTROLLED_MAX_FRACTION,
+            max_runs: Self::DEFAULT_MAX_SUBSTEPS,
         }
     }
 
@@ -96,6 +155,33 @@ impl Extrapolation {
                 ] {
                     require(name, bound, bound > 0.0, "> 0 (infinite: no bound)")?;
                 }
+                ("max_fraction", max_fraction)
+            }
+            Self::Controlled {
+                tolerance,
+                min_fraction,
+                max_fraction,
+                max_runs,
+            } => {
+                require("max_runs", max_runs as f64, max_runs > 0, ">= 1")?;
+                require(
+                    "tolerance",
+                    tolerance,
+                    tolerance > 0.0 && tolerance <= 1.0,
+                    "in (0, 1]",
+                )?;
+                require(
+                    "min_fraction",
+                    min_fraction,
+                    min_fraction > 0.0 && min_fraction <= 1.0,
+                    "in (0, 1]",
+                )?;
+                require(
+                    "max_fraction",
+                    max_fraction,
+                    max_fraction >= min_fraction,
+                    ">= min_fraction",
+                )?;
                 ("max_fraction", max_fraction)
             }
             Self::SingleJump { warn_fraction } => ("warn_fraction", warn_fraction),
@@ -248,7 +334,9 @@ impl StagePlan {
 pub struct RunContext {
     /// Stage index, from 0.
     pub stage: usize,
-    /// Sub-step index within the stage, from 0.
+    /// Run index within the stage, from 0: with adaptive extrapolation and a single jump, the
+    /// sub-step's; with controlled extrapolation run 0 measures the first rate and each later
+    /// run a sub-step's prediction (accepted or not).
     pub substep: usize,
 }
 
@@ -289,6 +377,10 @@ pub struct SubstepReport {
     pub max_change_fraction: f64,
     /// Per joint, in the order given.
     pub joints: Vec<JointSubstep>,
+    /// With controlled extrapolation, the sub-step's error estimate (per unit of its wear,
+    /// noise removed; see [`Extrapolation::Controlled`]).
+    #[serde(default)]
+    pub error_estimate: Option<f64>,
 }
 
 /// A single jump that changed a local clearance by more than the plan allows.
@@ -331,6 +423,44 @@ pub struct StageReport {
     /// Set when the stage ended early at the plan's geometry limits: the amplification that
     /// was applied (less than the plan's).
     pub ended_at_limits: Option<f64>,
+    /// Per run of the K cycles, in order ([`RunContext::substep`]): the amplification its wear
+    /// received in all. Adaptive: its sub-step's (0 for a run the geometry limits left unused).
+    /// Controlled: half of each sub-step it bounds, 0 for a rejected prediction. Sums to the
+    /// stage's applied amplification.
+    #[serde(default)]
+    pub run_weights: Vec<f64>,
+}
+
+impl StageReport {
+    /// Runs whose prediction the controlled extrapolation rejected (0 otherwise).
+    pub fn rejected_runs(&self) -> usize {
+        // Run 0 is the first rate, never a prediction.
+        self.run_weights
+            .iter()
+            .skip(1)
+            .filter(|w| **w == 0.0)
+            .count()
+    }
+}
+
+/// What a runner returns for one run: each joint's wear over the simulated cycles and,
+/// optionally, each joint's wear from two halves of those cycles that sample the motion
+/// independently (summing to the whole; e.g. the first and the second half of an ensemble's
+/// trajectories). The halves measure the sampling noise of the wear, which the controlled
+/// extrapolation removes from its error estimate; without them the noise counts as error
+/// (smaller sub-steps).
+#[derive(Clone, Debug, PartialEq)]
+pub struct WearSample {
+    /// Per joint, in the order given to the runner.
+    pub wear: Vec<StageWear>,
+    /// Per joint, the two halves, or `None`.
+    pub halves: Option<Vec<[StageWear; 2]>>,
+}
+
+impl From<Vec<StageWear>> for WearSample {
+    fn from(wear: Vec<StageWear>) -> Self {
+        Self { wear, halves: None }
+    }
 }
 
 /// A staging failure: invalid plan or wear data, or the caller's runner failed.
@@ -348,15 +478,16 @@ pub enum StagingError<E> {
 /// together so one sub-step bound covers them all).
 ///
 /// `runner(context, joints)` must simulate the K cycles on the joints as given (frozen) and
-/// return one [`StageWear`] per joint, same order. On error the joints hold the surfaces of
-/// the sub-steps completed so far.
-pub fn run_stages<E, F>(
+/// return one [`StageWear`] per joint, same order, as a `Vec` or a [`WearSample`] with the
+/// halves. On error the joints hold the surfaces of the sub-steps completed so far.
+pub fn run_stages<E, W, F>(
     joints: &mut [WornJoint],
     plan: &StagePlan,
     mut runner: F,
 ) -> Result<Vec<StageReport>, StagingError<E>>
 where
-    F: FnMut(RunContext, &[WornJoint]) -> Result<Vec<StageWear>, E>,
+    W: Into<WearSample>,
+    F: FnMut(RunContext, &[WornJoint]) -> Result<W, E>,
 {
     plan.validate()?;
     (0..plan.stages)
@@ -365,14 +496,15 @@ where
 }
 
 /// Runs stage `stage` of `plan` (see [`run_stages`]).
-pub fn run_stage<E, F>(
+pub fn run_stage<E, W, F>(
     joints: &mut [WornJoint],
     stage: usize,
     plan: &StagePlan,
     runner: &mut F,
 ) -> Result<StageReport, StagingError<E>>
 where
-    F: FnMut(RunContext, &[WornJoint]) -> Result<Vec<StageWear>, E>,
+    W: Into<WearSample>,
+    F: FnMut(RunContext, &[WornJoint]) -> Result<W, E>,
 {
     plan.validate()?;
     let mut report = StageReport {
@@ -380,25 +512,33 @@ where
         substeps: Vec::new(),
         warning: None,
         ended_at_limits: None,
+        run_weights: Vec::new(),
     };
+    if let Extrapolation::Controlled {
+        tolerance,
+        min_fraction,
+        max_fraction,
+        max_runs,
+    } = plan.extrapolation
+    {
+        let control = Control {
+            tolerance,
+            min_fraction,
+            max_fraction,
+            max_runs,
+        };
+        return run_controlled(joints, plan, control, runner, report);
+    }
     let mut used = 0.0;
     loop {
         let context = RunContext {
             stage,
             substep: report.substeps.len(),
         };
-        let wear = runner(context, joints).map_err(StagingError::Runner)?;
-        if wear.len() != joints.len() {
-            return Err(WearError::JointCount {
-                expected: joints.len(),
-                found: wear.len(),
-            }
-            .into());
-        }
-        let mut per_unit: f64 = 0.0;
+        let wear = sample(runner, context, joints)?.wear;
+        let per_unit = largest_change_per_amplification(joints, &wear)?;
         let (mut slope_per_unit, mut curvature_per_unit): (f64, f64) = (0.0, 0.0);
         for (joint, w) in joints.iter().zip(&wear) {
-            per_unit = per_unit.max(joint.clearance_change_per_amplification(w)?);
             let (slope, curvature) = joint.shape_change_per_amplification(w)?;
             slope_per_unit = slope_per_unit.max(slope);
             curvature_per_unit = curvature_per_unit.max(curvature);
@@ -423,12 +563,7 @@ where
                 .filter(|(rate, _)| *rate > 0.0)
                 .map(|(rate, bound)| bound / rate)
                 .fold(f64::INFINITY, f64::min);
-                let mut limited = f64::INFINITY;
-                if let Some(limits) = plan.geometry_limits {
-                    for (joint, w) in joints.iter().zip(&wear) {
-                        limited = limited.min(limits.allowed(joint, w)?);
-                    }
-                }
+                let limited = limited_amplification(plan, joints, &wear)?;
                 if limited < allowed.min(remaining) {
                     at_limits = true;
                     limited
@@ -438,13 +573,15 @@ where
                     remaining
                 }
             }
-            Extrapolation::SingleJump { .. } => remaining,
+            Extrapolation::SingleJump { .. } | Extrapolation::Controlled { .. } => remaining,
         };
         if at_limits && amplification <= 0.0 {
+            report.run_weights.push(0.0);
             report.ended_at_limits = Some(used);
             return Ok(report);
         }
         let substep = apply_all(joints, &wear, amplification, context)?;
+        report.run_weights.push(amplification);
         used += amplification;
         if let Extrapolation::SingleJump { warn_fraction } = plan.extrapolation
             && substep.max_change_fraction > warn_fraction
@@ -477,6 +614,278 @@ where
     }
 }
 
+/// One run of the runner, its joint count checked.
+fn sample<E, W, F>(
+    runner: &mut F,
+    context: RunContext,
+    joints: &[WornJoint],
+) -> Result<WearSample, StagingError<E>>
+where
+    W: Into<WearSample>,
+    F: FnMut(RunContext, &[WornJoint]) -> Result<W, E>,
+{
+    let sample: WearSample = runner(context, joints)
+        .map_err(StagingError::Runner)?
+        .into();
+    let halves = sample.halves.as_ref().map_or(joints.len(), Vec::len);
+    for found in [sample.wear.len(), halves] {
+        if found != joints.len() {
+            return Err(WearError::JointCount {
+                expected: joints.len(),
+                found,
+            }
+            .into());
+        }
+    }
+    Ok(sample)
+}
+
+/// The largest relative clearance change over the joints per unit of amplification of `wear`.
+fn largest_change_per_amplification(
+    joints: &[WornJoint],
+    wear: &[StageWear],
+) -> Result<f64, WearError> {
+    let mut per_unit: f64 = 0.0;
+    for (joint, w) in joints.iter().zip(wear) {
+        per_unit = per_unit.max(joint.clearance_change_per_amplification(w)?);
+    }
+    Ok(per_unit)
+}
+
+/// The largest amplification of `wear` the plan's geometry limits allow (infinite: none).
+fn limited_amplification(
+    plan: &StagePlan,
+    joints: &[WornJoint],
+    wear: &[StageWear],
+) -> Result<f64, WearError> {
+    let mut limited = f64::INFINITY;
+    if let Some(limits) = plan.geometry_limits {
+        for (joint, w) in joints.iter().zip(wear) {
+            limited = limited.min(limits.allowed(joint, w)?);
+        }
+    }
+    Ok(limited)
+}
+
+/// The settings of [`Extrapolation::Controlled`].
+#[derive(Clone, Copy)]
+struct Control {
+    tolerance: f64,
+    min_fraction: f64,
+    max_fraction: f64,
+    max_runs: usize,
+}
+
+impl Control {
+    /// Bounds on how fast the step may change from one sub-step to the next.
+    const GROWTH: (f64, f64) = (0.5, 2.0);
+    /// Safety factor of the step choice.
+    const SAFETY: f64 = 0.9;
+
+    /// The factor on the step after a sub-step with error estimate `estimate` of `order`.
+    fn factor(&self, estimate: f64, order: i32) -> f64 {
+        let (shrink, grow) = Self::GROWTH;
+        if estimate > 0.0 {
+            (Self::SAFETY * (self.tolerance / estimate).powf(1.0 / f64::from(order)))
+                .clamp(shrink, grow)
+        } else {
+            grow
+        }
+    }
+}
+
+/// A stage of [`Extrapolation::Controlled`] sub-steps (see there).
+fn run_controlled<E, W, F>(
+    joints: &mut [WornJoint],
+    plan: &StagePlan,
+    control: Control,
+    runner: &mut F,
+    mut report: StageReport,
+) -> Result<StageReport, StagingError<E>>
+where
+    W: Into<WearSample>,
+    F: FnMut(RunContext, &[WornJoint]) -> Result<W, E>,
+{
+    let stage = report.stage;
+    let context = |run: usize| RunContext {
+        stage,
+        substep: run,
+    };
+    // The rate at the sub-step's start and the run it came from.
+    let mut start = sample(runner, context(0), joints)?;
+    let mut start_run = 0;
+    // The rate and amplification of the sub-step before (for the second-order estimate).
+    let mut previous: Option<(WearSample, f64)> = None;
+    report.run_weights.push(0.0);
+    let mut used = 0.0;
+    let mut proposed: Option<f64> = None;
+    loop {
+        let remaining = plan.amplification - used;
+        let per_unit = largest_change_per_amplification(joints, &start.wear)?;
+        let (first, cap) = if per_unit > 0.0 {
+            (
+                control.min_fraction / per_unit,
+                control.max_fraction / per_unit,
+            )
+        } else {
+            (f64::INFINITY, f64::INFINITY)
+        };
+        let noise = noise_limited_amplification(&start, control.tolerance, plan.amplification);
+        // Sampling noise that the halves do not remove keeps the estimate from falling with
+        // the step: no step is cut below the fixed bound's for it.
+        let floor = first;
+        let mut step = proposed.unwrap_or(first).max(floor).min(cap).min(noise);
+        if step * (1.0 + 1e-9) >= remaining {
+            step = remaining;
+        }
+        if report.run_weights.len() >= control.max_runs {
+            return Err(WearError::SubstepLimit {
+                stage,
+                limit: control.max_runs,
+                remaining,
+            }
+            .into());
+        }
+        let mut predicted = joints.to_vec();
+        apply_all(&mut predicted, &start.wear, step, context(0))?;
+        let run = report.run_weights.len();
+        let end = sample(runner, context(run), &predicted)?;
+        report.run_weights.push(0.0);
+        let (estimate, order) =
+            error_estimate(previous.as_ref().map(|(w, a)| (w, *a)), &start, &end, step);
+        proposed = Some(step * control.factor(estimate, order));
+        if estimate > control.tolerance && step > floor * (1.0 + 1e-9) {
+            continue;
+        }
+        let mean: Vec<StageWear> = start
+            .wear
+            .iter()
+            .zip(&end.wear)
+            .map(|(a, b)| {
+                let mut m = a.clone();
+                m.add(b);
+                m.scale(0.5);
+                m
+            })
+            .collect();
+        let limited = limited_amplification(plan, joints, &mean)?;
+        let at_limits = limited < step;
+        let step = if at_limits { limited } else { step };
+        if step > 0.0 {
+            let mut substep = apply_all(joints, &mean, step, context(run))?;
+            substep.error_estimate = Some(estimate);
+            report.substeps.push(substep);
+            report.run_weights[start_run] += 0.5 * step;
+            report.run_weights[run] += 0.5 * step;
+            used += step;
+        }
+        if at_limits {
+            report.ended_at_limits = Some(used);
+            return Ok(report);
+        }
+        if step == remaining {
+            return Ok(report);
+        }
+        previous = Some((std::mem::replace(&mut start, end), step));
+        start_run = run;
+    }
+}
+
+/// The largest amplification of a sub-step that starts with `sample` such that the sampling
+/// noise the stage's wear gathers stays near `tolerance` of it: with the halves' noise power
+/// `N = Σ (u − v)²` of one rate and its size `S = Σ w²` (over a joint's cells), a sub-step of
+/// amplification `a` applies the mean of two rates, with noise power about `a²N/2`; keeping
+/// `a·N/2 ≤ tolerance²·A·S` for every sub-step of a stage of amplification `A` keeps the sum
+/// `Σ a²N/2` within `tolerance²·(A·‖w‖)²`, i.e. the stage's wear within `tolerance` of its
+/// expectation (root mean square over the cells). Infinite without halves or noise.
+fn noise_limited_amplification(sample: &WearSample, tolerance: f64, stage: f64) -> f64 {
+    let Some(halves) = &sample.halves else {
+        return f64::INFINITY;
+    };
+    let mut limit = f64::INFINITY;
+    for (w, [u, v]) in sample.wear.iter().zip(halves) {
+        let size: f64 = w.bearing().iter().chain(w.pin()).map(|x| x * x).sum();
+        let noise = squared_difference(u, v);
+        if noise > 0.0 {
+            limit = limit.min(2.0 * tolerance * tolerance * stage * size / noise);
+        }
+    }
+    limit
+}
+
+/// `Σ (a − b)²` over both surfaces' cells of two records of the same joint.
+fn squared_difference(a: &StageWear, b: &StageWear) -> f64 {
+    a.bearing()
+        .iter()
+        .zip(b.bearing())
+        .chain(a.pin().iter().zip(b.pin()))
+        .map(|(x, y)| (x - y).powi(2))
+        .sum()
+}
+
+/// The controlled extrapolation's error estimate of a sub-step of amplification `step` from
+/// the rate `start` to the rate `end`, per unit of its wear, with the order of the step size
+/// it grows with (see [`Extrapolation::Controlled`]).
+///
+/// With the sub-step before it (`previous`: its starting rate and amplification), the
+/// trapezoid's own local error `(a³/12)·w''`, `w''` from the second divided difference of the
+/// three rates (order 2). For the stage's first sub-step, the explicit predictor's local error
+/// `(a/2)·(w* − w)` (order 1), which bounds it. Either way, per joint,
+/// `scale·sqrt(max(D − N, 0) / S)` with `D` the squared norm of the rates' combination over the
+/// cells, `N` its expected value from sampling noise alone (the combination's squared
+/// coefficients times each rate's `Σ (first half − second half)²`: for a sum of two independent
+/// halves `E[(u − v)²] = Var(u + v)`) and `S` the squared norm of the sub-step's mean rate;
+/// the largest over the joints.
+fn error_estimate(
+    previous: Option<(&WearSample, f64)>,
+    start: &WearSample,
+    end: &WearSample,
+    step: f64,
+) -> (f64, i32) {
+    let (terms, scale, order) = match previous {
+        Some((before, a_before)) => (
+            vec![
+                (before, 1.0 / a_before),
+                (start, -(1.0 / step + 1.0 / a_before)),
+                (end, 1.0 / step),
+            ],
+            step * step / (6.0 * (step + a_before)),
+            2,
+        ),
+        None => (vec![(start, -1.0), (end, 1.0)], 0.5, 1),
+    };
+    let mut largest: f64 = 0.0;
+    for (j, (a, b)) in start.wear.iter().zip(&end.wear).enumerate() {
+        let size: f64 = a
+            .bearing()
+            .iter()
+            .zip(b.bearing())
+            .chain(a.pin().iter().zip(b.pin()))
+            .map(|(x, y)| (0.5 * (x + y)).powi(2))
+            .sum();
+        let cells = a.bearing().len() + a.pin().len();
+        let mut combination = vec![0.0; cells];
+        let mut noise = 0.0;
+        for (sample, coefficient) in &terms {
+            let w = &sample.wear[j];
+            for (c, x) in combination
+                .iter_mut()
+                .zip(w.bearing().iter().chain(w.pin()))
+            {
+                *c += coefficient * x;
+            }
+            if let Some([u, v]) = sample.halves.as_ref().and_then(|h| h.get(j)) {
+                noise += coefficient * coefficient * squared_difference(u, v);
+            }
+        }
+        let difference: f64 = combination.iter().map(|c| c * c).sum();
+        if size > 0.0 {
+            largest = largest.max(scale * ((difference - noise).max(0.0) / size).sqrt());
+        }
+    }
+    (largest, order)
+}
+
 /// Checks every joint, then updates them all: no joint moves unless all can.
 fn apply_all(
     joints: &mut [WornJoint],
@@ -493,6 +902,7 @@ fn apply_all(
         max_depth: 0.0,
         max_change_fraction: 0.0,
         joints: Vec::with_capacity(joints.len()),
+        error_estimate: None,
     };
     for (joint, w) in joints.iter_mut().zip(wear) {
         let (slope, curvature) = joint.shape_change_per_amplification(w)?;

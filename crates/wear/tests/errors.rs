@@ -184,6 +184,31 @@ fn plans() {
         ),
         "max_substeps"
     );
+    let controlled = |tolerance, min_fraction, max_fraction, max_runs| {
+        with(Extrapolation::Controlled {
+            tolerance,
+            min_fraction,
+            max_fraction,
+            max_runs,
+        })
+        .validate()
+    };
+    assert!(controlled(0.02, 0.05, 0.5, 10).is_ok());
+    for bad in [0.0, -0.1, 1.5, f64::NAN] {
+        let err = |plan: Result<(), WearError>| name(plan.unwrap_err());
+        assert_eq!(err(controlled(bad, 0.05, 0.5, 10)), "tolerance");
+        assert_eq!(err(controlled(0.02, bad, 0.5, 10)), "min_fraction");
+    }
+    for bad in [0.01, f64::NAN] {
+        assert_eq!(
+            name(controlled(0.02, 0.05, bad, 10).unwrap_err()),
+            "max_fraction"
+        );
+    }
+    assert_eq!(
+        name(controlled(0.02, 0.05, 0.5, 0).unwrap_err()),
+        "max_runs"
+    );
     for bad in [0.0, -20_000.0, f64::INFINITY] {
         let plan = StagePlan::paper(1).with_amplification(bad);
         assert_eq!(name(plan.validate().unwrap_err()), "amplification");

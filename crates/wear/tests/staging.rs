@@ -83,6 +83,9 @@ fn adaptive_split_obeys_fraction_and_sums_to_factor() {
         assert!(report.warning.is_none());
         let sum: f64 = report.substeps.iter().map(|s| s.amplification).sum();
         assert_relative_eq!(sum, plan.amplification, max_relative = 1e-12);
+        // One run per sub-step, weighted with its amplification.
+        let amplifications: Vec<f64> = report.substeps.iter().map(|s| s.amplification).collect();
+        assert_eq!(report.run_weights, amplifications);
         // 1e-4 per unit per surface half: amplification 1000 per 10 % sub-step.
         assert!(
             report.substeps.len() >= 20,

@@ -340,10 +340,15 @@ pub struct WearSummary {
     pub cycles_applied: f64,
     /// Start of wear accumulation in each K-cycle run (start-up skipped), s.
     pub wear_start_s: f64,
-    /// `adaptive` or `single-jump`.
+    /// `adaptive`, `controlled` or `single-jump`, with the bounds.
     pub extrapolation: String,
-    /// K-cycle simulations per stage (sub-steps).
+    /// Extrapolation sub-steps per stage.
     pub substeps_per_stage: Vec<usize>,
+    /// K-cycle simulations per stage: one per sub-step with fixed bounds; with controlled
+    /// extrapolation one more (the first rate), and the rejected predictions.
+    pub runs_per_stage: Vec<usize>,
+    /// Of those, predictions the controlled extrapolation rejected (0 with fixed bounds).
+    pub rejected_runs_per_stage: Vec<usize>,
     /// Every sub-step: stage, amplification applied, deepest cell after it (m) and the bound
     /// on the relative clearance change it caused.
     pub substeps: Vec<SubstepSummary>,
@@ -388,6 +393,10 @@ pub struct SubstepSummary {
     /// How far the wear of the two halves of the sub-step's K cycles disagree, per cell,
     /// relative to the peak (see `clearance::halves_difference`); absent for odd K.
     pub halves_difference: Option<f64>,
+    /// With controlled extrapolation, the sub-step's error estimate per unit of its wear
+    /// (`wear::Extrapolation::Controlled`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error_estimate: Option<f64>,
 }
 
 /// What `summary.json` holds.

@@ -18,7 +18,7 @@ use super::{
     simulation_options,
 };
 use crate::build::{Surfaces, build};
-use crate::scene::Scene;
+use crate::scene::{CONTROLLED_MAX_CLEARANCE_CHANGE, Scene};
 
 /// Per-stage history, summary and final surfaces (one slot per active clearance joint).
 type Staged = (Vec<JointWearHistory>, WearSummary, Vec<Option<WornJoint>>);
@@ -146,18 +146,26 @@ pub(super) fn stages(
         .active_clearance_joints()
         .any(|c| c.contact.model == crate::scene::ContactModelName::LineOfCentres);
     let (max_slope_change, max_curvature_change) = r.shape_change_bounds(line_of_centres);
-    let extrapolation = if r.adaptive_extrapolation {
-        Extrapolation::Adaptive {
-            max_fraction: r.max_clearance_change,
-            max_substeps: r.max_substeps as usize,
-            max_slope_change,
-            max_curvature_change,
-        }
-    } else {
-        Extrapolation::SingleJump {
-            warn_fraction: r.max_clearance_change,
-        }
-    };
+    let extrapolation =
+        if let (true, Some(tolerance)) = (r.adaptive_extrapolation, r.wear_tolerance) {
+            Extrapolation::Controlled {
+                tolerance,
+                min_fraction: r.max_clearance_change,
+                max_fraction: CONTROLLED_MAX_CLEARANCE_CHANGE.max(r.max_clearance_change),
+                max_runs: r.max_substeps as usize,
+            }
+        } else if r.adaptive_extrapolation {
+            Extrapolation::Adaptive {
+                max_fraction: r.max_clearance_change,
+                max_substeps: r.max_substeps as usize,
+                max_slope_change,
+                max_curvature_change,
+            }
+        } else {
+            Extrapolation::SingleJump {
+                warn_fraction: r.max_clearance_change,
+            }
+        };
     let plan = StagePlan::new(r.wear_stages as usize, r.amplification, extrapolation)
         .with_smoothing(r.wear_smoothing_deg.to_radians())
         .with_geometry_limits(
@@ -234,13 +242,18 @@ pub(super) fn stages(
         })
         .collect();
     let mut substeps = Vec::new();
+    let mut runs_per_stage = Vec::new();
+    let mut rejected_runs = Vec::new();
     let mut details = Vec::new();
     let mut warnings = Vec::new();
     let mut ended_at_limits = Vec::new();
     for (stage, report) in staged.reports.iter().enumerate() {
         substeps.push(report.substeps.len());
-        let first = details.len();
-        details.extend(report.substeps.iter().enumerate().map(|(i, r)| {
+        // The stage's first run among all runs (the halves differences are per run).
+        let first: usize = runs_per_stage.iter().sum();
+        runs_per_stage.push(report.run_weights.len());
+        rejected_runs.push(report.rejected_runs());
+        details.extend(report.substeps.iter().map(|r| {
             SubstepSummary {
                 stage: stage + 1,
                 amplification: r.amplification,
@@ -252,7 +265,12 @@ pub(super) fn stages(
                     .iter()
                     .map(|j| j.curvature_change)
                     .fold(0.0, f64::max),
-                halves_difference: staged.halves_differences.get(first + i).copied().flatten(),
+                halves_difference: staged
+                    .halves_differences
+                    .get(first + r.context.substep)
+                    .copied()
+                    .flatten(),
+                error_estimate: r.error_estimate,
             }
         }));
         if let Some(w) = report.warning {
@@ -360,7 +378,21 @@ pub(super) fn stages(
         cycles_represented_per_stage: f64::from(k) * r.amplification,
         cycles_applied,
         wear_start_s: wear_start,
-        extrapolation: if r.adaptive_extrapolation {
+        extrapolation: if let Extrapolation::Controlled {
+            tolerance,
+            min_fraction,
+            max_fraction,
+            ..
+        } = plan.extrapolation
+        {
+            format!(
+                "controlled (tolerance {} %; the first sub-step changes a local clearance by at \
+                 most {} %, none by more than {} %)",
+                percent(tolerance),
+                percent(min_fraction),
+                percent(max_fraction)
+            )
+        } else if r.adaptive_extrapolation {
             if line_of_centres || max_slope_change.is_finite() || max_curvature_change.is_finite() {
                 format!(
                     "adaptive (each sub-step changes a local clearance by at most {} %, its \
@@ -379,6 +411,8 @@ pub(super) fn stages(
             "single-jump (the paper's)".into()
         },
         substeps_per_stage: substeps,
+        runs_per_stage,
+        rejected_runs_per_stage: rejected_runs,
         substeps: details,
         max_halves_difference,
         stage_halves,

@@ -51,6 +51,17 @@ pub struct RunSettings {
     /// `|Δc''|/(c0 + |c''|)`; default as for `max_slope_change`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_curvature_change: Option<f64>,
+    /// Error-controlled sub-steps at this tolerance, in `(0, 1]`, instead of the fixed bounds
+    /// ([`wear::Extrapolation::Controlled`]): a predictor–corrector in cycles whose step
+    /// follows an error estimate with the runs' sampling noise taken out, and which keeps the
+    /// stage's own sampling noise near the tolerance. `max_clearance_change` then bounds the
+    /// first sub-step and is the smallest the estimate cuts one to; no sub-step changes a
+    /// local clearance by more than [`CONTROLLED_MAX_CLEARANCE_CHANGE`] (or
+    /// `max_clearance_change`, if larger); the shape bounds do not apply. The noise is measured
+    /// from the two halves of each run's cycles, so give an even K (one trajectory) or an even
+    /// `trajectories`. Needs `adaptive_extrapolation`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wear_tolerance: Option<f64>,
     /// Standard deviation, in degrees of the surfaces, of the Gaussian that smooths each
     /// sub-step's simulated wear before it is extrapolated (0: none): the wear of K chaotic
     /// cycles is a noisy estimate of the expected wear, and amplified its cell-scale noise
@@ -102,6 +113,10 @@ fn max_clearance_change() -> f64 {
 fn transient_window() -> f64 {
     0.1
 }
+/// Largest relative clearance change of a sub-step under [`RunSettings::wear_tolerance`].
+pub const CONTROLLED_MAX_CLEARANCE_CHANGE: f64 =
+    wear::Extrapolation::DEFAULT_CONTROLLED_MAX_FRACTION;
+
 /// Default [`RunSettings::wear_smoothing_deg`], degrees: 8 cells of a 1000-cell grid.
 pub const DEFAULT_WEAR_SMOOTHING_DEG: f64 = 2.88;
 
@@ -139,6 +154,7 @@ impl Default for RunSettings {
             max_clearance_change: max_clearance_change(),
             max_slope_change: None,
             max_curvature_change: None,
+            wear_tolerance: None,
             wear_smoothing_deg: wear_smoothing_deg(),
             max_substeps: max_substeps(),
             stop_at_validity_limits: true,

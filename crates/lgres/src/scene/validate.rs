@@ -428,6 +428,20 @@ impl Validator {
         if let Some(bound) = r.max_curvature_change {
             self.number("run.max_curvature_change", bound, true);
         }
+        if let Some(tolerance) = r.wear_tolerance
+            && self.number("run.wear_tolerance", tolerance, true)
+        {
+            if tolerance > 1.0 {
+                self.push("run.wear_tolerance", tolerance, "must lie in (0, 1]");
+            } else if !r.adaptive_extrapolation {
+                self.push(
+                    "run.wear_tolerance",
+                    tolerance,
+                    "needs run.adaptive_extrapolation = true (the single jump has no sub-steps \
+                     to control)",
+                );
+            }
+        }
         if r.max_substeps == 0 {
             self.push("run.max_substeps", 0, "must be at least 1");
         }
