@@ -713,6 +713,8 @@ where
     };
     // The rate at the sub-step's start and the run it came from.
     let mut start = sample(runner, context(0), joints)?;
+    let mut noise = NoiseLevel::new(joints.len());
+    noise.add(&start);
     let mut start_run = 0;
     // The rate and amplification of the sub-step before (for the second-order estimate).
     let mut previous: Option<(WearSample, f64)> = None;
@@ -730,11 +732,16 @@ where
         } else {
             (f64::INFINITY, f64::INFINITY)
         };
-        let noise = noise_limited_amplification(&start, control.tolerance, plan.amplification);
+        let limit = noise_limited_amplification(
+            joints.len(),
+            &noise,
+            control.tolerance,
+            plan.amplification,
+        );
         // Sampling noise that the halves do not remove keeps the estimate from falling with
         // the step: no step is cut below the fixed bound's for it.
         let floor = first;
-        let mut step = proposed.unwrap_or(first).max(floor).min(cap).min(noise);
+        let mut step = proposed.unwrap_or(first).max(floor).min(cap).min(limit);
         if step * (1.0 + 1e-9) >= remaining {
             step = remaining;
         }
@@ -750,9 +757,15 @@ where
         apply_all(&mut predicted, &start.wear, step, context(0))?;
         let run = report.run_weights.len();
         let end = sample(runner, context(run), &predicted)?;
+        noise.add(&end);
         report.run_weights.push(0.0);
-        let (estimate, order) =
-            error_estimate(previous.as_ref().map(|(w, a)| (w, *a)), &start, &end, step);
+        let (estimate, order) = error_estimate(
+            previous.as_ref().map(|(w, a)| (w, *a)),
+            &start,
+            &end,
+            step,
+            &noise,
+        );
         proposed = Some(step * control.factor(estimate, order));
         if estimate > control.tolerance && step > floor * (1.0 + 1e-9) {
             continue;
@@ -791,26 +804,71 @@ where
     }
 }
 
-/// The largest amplification of a sub-step that starts with `sample` such that the sampling
-/// noise the stage's wear gathers stays near `tolerance` of it: with the halves' noise power
-/// `N = Σ (u − v)²` of one rate and its size `S = Σ w²` (over a joint's cells), a sub-step of
-/// amplification `a` applies the mean of two rates, with noise power about `a²N/2`; keeping
-/// `a·N/2 ≤ tolerance²·A·S` for every sub-step of a stage of amplification `A` keeps the sum
-/// `Σ a²N/2` within `tolerance²·(A·‖w‖)²`, i.e. the stage's wear within `tolerance` of its
-/// expectation (root mean square over the cells). Infinite without halves or noise.
-fn noise_limited_amplification(sample: &WearSample, tolerance: f64, stage: f64) -> f64 {
-    let Some(halves) = &sample.halves else {
-        return f64::INFINITY;
-    };
-    let mut limit = f64::INFINITY;
-    for (w, [u, v]) in sample.wear.iter().zip(halves) {
-        let size: f64 = w.bearing().iter().chain(w.pin()).map(|x| x * x).sum();
-        let noise = squared_difference(u, v);
-        if noise > 0.0 {
-            limit = limit.min(2.0 * tolerance * tolerance * stage * size / noise);
+/// The sampling noise of the runs' wear, pooled over a stage: per joint, the mean over the
+/// runs so far of the halves' relative noise power `Σ (u − v)² / Σ w²` (for a sum of two
+/// independent halves `E[(u − v)²] = Var(u + v)`). One run's pair of halves is a poor estimate
+/// of its own noise (the wear of a few cycles is dominated by a few impacts), the mean over
+/// the stage's runs a steadier one.
+struct NoiseLevel {
+    sums: Vec<f64>,
+    runs: usize,
+}
+
+impl NoiseLevel {
+    fn new(joints: usize) -> Self {
+        Self {
+            sums: vec![0.0; joints],
+            runs: 0,
         }
     }
-    limit
+
+    /// Adds a run's halves (nothing without them).
+    fn add(&mut self, sample: &WearSample) {
+        let Some(halves) = &sample.halves else {
+            return;
+        };
+        for ((sum, w), [u, v]) in self.sums.iter_mut().zip(&sample.wear).zip(halves) {
+            let size = squared_norm(w);
+            if size > 0.0 {
+                *sum += squared_difference(u, v) / size;
+            }
+        }
+        self.runs += 1;
+    }
+
+    /// Joint `j`'s pooled relative noise power of one run (0 before any halves).
+    fn ratio(&self, j: usize) -> f64 {
+        if self.runs == 0 {
+            0.0
+        } else {
+            self.sums.get(j).copied().unwrap_or(0.0) / self.runs as f64
+        }
+    }
+}
+
+/// The largest amplification of a sub-step such that the sampling noise the stage's wear
+/// gathers stays near `tolerance` of it: with a run's relative noise power `ρ` per joint
+/// ([`NoiseLevel`]), a sub-step of amplification `a` applies the mean of two rates, with
+/// noise power about `a²ρ‖w‖²/2`; keeping `a·ρ/2 ≤ tolerance²·A` for every sub-step of a stage
+/// of amplification `A` keeps the sum within `tolerance²·(A·‖w‖)²`, i.e. the stage's wear
+/// within `tolerance` of its expectation (root mean square over the cells). Infinite without
+/// halves or noise.
+fn noise_limited_amplification(
+    joints: usize,
+    noise: &NoiseLevel,
+    tolerance: f64,
+    stage: f64,
+) -> f64 {
+    (0..joints)
+        .map(|j| noise.ratio(j))
+        .filter(|ratio| *ratio > 0.0)
+        .map(|ratio| 2.0 * tolerance * tolerance * stage / ratio)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// `Σ w²` over both surfaces' cells of a record.
+fn squared_norm(w: &StageWear) -> f64 {
+    w.bearing().iter().chain(w.pin()).map(|x| x * x).sum()
 }
 
 /// `Σ (a − b)²` over both surfaces' cells of two records of the same joint.
@@ -841,6 +899,7 @@ fn error_estimate(
     start: &WearSample,
     end: &WearSample,
     step: f64,
+    noise: &NoiseLevel,
 ) -> (f64, i32) {
     let (terms, scale, order) = match previous {
         Some((before, a_before)) => (
@@ -865,7 +924,7 @@ fn error_estimate(
             .sum();
         let cells = a.bearing().len() + a.pin().len();
         let mut combination = vec![0.0; cells];
-        let mut noise = 0.0;
+        let mut expected_noise = 0.0;
         for (sample, coefficient) in &terms {
             let w = &sample.wear[j];
             for (c, x) in combination
@@ -874,13 +933,11 @@ fn error_estimate(
             {
                 *c += coefficient * x;
             }
-            if let Some([u, v]) = sample.halves.as_ref().and_then(|h| h.get(j)) {
-                noise += coefficient * coefficient * squared_difference(u, v);
-            }
+            expected_noise += coefficient * coefficient * noise.ratio(j) * squared_norm(w);
         }
         let difference: f64 = combination.iter().map(|c| c * c).sum();
         if size > 0.0 {
-            largest = largest.max(scale * ((difference - noise).max(0.0) / size).sqrt());
+            largest = largest.max(scale * ((difference - expected_noise).max(0.0) / size).sqrt());
         }
     }
     (largest, order)
