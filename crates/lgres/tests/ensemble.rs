@@ -5,6 +5,14 @@ use lgres::run::{RunError, RunOptions, run_scene};
 
 /// The worn slider-crank, one stage in two sub-steps or more, `K = 2` on `trajectories`.
 fn scene(trajectories: u32) -> Result<lgres::scene::Scene, lgres::scene::SceneError> {
+    scene_with(trajectories, "")
+}
+
+/// [`scene`] with more `[run]` settings.
+fn scene_with(
+    trajectories: u32,
+    extra: &str,
+) -> Result<lgres::scene::Scene, lgres::scene::SceneError> {
     let text = format!(
         r#"
 extends = "slider-crank"
@@ -18,6 +26,7 @@ cycles_per_stage = 2
 trajectories = {trajectories}
 amplification = 4000.0
 animation = false
+{extra}
 "#
     );
     lgres::scene::load_str(&text, "ensemble")
@@ -110,6 +119,52 @@ fn trajectories_must_divide_the_cycles_of_a_sub_step() -> Result<(), Box<dyn std
     assert_eq!(
         (options.cycles_per_stage, options.trajectories),
         (Some(2), Some(2))
+    );
+    Ok(())
+}
+
+/// Error-controlled sub-steps (`run.wear_tolerance`) on the ensemble: the summary counts the
+/// runs (the first rate, one per sub-step, the rejected predictions), gives each sub-step's
+/// estimate and the halves of the run it applied, and the threads change no bit.
+#[test]
+fn controlled_sub_steps_are_reported_and_thread_independent()
+-> Result<(), Box<dyn std::error::Error>> {
+    let scene = scene_with(2, "wear_tolerance = 0.05\nmax_clearance_change = 0.02")?;
+    let mut worn = Vec::new();
+    for threads in [1, 2] {
+        let options = RunOptions {
+            threads: Some(threads),
+            ..RunOptions::default()
+        };
+        let outcome = run_scene("controlled", &scene, &options, &mut ())?;
+        let wear = outcome.summary.wear.as_ref().ok_or("stages ran")?;
+        let (substeps, runs) = (wear.substeps_per_stage[0], wear.runs_per_stage[0]);
+        eprintln!(
+            "{threads} thread(s): {substeps} sub-steps, {runs} runs ({} rejected): {}",
+            wear.rejected_runs_per_stage[0], wear.extrapolation
+        );
+        assert!(wear.extrapolation.starts_with("controlled (tolerance 5 %"));
+        assert_eq!(runs, substeps + 1 + wear.rejected_runs_per_stage[0]);
+        assert!(substeps >= 2);
+        for s in &wear.substeps {
+            assert!(
+                s.error_estimate.is_some() && s.halves_difference.is_some(),
+                "{s:?}"
+            );
+        }
+        let applied: f64 = wear.substeps.iter().map(|s| s.amplification).sum();
+        assert!((applied - wear.amplification).abs() <= 1e-9 * wear.amplification);
+        worn.push(
+            outcome
+                .wear
+                .iter()
+                .map(|h| h.stages.clone())
+                .collect::<Vec<_>>(),
+        );
+    }
+    assert!(
+        worn[0] == worn[1],
+        "1 and 2 threads gave different surfaces"
     );
     Ok(())
 }

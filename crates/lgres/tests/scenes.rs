@@ -398,3 +398,45 @@ fn joint_names_whose_files_collide_are_refused() {
     );
     assert!(scene::load_str(&edited("name = \"B\"", "name = \"A_2\""), "t").is_ok());
 }
+
+#[test]
+fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
+    let with = |extra: &str| {
+        edited(
+            "transient_window = 0.1",
+            &format!("transient_window = 0.1\n{extra}"),
+        )
+    };
+    for (bad, reason) in [
+        ("0.0", "must be positive"),
+        ("-0.1", "must be positive"),
+        ("1.5", "must lie in (0, 1]"),
+        ("nan", "must be a finite number"),
+    ] {
+        let msg =
+            issues(scene::load_str(&with(&format!("wear_tolerance = {bad}")), "t").unwrap_err());
+        assert_eq!(msg.len(), 1, "{msg:?}");
+        assert!(
+            msg[0].starts_with("run.wear_tolerance = ") && msg[0].contains(reason),
+            "{msg:?}"
+        );
+    }
+    let text = with("wear_tolerance = 0.05").replace(
+        "adaptive_extrapolation = true",
+        "adaptive_extrapolation = false",
+    );
+    let msg = issues(scene::load_str(&text, "t").unwrap_err());
+    assert!(
+        msg[0].contains("needs run.adaptive_extrapolation = true"),
+        "{msg:?}"
+    );
+    let s = scene::load_str(&with("wear_tolerance = 0.05"), "t").unwrap();
+    assert_eq!(s.run.wear_tolerance, Some(0.05));
+    assert_eq!(
+        scene::load_str(&s.to_toml(), "t")
+            .unwrap()
+            .run
+            .wear_tolerance,
+        Some(0.05)
+    );
+}
