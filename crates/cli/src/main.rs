@@ -514,7 +514,7 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
     if let Some(w) = &s.wear {
         println!(
             "wear: {} stage(s), K = {} cycles per stage (scene: {}) on {} trajector{}, ×{:.0} so \
-             a stage stands for {:.3e} cycles; {}; sub-steps {:?}; {:.1} s",
+             a stage stands for {:.3e} cycles; {}; sub-steps {:?}{}; {:.1} s",
             w.stages,
             w.cycles_per_stage,
             w.scene_cycles_per_stage,
@@ -524,6 +524,15 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
             w.cycles_represented_per_stage,
             w.extrapolation,
             w.substeps_per_stage,
+            // Controlled sub-steps need one more run per stage, and rejected predictions.
+            if w.runs_per_stage == w.substeps_per_stage {
+                String::new()
+            } else {
+                format!(
+                    " (runs {:?}, of which rejected {:?})",
+                    w.runs_per_stage, w.rejected_runs_per_stage
+                )
+            },
             w.wall_time_s
         );
         for j in &w.joints {

@@ -64,6 +64,7 @@
 #![warn(missing_docs)]
 
 mod accumulate;
+mod controlled;
 mod error;
 mod joint;
 mod profile;
