@@ -185,9 +185,10 @@ pub struct WearStages {
     pub reports: Vec<StageReport>,
     /// The surfaces after each stage (the last are also left in the joints passed in).
     pub surfaces: Vec<Vec<WornJoint>>,
-    /// Per run (sub-step), in order over all stages: the largest [`halves_difference`] over
-    /// the joints whose elements kept the first half apart
-    /// ([`WornClearanceForce::with_halves`]); `None` where none did.
+    /// Per run of the K cycles, in order over all stages (a stage's runs are its
+    /// [`StageReport::run_weights`]: one per sub-step with fixed bounds, more with controlled
+    /// extrapolation): the largest [`halves_difference`] over the joints whose elements kept
+    /// the first half apart ([`WornClearanceForce::with_halves`]); `None` where none did.
     pub halves_differences: Vec<Option<f64>>,
     /// Per stage (with even K): the stage's wear extrapolated from each half of the simulated
     /// cycles alone, `Σ amplification × half`, compared: the larger relative difference of

@@ -1,5 +1,6 @@
-//! The error-controlled extrapolation of a stage ([`Extrapolation::Controlled`](crate::Extrapolation::Controlled)): the
-//! predictor–corrector sub-steps, their error estimate and the sampling noise it discounts.
+//! The error-controlled extrapolation of a stage
+//! ([`Extrapolation::Controlled`](crate::Extrapolation::Controlled)): the predictor–corrector
+//! sub-steps, their error estimate and the sampling noise it discounts.
 
 use crate::accumulate::StageWear;
 use crate::error::WearError;
@@ -36,7 +37,8 @@ impl Control {
     }
 }
 
-/// A stage of [`Extrapolation::Controlled`](crate::Extrapolation::Controlled) sub-steps (see there).
+/// A stage of [`Extrapolation::Controlled`](crate::Extrapolation::Controlled) sub-steps (see
+/// there).
 pub(crate) fn run_stage<E, W, F>(
     joints: &mut [WornJoint],
     plan: &StagePlan,
@@ -66,7 +68,9 @@ where
     loop {
         let remaining = plan.amplification - used;
         let per_unit = largest_change_per_amplification(joints, &start.wear)?;
-        let (first, cap) = if per_unit > 0.0 {
+        // The first step, and the floor: sampling noise that the halves do not remove keeps
+        // the estimate from falling with the step, so no step is cut below the fixed bound's.
+        let (floor, cap) = if per_unit > 0.0 {
             (
                 control.min_fraction / per_unit,
                 control.max_fraction / per_unit,
@@ -80,10 +84,7 @@ where
             control.tolerance,
             plan.amplification,
         );
-        // Sampling noise that the halves do not remove keeps the estimate from falling with
-        // the step: no step is cut below the fixed bound's for it.
-        let floor = first;
-        let mut step = proposed.unwrap_or(first).max(floor).min(cap).min(limit);
+        let mut step = proposed.unwrap_or(floor).max(floor).min(cap).min(limit);
         if step * (1.0 + 1e-9) >= remaining {
             step = remaining;
         }
