@@ -1,6 +1,8 @@
 //! Wears LGRES joint B (bearing 80 mm, clearance 0.5 mm, w = 0.1 m, K_d = 1.8e-13 m²/N)
-//! under a synthetic, periodic load history, then extrapolates one paper stage (×20,000) both
-//! as the paper's single jump and adaptively, and prints depth-profile summaries.
+//! under a synthetic, periodic load history, then extrapolates one paper stage (×20,000) as the
+//! paper's single jump, adaptively (fixed 10 % bound) and error-controlled (tolerance 5 %: 11
+//! sub-steps instead of 71 for the same worn surfaces within 0.3 %), and prints depth-profile
+//! summaries.
 //!
 //! Synthetic history per 1 s drive cycle (60 rpm): the contact normal points up in the first
 //! half-stroke and down in the second (±4° wobble), the load is 2.5–4 kN, the bearing (on the
@@ -114,6 +116,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for (label, extrapolation) in [
         ("paper single jump", Extrapolation::single_jump()),
         ("adaptive, 10 % per sub-step", Extrapolation::adaptive()),
+        (
+            "error-controlled, tolerance 5 %",
+            Extrapolation::controlled(0.05),
+        ),
     ] {
         let plan = StagePlan::paper(1).with_extrapolation(extrapolation);
         let mut joints = vec![fresh.clone()];
@@ -148,11 +154,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let joint = &joints[0];
         summary("bearing", joint.bearing());
         summary("pin", joint.pin());
+        // Each run's Archard volume, weighted with the amplification its wear received.
         let kfs: f64 = reports[0]
-            .substeps
+            .run_weights
             .iter()
             .zip(&archard)
-            .map(|(s, v)| s.amplification * v)
+            .map(|(weight, v)| weight * v)
             .sum();
         println!(
             "  worn volume {:.4e} m³ vs K_d F s {:.4e} m³ (ratio {:.4}); max local clearance {:.3} mm (c0 = 0.5 mm)",

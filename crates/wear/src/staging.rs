@@ -65,9 +65,10 @@ pub enum Extrapolation {
     /// With halves, a step is also kept small enough that the stage's wear carries sampling
     /// noise of about `tolerance` of it (root mean square over the cells; a sub-step's noise
     /// grows with the square of its amplification, so a stage of few large sub-steps averages
-    /// fewer samples). No sub-step changes a local clearance by more than `max_fraction`. The
-    /// first sub-step changes a local clearance by at most `min_fraction`, and the estimate
-    /// cuts no sub-step below that bound: noise the halves do not remove (all of it without
+    /// fewer samples). The bounds on the clearance change apply to the predictor (the rate at
+    /// the start; the applied mean rate can move a clearance slightly further): no predictor
+    /// changes a local clearance by more than `max_fraction`, the first by at most
+    /// `min_fraction`, and the estimate cuts no sub-step below that bound: noise the halves do not remove (all of it without
     /// halves) does not fall with the step and would otherwise shrink it without end; at the
     /// floor the sub-steps are [`Adaptive`](Self::Adaptive)'s at `min_fraction`. Fails with
     /// [`WearError::SubstepLimit`] after `max_runs` runs of the K cycles in a stage (accepted

@@ -386,8 +386,8 @@ pub(super) fn stages(
         } = plan.extrapolation
         {
             format!(
-                "controlled (tolerance {} %; the first sub-step changes a local clearance by at \
-                 most {} %, none by more than {} %)",
+                "controlled (tolerance {} %; the first sub-step's predictor changes a local \
+                 clearance by at most {} %, none by more than {} %)",
                 percent(tolerance),
                 percent(min_fraction),
                 percent(max_fraction)

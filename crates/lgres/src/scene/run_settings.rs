@@ -55,8 +55,8 @@ pub struct RunSettings {
     /// ([`wear::Extrapolation::Controlled`]): a predictor–corrector in cycles whose step
     /// follows an error estimate with the runs' sampling noise taken out, and which keeps the
     /// stage's own sampling noise near the tolerance. `max_clearance_change` then bounds the
-    /// first sub-step and is the smallest the estimate cuts one to; no sub-step changes a
-    /// local clearance by more than [`CONTROLLED_MAX_CLEARANCE_CHANGE`] (or
+    /// first sub-step's predictor and is the smallest the estimate cuts one to; no predictor
+    /// changes a local clearance by more than [`CONTROLLED_MAX_CLEARANCE_CHANGE`] (or
     /// `max_clearance_change`, if larger); the shape bounds do not apply. The noise is measured
     /// from the two halves of each run's cycles, so give an even K (one trajectory) or an even
     /// `trajectories`. Needs `adaptive_extrapolation`.
