@@ -252,7 +252,7 @@ pub fn run_ensemble_stages<R: StageRuns>(
         stage_halves: Vec::new(),
     };
     for stage in 0..plan.stages {
-        let mut halves: Vec<Vec<(StageWear, StageWear)>> = Vec::new();
+        let mut halves: Vec<Vec<[StageWear; 2]>> = Vec::new();
         let mut runner = |context: RunContext, surfaces: &[WornJoint]| {
             let (wear, difference, split) = match &mut members {
                 None => run_once(runs, context, surfaces, plan.smoothing)?,
@@ -261,8 +261,7 @@ pub fn run_ensemble_stages<R: StageRuns>(
             out.halves_differences.push(difference);
             let sample = WearSample {
                 wear,
-                halves: (!split.is_empty())
-                    .then(|| split.iter().map(|(a, b)| [a.clone(), b.clone()]).collect()),
+                halves: (!split.is_empty()).then(|| split.clone()),
             };
             halves.push(split);
             Ok(sample)
@@ -282,12 +281,12 @@ pub fn run_ensemble_stages<R: StageRuns>(
 /// One run's stage wear per joint and its largest halves difference.
 /// Each joint's wear, the largest halves difference, and each joint's (first half, second
 /// half) when the halves were kept.
-type RunWear = (Vec<StageWear>, Option<f64>, Vec<(StageWear, StageWear)>);
+type RunWear = (Vec<StageWear>, Option<f64>, Vec<[StageWear; 2]>);
 
 /// The [`StageHalves`] of one stage from its runs' halves (one entry per run, in order), each
 /// run weighted with the amplification its wear received ([`StageReport::run_weights`]).
 fn stage_halves(
-    halves: &[Vec<(StageWear, StageWear)>],
+    halves: &[Vec<[StageWear; 2]>],
     report: &StageReport,
     joints: &[WornJoint],
 ) -> Option<StageHalves> {
@@ -319,7 +318,7 @@ fn stage_halves(
             (vec![0.0; cells.0], vec![0.0; cells.1]),
         ];
         for (run, weight) in weighted() {
-            let (first, second) = &run[j];
+            let [first, second] = &run[j];
             for (sum, half) in sums.iter_mut().zip([first, second]) {
                 for (s, h) in sum.0.iter_mut().zip(half.bearing()) {
                     *s += weight * h;
@@ -409,7 +408,7 @@ fn smoothed(gathered: Vec<(StageWear, Option<StageWear>)>, smoothing: f64) -> Ru
             difference = Some(difference.map_or(d, |x| x.max(d)));
             let mut second = total.clone();
             second.subtract(&first);
-            split.push((first, second));
+            split.push([first, second]);
         }
         wear.push(total);
     }

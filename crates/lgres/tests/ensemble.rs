@@ -1,7 +1,7 @@
 //! A wear sub-step's cycles spread over trajectories on threads (`run.trajectories`): the
 //! same surfaces whatever the thread count, and refused when they do not divide `K`.
 
-use lgres::run::{RunError, RunOptions, run_scene};
+use lgres::run::{RunError, RunOptions, RunOutcome, run_scene};
 
 /// The worn slider-crank, one stage in two sub-steps or more, `K = 2` on `trajectories`.
 fn scene(trajectories: u32) -> Result<lgres::scene::Scene, lgres::scene::SceneError> {
@@ -32,23 +32,32 @@ animation = false
     lgres::scene::load_str(&text, "ensemble")
 }
 
+/// `scene` run on `threads` threads, and its surfaces after every stage, per wearing joint.
+fn on_threads(
+    scene: &lgres::scene::Scene,
+    threads: usize,
+) -> Result<(RunOutcome, Vec<Vec<wear::WornJoint>>), RunError> {
+    let options = RunOptions {
+        threads: Some(threads),
+        ..RunOptions::default()
+    };
+    let outcome = run_scene("ensemble", scene, &options, &mut ())?;
+    let surfaces = outcome.wear.iter().map(|h| h.stages.clone()).collect();
+    Ok((outcome, surfaces))
+}
+
 #[test]
 fn the_threads_change_no_bit_of_the_worn_surfaces() -> Result<(), Box<dyn std::error::Error>> {
     let scene = scene(2)?;
     let mut worn = Vec::new();
     for threads in [1, 2] {
-        let options = RunOptions {
-            threads: Some(threads),
-            ..RunOptions::default()
-        };
-        let outcome = run_scene("ensemble", &scene, &options, &mut ())?;
+        let (outcome, surfaces) = on_threads(&scene, threads)?;
         let wear = outcome.summary.wear.as_ref().ok_or("stages ran")?;
         assert_eq!(wear.trajectories, 2);
         // Sub-steps after the first continue the trajectories.
         assert!(wear.substeps_per_stage[0] >= 2);
         // Two trajectories are the two halves of the convergence check.
         assert!(wear.stage_halves[0].is_some());
-        let surfaces: Vec<_> = outcome.wear.iter().map(|h| h.stages.clone()).collect();
         eprintln!(
             "{threads} thread(s): {} sub-steps, peak bearing depth {:.6e} m",
             wear.substeps_per_stage[0], wear.joints[0].bearing_peak_depth_m
@@ -132,11 +141,7 @@ fn controlled_sub_steps_are_reported_and_thread_independent()
     let scene = scene_with(2, "wear_tolerance = 0.05\nmax_clearance_change = 0.02")?;
     let mut worn = Vec::new();
     for threads in [1, 2] {
-        let options = RunOptions {
-            threads: Some(threads),
-            ..RunOptions::default()
-        };
-        let outcome = run_scene("controlled", &scene, &options, &mut ())?;
+        let (outcome, surfaces) = on_threads(&scene, threads)?;
         let wear = outcome.summary.wear.as_ref().ok_or("stages ran")?;
         let (substeps, runs) = (wear.substeps_per_stage[0], wear.runs_per_stage[0]);
         eprintln!(
@@ -154,13 +159,7 @@ fn controlled_sub_steps_are_reported_and_thread_independent()
         }
         let applied: f64 = wear.substeps.iter().map(|s| s.amplification).sum();
         assert!((applied - wear.amplification).abs() <= 1e-9 * wear.amplification);
-        worn.push(
-            outcome
-                .wear
-                .iter()
-                .map(|h| h.stages.clone())
-                .collect::<Vec<_>>(),
-        );
+        worn.push(surfaces);
     }
     assert!(
         worn[0] == worn[1],

@@ -576,6 +576,7 @@ where
                     remaining
                 }
             }
+            // Controlled stages return above, before this loop.
             Extrapolation::SingleJump { .. } | Extrapolation::Controlled { .. } => remaining,
         };
         if at_limits && amplification <= 0.0 {

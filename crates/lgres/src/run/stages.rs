@@ -18,7 +18,7 @@ use super::{
     simulation_options,
 };
 use crate::build::{Surfaces, build};
-use crate::scene::{CONTROLLED_MAX_CLEARANCE_CHANGE, Scene};
+use crate::scene::Scene;
 
 /// Per-stage history, summary and final surfaces (one slot per active clearance joint).
 type Staged = (Vec<JointWearHistory>, WearSummary, Vec<Option<WornJoint>>);
@@ -151,7 +151,8 @@ pub(super) fn stages(
             Extrapolation::Controlled {
                 tolerance,
                 min_fraction: r.max_clearance_change,
-                max_fraction: CONTROLLED_MAX_CLEARANCE_CHANGE.max(r.max_clearance_change),
+                max_fraction: Extrapolation::DEFAULT_CONTROLLED_MAX_FRACTION
+                    .max(r.max_clearance_change),
                 max_runs: r.max_substeps as usize,
             }
         } else if r.adaptive_extrapolation {

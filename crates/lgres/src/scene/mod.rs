@@ -37,7 +37,7 @@ mod validate;
 pub use contact_spec::{ContactModelName, ContactSpec};
 pub use error::{Issue, SceneError};
 pub use extends::{from_table, load_path, load_str, merged_table, merged_table_of_file};
-pub use run_settings::{CONTROLLED_MAX_CLEARANCE_CHANGE, DEFAULT_WEAR_SMOOTHING_DEG, RunSettings};
+pub use run_settings::{DEFAULT_WEAR_SMOOTHING_DEG, RunSettings};
 pub use types::*;
 pub(crate) use validate::Validator;
 

@@ -56,7 +56,8 @@ pub struct RunSettings {
     /// follows an error estimate with the runs' sampling noise taken out, and which keeps the
     /// stage's own sampling noise near the tolerance. `max_clearance_change` then bounds the
     /// first sub-step's predictor and is the smallest the estimate cuts one to; no predictor
-    /// changes a local clearance by more than [`CONTROLLED_MAX_CLEARANCE_CHANGE`] (or
+    /// changes a local clearance by more than
+    /// [`wear::Extrapolation::DEFAULT_CONTROLLED_MAX_FRACTION`] (or
     /// `max_clearance_change`, if larger); the shape bounds do not apply. The noise is measured
     /// from the two halves of each run's cycles, so give an even K (one trajectory) or an even
     /// `trajectories`. Needs `adaptive_extrapolation`.
@@ -113,10 +114,6 @@ fn max_clearance_change() -> f64 {
 fn transient_window() -> f64 {
     0.1
 }
-/// Largest relative clearance change of a sub-step under [`RunSettings::wear_tolerance`].
-pub const CONTROLLED_MAX_CLEARANCE_CHANGE: f64 =
-    wear::Extrapolation::DEFAULT_CONTROLLED_MAX_FRACTION;
-
 /// Default [`RunSettings::wear_smoothing_deg`], degrees: 8 cells of a 1000-cell grid.
 pub const DEFAULT_WEAR_SMOOTHING_DEG: f64 = 2.88;
 
