@@ -82,6 +82,11 @@ struct Overrides {
         value_parser = clap::value_parser!(u32).range(1..)
     )]
     trajectories: Option<u32>,
+    /// Error-controlled wear sub-steps: accept a sub-step when its local error estimate is
+    /// within this fraction (scene: run.wear_tolerance, e.g. 0.05; `max_clearance_change`
+    /// becomes the smallest sub-step; docs/model.md §10.4).
+    #[arg(long, global = true, value_name = "TOL", allow_negative_numbers = true)]
+    wear_tolerance: Option<f64>,
     /// `study`: scene runs at once; `run`: threads of the wear trajectories (default: the
     /// machine's cores; results do not depend on it).
     #[arg(long, global = true, value_name = "N", allow_negative_numbers = true)]
@@ -102,6 +107,7 @@ impl Overrides {
             ("--rtol", self.rtol.is_some()),
             ("--cycles-per-stage", self.cycles_per_stage.is_some()),
             ("--trajectories", self.trajectories.is_some()),
+            ("--wear-tolerance", self.wear_tolerance.is_some()),
             ("--max-steps", self.max_steps.is_some()),
             ("--max-wall-time", self.max_wall_time.is_some()),
             ("--jobs", self.jobs.is_some()),
@@ -140,6 +146,7 @@ impl Overrides {
             max_wall_time: self.max_wall_time,
             cycles_per_stage: self.cycles_per_stage,
             trajectories: self.trajectories,
+            wear_tolerance: self.wear_tolerance,
             threads: self.jobs.map(std::num::NonZeroUsize::get),
             surfaces: self.surfaces.clone(),
         }
@@ -773,6 +780,7 @@ fn main() -> ExitCode {
         "--rtol",
         "--cycles-per-stage",
         "--trajectories",
+        "--wear-tolerance",
         "--max-steps",
         "--max-wall-time",
     ];

@@ -715,6 +715,11 @@ fn fuzzed_flags_of_every_command_are_refused_at_once_by_name() {
             &["run.trajectories"],
         ),
         (
+            "--wear-tolerance",
+            &["0", "-1", "nan", "inf", "1.5", "abc"],
+            &["run.wear_tolerance"],
+        ),
+        (
             "--max-steps",
             &["0", "-1", "abc", "1e3"],
             &["solver.max_steps"],
@@ -792,6 +797,7 @@ fn fuzzed_flags_of_every_command_are_refused_at_once_by_name() {
         (&["precision"][..], "--surfaces", "out/lgres"),
         (&["precision"][..], "--jobs", "2"),
         (&["study", "clearance"][..], "--trajectories", "2"),
+        (&["study", "clearance"][..], "--wear-tolerance", "0.05"),
         (&["check", "lgres"][..], "--jobs", "2"),
         (&["check", "lgres"][..], "--out", "x"),
         (

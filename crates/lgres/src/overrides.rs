@@ -43,6 +43,8 @@ pub struct RunOverrides {
     /// Trajectories per wear sub-step (`run.trajectories`); default [`QUICK_TRAJECTORIES`]
     /// when `cycles_per_stage` is not given either, else the scene's.
     pub trajectories: Option<u32>,
+    /// Error-controlled wear sub-steps at this tolerance (`run.wear_tolerance`, e.g. 0.05).
+    pub wear_tolerance: Option<f64>,
     /// Threads the trajectories run on (default: the machine's cores); results do not depend
     /// on it.
     pub threads: Option<usize>,
@@ -70,6 +72,9 @@ impl RunOverrides {
         }
         if let Some(m) = self.trajectories {
             scene.run.trajectories = m;
+        }
+        if let Some(t) = self.wear_tolerance {
+            scene.run.wear_tolerance = Some(t);
         }
         scene.validate(&format!("{origin} with command-line overrides"))
     }

@@ -324,7 +324,7 @@ fn fill_outcome(d: &Bound<'_, PyDict>, py: Python<'_>, o: &RunOutcome) -> PyResu
 #[pyfunction]
 #[pyo3(signature = (scene, name, cycles=None, stages=None, rtol=None, surfaces=None,
     cycles_per_stage=None, max_steps=None, max_wall_time=None, out=None, trajectories=None,
-    threads=None))]
+    threads=None, wear_tolerance=None))]
 #[allow(clippy::too_many_arguments)]
 fn run<'py>(
     py: Python<'py>,
@@ -340,6 +340,7 @@ fn run<'py>(
     out: Option<PathBuf>,
     trajectories: Option<u32>,
     threads: Option<usize>,
+    wear_tolerance: Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (spec_name, table) = if let Ok(spec) = scene.extract::<String>() {
         load_table(&spec).map_err(scene_err)?
@@ -369,6 +370,7 @@ fn run<'py>(
         max_wall_time,
         cycles_per_stage,
         trajectories,
+        wear_tolerance,
         threads,
         surfaces,
     };

@@ -138,6 +138,8 @@ def test_bad_values_name_the_field():
         wornjoint.run(scene)
     with pytest.raises(wornjoint.SceneError, match="solver.rtol"):
         wornjoint.run("slider-crank", rtol=-1.0)
+    with pytest.raises(wornjoint.SceneError, match=r"run\.wear_tolerance = 2"):
+        wornjoint.run("slider-crank", wear_tolerance=2.0)
 
 
 def test_run_failure_raises_run_error():

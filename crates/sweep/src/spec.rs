@@ -34,6 +34,7 @@ pub(crate) struct RunSection {
     pub rtol: Option<f64>,
     pub cycles_per_stage: Option<u32>,
     pub trajectories: Option<u32>,
+    pub wear_tolerance: Option<f64>,
     pub max_steps: Option<usize>,
     pub max_wall_time: Option<f64>,
 }
@@ -92,6 +93,12 @@ impl RunSection {
         if let Some(r) = self.rtol.filter(|r| !(r.is_finite() && *r > 0.0)) {
             return Err(bad("run.rtol", r, "must be a finite positive number"));
         }
+        if let Some(t) = self
+            .wear_tolerance
+            .filter(|t| !(t.is_finite() && *t > 0.0 && *t <= 1.0))
+        {
+            return Err(bad("run.wear_tolerance", t, "must lie in (0, 1]"));
+        }
         if self.cycles == Some(0) {
             return Err(bad("run.cycles", 0, "must be at least 1"));
         }
@@ -114,6 +121,7 @@ impl RunSection {
             rtol: self.rtol,
             cycles_per_stage: self.cycles_per_stage,
             trajectories: self.trajectories,
+            wear_tolerance: self.wear_tolerance,
             // The samples already run on the machine's cores: one thread each.
             threads: Some(1),
             max_steps: self.max_steps,

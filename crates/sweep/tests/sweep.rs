@@ -83,6 +83,9 @@ fn bad_files_name_the_field() {
     assert!(e.contains("samples"), "{e}");
     let e = field_error(&RANDOM.replace("cycles = 1", "cycles = \"one\""));
     assert!(e.contains("run.cycles"), "{e}");
+    // Refused up front, not by every sample.
+    let e = field_error(&RANDOM.replace("cycles = 1", "cycles = 1\nwear_tolerance = 2.0"));
+    assert!(e.contains("run.wear_tolerance = 2"), "{e}");
 }
 
 #[test]

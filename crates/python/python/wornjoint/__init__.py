@@ -136,13 +136,15 @@ def run(
     out: "str | os.PathLike[str] | None" = None,
     trajectories: Optional[int] = None,
     threads: Optional[int] = None,
+    wear_tolerance: Optional[float] = None,
 ) -> Result:
     """Simulate a scene like ``wearsim run`` with the same options (``None``: the scene's).
 
     ``scene`` is a built-in name, a TOML file or a dict (from :func:`load`, edited).
     ``cycles_per_stage`` defaults to 2 as on the command line, spread over 2 ``trajectories``
     (run on ``threads`` threads, default the machine's cores; the results do not depend on
-    it). ``out`` also writes the files
+    it). ``wear_tolerance`` (e.g. 0.05) makes the wear sub-steps error-controlled
+    (``run.wear_tolerance``). ``out`` also writes the files
     ``wearsim run --out`` writes. Raises :class:`SceneError` for bad input, :class:`RunError`
     when the run fails. The GIL is released while the simulation runs.
     """
@@ -163,6 +165,7 @@ def run(
         out=None if out is None else os.fspath(out),
         trajectories=trajectories,
         threads=threads,
+        wear_tolerance=wear_tolerance,
     )
     return Result(raw)
 
