@@ -92,6 +92,14 @@ pub trait SurfaceProfile {
     fn radius_bounds_between(&self, _start: f64, _end: f64) -> Option<(f64, f64)> {
         self.radius_bounds()
     }
+
+    /// A bound on the slope `|dR/dθ|` over the whole surface (m/rad), or `None` (the default)
+    /// when unknown. With it on the bearing, the foundation contact reuses an earlier
+    /// evaluation's overlaps to skip the nodes that cannot have reached the bearing since (the
+    /// results are the same bit for bit, only cheaper).
+    fn slope_bound(&self) -> Option<f64> {
+        None
+    }
 }
 
 /// A perfectly round surface of constant radius: the unworn pin or bearing.
@@ -125,6 +133,10 @@ impl SurfaceProfile for CircularProfile {
     fn radius_bounds(&self) -> Option<(f64, f64)> {
         Some((self.radius, self.radius))
     }
+
+    fn slope_bound(&self) -> Option<f64> {
+        Some(0.0)
+    }
 }
 
 impl<P: SurfaceProfile + ?Sized> SurfaceProfile for &P {
@@ -143,6 +155,10 @@ impl<P: SurfaceProfile + ?Sized> SurfaceProfile for &P {
 
     fn radius_bounds_between(&self, start: f64, end: f64) -> Option<(f64, f64)> {
         (**self).radius_bounds_between(start, end)
+    }
+
+    fn slope_bound(&self) -> Option<f64> {
+        (**self).slope_bound()
     }
 }
 

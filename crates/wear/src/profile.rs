@@ -401,6 +401,15 @@ impl SurfaceProfile for WornProfile {
         let b = self.nominal_radius + self.side.radius_per_depth() * high;
         Some((a.min(b), a.max(b)))
     }
+    /// Exact bound: the B-spline's derivative mixes the differences of neighbouring cells with
+    /// non-negative weights that sum to one, so it never exceeds the largest of them.
+    fn slope_bound(&self) -> Option<f64> {
+        let n = self.depth.len();
+        let steepest = (0..n)
+            .map(|k| (self.depth[(k + 1) % n] - self.depth[k]).abs())
+            .fold(0.0, f64::max);
+        Some(self.side.radius_per_depth().abs() * steepest * self.cells_per_rad)
+    }
 }
 
 /// `Σ h_k/2 · R Δθ · w` for cell depths `depths` on a surface of radius `radius`.

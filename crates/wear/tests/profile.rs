@@ -234,3 +234,38 @@ fn radius_bounds_between_hold_every_sample() {
     let round = WornProfile::new(Side::Bearing, 0.05, 100).unwrap();
     assert_eq!(round.radius_bounds_between(1.0, 2.0), Some((0.05, 0.05)));
 }
+
+/// The slope bound the foundation's overlap memory relies on holds at every sample and is
+/// tight: the spline's steepest slope found on a fine scan reaches most of it (measured:
+/// printed), and an unworn surface has none.
+#[test]
+fn slope_bound_holds_every_sample_and_is_tight() {
+    use contact::SurfaceProfile;
+    use wear::{Side, WornProfile};
+    let depths: Vec<f64> = (0..360)
+        .map(|k| 1e-5 * (1.0 + (0.37 * k as f64).sin() * (0.05 * k as f64).cos()))
+        .collect();
+    for side in [Side::Bearing, Side::Pin] {
+        let profile = WornProfile::from_depths(side, 0.05, depths.clone()).unwrap();
+        let bound = profile.slope_bound().unwrap();
+        let steepest = (0..360 * 64)
+            .map(|k| {
+                profile
+                    .sample(k as f64 * std::f64::consts::TAU / (360.0 * 64.0))
+                    .slope
+                    .abs()
+            })
+            .fold(0.0, f64::max);
+        eprintln!("{side:?}: steepest slope {steepest:.4e} m/rad, bound {bound:.4e}");
+        assert!(
+            steepest <= bound,
+            "{side:?}: {steepest} above the bound {bound}"
+        );
+        assert!(
+            steepest >= 0.7 * bound,
+            "{side:?}: bound {bound} loose ({steepest})"
+        );
+    }
+    let round = WornProfile::new(Side::Bearing, 0.05, 100).unwrap();
+    assert_eq!(round.slope_bound(), Some(0.0));
+}

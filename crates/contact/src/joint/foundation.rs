@@ -53,6 +53,13 @@
 //! profiles). In free flight (`|e| + R_j⁺ ≤ R_i⁻`) no node is visited, and the deepest overlap
 //! (the event function) is then the skipped sectors' bound. The Jacobian runs the same code on
 //! dual numbers, only on the nodes next to an overlap.
+//!
+//! Between evaluations the joint moves little (a step's Newton iterations, the next step), so
+//! plain evaluations also remember the overlaps they found and the pose they found them at
+//! (`OverlapMemory`): a node whose remembered gap stays negative by more than the distance it
+//! can have moved since (plus the bearing's slope bound times the angle that subtends) is not
+//! computed. This changes no result, bit for bit; on the worn LGRES it skips about a third of
+//! the nodes an evaluation would compute (docs/performance.md).
 
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -255,6 +262,146 @@ pub(super) struct OutlineBounds {
     /// profile is fixed while the joint is, so its spline and the node's `sin_cos` are
     /// evaluated once here instead of once per node per evaluation.
     pin_nodes: Vec<[f64; 2]>,
+    /// Largest `|r_k u(α_k)|` over the nodes (m).
+    node_reach: f64,
+    /// [`SurfaceProfile::slope_bound`] of the bearing (m/rad; `None`: no [`OverlapMemory`]).
+    bearing_slope: Option<f64>,
+    /// An earlier plain evaluation's overlaps (reset with the profiles, as it depends on them).
+    memory: OverlapMemory,
+}
+
+/// An earlier plain evaluation's node overlaps and the pose they were found at. Between
+/// evaluations a node's gap `g_k = ρ_k − R_i(ψ_k)` changes by at most the distance its point can
+/// have moved relative to the bearing, plus the bearing's slope times the angle that distance
+/// subtends ([`OutlineBounds::drift`]). A node beyond the bearing's smallest radius (where its
+/// overlap is `g_k`) whose remembered gap stays negative by more than that cannot touch, so it
+/// is not computed: the forces are the same bit for bit, the evaluation
+/// cheaper while the joint moves little (a step's Newton iterations, the next step). The
+/// deepest overlap, a diagnostic, is the same too: the memory is used for forces only while
+/// its deepest node is sure to still overlap, so no skipped node can be the deepest.
+///
+/// Interior mutability behind `&self` (the forces are evaluated through shared references):
+/// the evaluation takes the memory out and puts it back, so concurrent evaluations of one
+/// joint only miss it. It is not part of the joint's value: clones start empty and equality
+/// ignores it.
+#[derive(Default)]
+pub(super) struct OverlapMemory(std::sync::Mutex<Option<Box<Remembered>>>);
+
+struct Remembered {
+    /// The pin centre from the bearing centre in the bearing's frame (m), and the pin's angle
+    /// relative to the bearing (rad).
+    pose: Pose,
+    /// Per node, an upper bound on its gap `g_k = ρ_k − R_i(ψ_k)` at `pose` (m: its overlap,
+    /// which beyond the bearing's smallest radius is `g_k` and below it `ρ_k − R_i⁻ ≥ g_k`),
+    /// valid where `stamp` is `generation` (the nodes that evaluation visited).
+    overlap: Vec<f64>,
+    stamp: Vec<u32>,
+    generation: u32,
+    /// The deepest of those that are gaps (m): the node it belongs to is still at least this
+    /// deep less the drift.
+    deepest: f64,
+    /// Nodes computed in full then.
+    computed: usize,
+    /// An evaluation using this memory computed more than half as many nodes: renew it.
+    stale: bool,
+}
+
+impl Remembered {
+    fn empty(cells: usize) -> Box<Self> {
+        Box::new(Self {
+            pose: Pose {
+                offset: [0.0; 2],
+                turn: 0.0,
+            },
+            overlap: vec![f64::INFINITY; cells],
+            stamp: vec![0; cells],
+            generation: 0,
+            deepest: f64::NEG_INFINITY,
+            computed: 0,
+            stale: false,
+        })
+    }
+
+    /// Forgets every node and starts remembering at `pose`.
+    fn renew(&mut self, pose: Pose) {
+        self.generation = self.generation.wrapping_add(1);
+        if self.generation == 0 {
+            self.stamp.fill(0);
+            self.generation = 1;
+        }
+        self.pose = pose;
+        self.deepest = f64::NEG_INFINITY;
+        self.computed = 0;
+        self.stale = false;
+    }
+
+    /// Remembers node `cell`'s overlap; `gap` when it is the gap `g_k` itself (a node beyond
+    /// the smallest radius), whose change is bounded both ways: only those count for the
+    /// deepest, which must stay a lower bound on the node's overlap too.
+    fn note(&mut self, cell: usize, overlap: f64, gap: bool) {
+        self.overlap[cell] = overlap;
+        self.stamp[cell] = self.generation;
+        if gap {
+            self.deepest = self.deepest.max(overlap);
+        }
+    }
+
+    /// The remembered bound on node `cell`'s overlap (m; +∞ when unknown).
+    #[inline]
+    fn bound(&self, cell: usize) -> f64 {
+        if self.stamp[cell] == self.generation {
+            self.overlap[cell]
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Pose {
+    offset: [f64; 2],
+    turn: f64,
+}
+
+impl Pose {
+    fn new(e: [f64; 2], theta_bearing: f64, theta_pin: f64) -> Self {
+        let (s, c) = theta_bearing.sin_cos();
+        Self {
+            offset: [c * e[0] + s * e[1], c * e[1] - s * e[0]],
+            turn: theta_pin - theta_bearing,
+        }
+    }
+}
+
+/// Rounding allowance of [`OutlineBounds::drift`] (m): the overlaps are computed to ~1e-17 m.
+const DRIFT_MARGIN: f64 = 1e-12;
+
+impl OverlapMemory {
+    fn take(&self) -> Option<Box<Remembered>> {
+        self.0.lock().unwrap_or_else(|p| p.into_inner()).take()
+    }
+
+    fn put(&self, remembered: Box<Remembered>) {
+        *self.0.lock().unwrap_or_else(|p| p.into_inner()) = Some(remembered);
+    }
+}
+
+impl Clone for OverlapMemory {
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+impl std::fmt::Debug for OverlapMemory {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("OverlapMemory")
+    }
+}
+
+impl PartialEq for OverlapMemory {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 /// Sectors of 5.6° in which the outlines' radius bounds are kept, to skip the parts of the pin
@@ -321,8 +468,34 @@ impl OutlineBounds {
                 .copied()
                 .fold(f64::INFINITY, f64::min),
             pin_block_max,
+            node_reach: pin_nodes
+                .iter()
+                .map(|p| p[0].hypot(p[1]))
+                .fold(0.0, f64::max),
             pin_nodes,
+            bearing_slope: bearing.slope_bound().filter(|s| s.is_finite()),
+            memory: OverlapMemory::default(),
         }
+    }
+
+    /// A bound on how much any node's gap `ρ_k − R_i(ψ_k)` can differ between pose `then` and
+    /// pose `now`
+    /// (m), or `None` without a slope bound for the bearing. A node point moves relative to the
+    /// bearing by at most `b = |Δe| + r⁺ |Δθ|`; its distance from the bearing centre by at most
+    /// `b`, its direction (at least `R_i⁻` from the centre where it can touch) by at most
+    /// `asin(b/R_i⁻)`, along which the bearing radius changes by at most its slope bound times
+    /// that.
+    fn drift(&self, then: Pose, now: Pose) -> Option<f64> {
+        let slope = self.bearing_slope?;
+        let moved = (now.offset[0] - then.offset[0]).hypot(now.offset[1] - then.offset[1])
+            + self.node_reach * (now.turn - then.turn).abs();
+        let turned = if moved < self.bearing_min {
+            (moved / self.bearing_min).asin()
+        } else {
+            std::f64::consts::PI
+        };
+        let drift = moved + slope * turned + DRIFT_MARGIN;
+        drift.is_finite().then_some(drift)
     }
 
     /// Smallest bearing radius over bearing-frame angles `[start, end]` (from the sectors).
@@ -689,8 +862,10 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
 
     /// The overlap of node `cell` alone (m), cheaply: a node nearer the bearing centre than the
     /// bearing's smallest radius returns that (negative) distance without sampling the bearing.
-    /// `None` when the overlap cannot exceed `deepest`: it is at most `ρ_k − R_i⁻`, so a node
-    /// whose bound does not beat the deepest one so far is not sampled (`−∞`: always sampled).
+    /// `None` when the overlap cannot exceed `deepest`: it is at most `ρ_k − R_i⁻`, and beyond
+    /// the smallest radius at most `gap_bound` (a bound on `ρ_k − R_i(ψ_k)` from the overlap
+    /// memory, +∞ without), so a node whose bound does not beat the deepest one so far is not
+    /// sampled (`−∞`: always sampled).
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn overlap_at(
@@ -702,6 +877,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         bearing_centre_arm: &[f64; 2],
         theta_bearing: f64,
         deepest: f64,
+        gap_bound: f64,
     ) -> Option<f64> {
         let (_, _, d) = self.node_point(cell, cells, bearing, pin, bearing_centre_arm);
         let rho = d[0].hypot(d[1]);
@@ -711,6 +887,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         }
         if rho <= self.bounds.bearing_min {
             return Some(below);
+        }
+        if gap_bound <= deepest {
+            return None;
         }
         Some(
             rho - self
@@ -867,6 +1046,31 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let weight = 0.5 * foundation.line_modulus * self.bounds.node_arc;
         let candidates = self.candidates(cells, e_value, theta_pin, theta_bearing.value());
 
+        // Plain evaluations skip nodes by the overlap memory while its deepest node surely
+        // still overlaps, and otherwise renew it with the overlaps they find.
+        let pose = Pose::new(e_value, theta_bearing.value(), theta_pin);
+        let mut memory = (T::PLAIN && self.bounds.bearing_slope.is_some()).then(|| {
+            self.bounds
+                .memory
+                .take()
+                .filter(|m| m.overlap.len() == cells)
+                .unwrap_or_else(|| Remembered::empty(cells))
+        });
+        let skip_drift = memory.as_ref().filter(|m| !m.stale).and_then(|m| {
+            self.bounds
+                .drift(m.pose, pose)
+                .filter(|drift| m.deepest - drift > 0.0)
+        });
+        let mut computed = 0_usize;
+        let (skip, mut record) = match (memory.as_mut(), skip_drift) {
+            (Some(m), Some(drift)) => (Some((&**m, drift)), None),
+            (Some(m), None) => {
+                m.renew(pose);
+                (None, Some(&mut **m))
+            }
+            (None, _) => (None, None),
+        };
+
         let mut carry =
             |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| -> f64 {
                 let g_k = load_gradient * weight;
@@ -971,6 +1175,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                     &plain_arm,
                     theta_bearing.value(),
                     f64::NEG_INFINITY,
+                    f64::INFINITY,
                 )
                 .unwrap_or(f64::NEG_INFINITY)
             };
@@ -984,10 +1189,16 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             // it looks ahead with the node's distance from the bearing centre only: below the
             // bearing's smallest radius that is the overlap `node_at` gives, bit for bit, and
             // above it the node may overlap (+∞) and is computed in full.
+            // A node the memory rules out looks ahead as −∞: not computed unless a neighbour
+            // may overlap, exactly as a node below the bearing's smallest radius.
             let lookahead = |k: i64| {
                 if T::PLAIN {
-                    self.overlap_below_bearing(k.rem_euclid(n) as usize, cells, &plain, &plain_arm)
-                        .unwrap_or(f64::INFINITY)
+                    let cell = k.rem_euclid(n) as usize;
+                    self.overlap_below_bearing(cell, cells, &plain, &plain_arm)
+                        .unwrap_or_else(|| match skip {
+                            Some((m, drift)) if m.bound(cell) + drift < 0.0 => f64::NEG_INFINITY,
+                            _ => f64::INFINITY,
+                        })
                 } else {
                     overlap_at(k)
                 }
@@ -1003,6 +1214,10 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                     (!T::PLAIN || overlap_here <= 0.0).then(|| books.see_overlap(overlap_here));
                 if overlap_before > 0.0 || overlap_here > 0.0 || overlap_after > 0.0 {
                     let node = node_at(k);
+                    computed += 1;
+                    if let Some(m) = record.as_mut() {
+                        m.note(node.cell, node.overlap, node.overlap == node.g.value());
+                    }
                     if early.unwrap_or_else(|| books.see_overlap(node.overlap)) {
                         books.deepest_rate = node.g_rate.value();
                     }
@@ -1014,8 +1229,14 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                         emit(&prev, prev_part + dq_a, &mut books, &mut out);
                     }
                     previous = Some((node, right_part));
-                } else if let Some((prev, prev_part)) = previous.take() {
-                    emit(&prev, prev_part, &mut books, &mut out);
+                } else {
+                    // (Recording, this is the node's exact overlap below the smallest radius.)
+                    if let Some(m) = record.as_mut() {
+                        m.note(k.rem_euclid(n) as usize, overlap_here, false);
+                    }
+                    if let Some((prev, prev_part)) = previous.take() {
+                        emit(&prev, prev_part, &mut books, &mut out);
+                    }
                 }
                 overlap_before = overlap_here;
                 overlap_here = overlap_after;
@@ -1023,6 +1244,14 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             if let Some((last_node, last_part)) = previous {
                 emit(&last_node, last_part, &mut books, &mut out);
             }
+        }
+        if let Some(mut m) = memory {
+            if skip_drift.is_some() {
+                m.stale = 2 * computed > m.computed;
+            } else {
+                m.computed = computed;
+            }
+            self.bounds.memory.put(m);
         }
         if books.deepest.is_none_or(|d| d < candidates.outside_bound) {
             books.deepest = Some(candidates.outside_bound);
@@ -1204,21 +1433,44 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let cells = foundation.cells;
         let candidates = self.candidates(cells, e, pin_body.theta, bearing_body.theta);
         let mut deepest = candidates.outside_bound;
+        // The overlap memory skips the nodes that cannot beat the deepest so far (read only).
+        let memory = self
+            .bounds
+            .memory
+            .take()
+            .filter(|m| m.overlap.len() == cells);
+        let pose = Pose::new(e, bearing_body.theta, pin_body.theta);
+        let skip = memory
+            .as_ref()
+            .and_then(|m| Some((m, self.bounds.drift(m.pose, pose)?)));
+        // The memory's deepest node is at least this deep now: no node below it can be the
+        // deepest.
+        let floor = skip.map_or(f64::NEG_INFINITY, |(m, drift)| m.deepest - drift);
         for k in candidates.runs[..candidates.count]
             .iter()
             .flat_map(|&(first, last)| first..=last)
         {
+            let cell = k.rem_euclid(cells as i64) as usize;
+            let gap_bound = skip.map_or(f64::INFINITY, |(m, drift)| m.bound(cell) + drift);
             if let Some(g) = self.overlap_at(
-                k.rem_euclid(cells as i64) as usize,
+                cell,
                 cells,
                 &bearing,
                 &pin,
                 &bearing_centre_arm,
                 bearing_body.theta,
                 deepest,
+                if gap_bound < floor {
+                    f64::NEG_INFINITY
+                } else {
+                    gap_bound
+                },
             ) {
                 deepest = deepest.max(g);
             }
+        }
+        if let Some(m) = memory {
+            self.bounds.memory.put(m);
         }
         deepest
     }
