@@ -364,8 +364,9 @@ struct Pose {
 }
 
 impl Pose {
-    fn new(e: [f64; 2], theta_bearing: f64, theta_pin: f64) -> Self {
-        let (s, c) = theta_bearing.sin_cos();
+    /// From the offset `e` of the pin centre (global frame), the bearing's angle as its sine and
+    /// cosine, and both angles.
+    fn new(e: [f64; 2], (s, c): (f64, f64), theta_bearing: f64, theta_pin: f64) -> Self {
         Self {
             offset: [c * e[0] + s * e[1], c * e[1] - s * e[0]],
             turn: theta_pin - theta_bearing,
@@ -473,7 +474,10 @@ impl OutlineBounds {
                 .map(|p| p[0].hypot(p[1]))
                 .fold(0.0, f64::max),
             pin_nodes,
-            bearing_slope: bearing.slope_bound().filter(|s| s.is_finite()),
+            // On a round bearing a node beyond its radius overlaps: nothing to skip.
+            bearing_slope: bearing
+                .slope_bound()
+                .filter(|s| s.is_finite() && !bearing.is_round()),
             memory: OverlapMemory::default(),
         }
     }
@@ -1048,7 +1052,13 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
 
         // Plain evaluations skip nodes by the overlap memory while its deepest node surely
         // still overlaps, and otherwise renew it with the overlaps they find.
-        let pose = Pose::new(e_value, theta_bearing.value(), theta_pin);
+        let (s, c) = bearing.theta_sin_cos;
+        let pose = Pose::new(
+            e_value,
+            (s.value(), c.value()),
+            theta_bearing.value(),
+            theta_pin,
+        );
         let mut memory = (T::PLAIN && self.bounds.bearing_slope.is_some()).then(|| {
             self.bounds
                 .memory
@@ -1436,10 +1446,10 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         // The overlap memory skips the nodes that cannot beat the deepest so far (read only).
         let memory = self
             .bounds
-            .memory
-            .take()
+            .bearing_slope
+            .and_then(|_| self.bounds.memory.take())
             .filter(|m| m.overlap.len() == cells);
-        let pose = Pose::new(e, bearing_body.theta, pin_body.theta);
+        let pose = Pose::new(e, bearing.theta_sin_cos, bearing_body.theta, pin_body.theta);
         let skip = memory
             .as_ref()
             .and_then(|m| Some((m, self.bounds.drift(m.pose, pose)?)));
