@@ -203,15 +203,20 @@ fn concentrated_ranges_merge_through_zero() {
     assert_eq!(r[1].peak, 1e-6);
 }
 
+/// 360 cells of uneven wear, 0–20 µm.
+fn wavy_depths() -> Vec<f64> {
+    (0..360)
+        .map(|k| 1e-5 * (1.0 + (0.37 * k as f64).sin() * (0.05 * k as f64).cos()))
+        .collect()
+}
+
 /// The sector bounds the foundation contact skips by hold every sample of the spline inside
 /// the sector, and are exact for an unworn surface.
 #[test]
 fn radius_bounds_between_hold_every_sample() {
     use contact::SurfaceProfile;
     use wear::{Side, WornProfile};
-    let depths: Vec<f64> = (0..360)
-        .map(|k| 1e-5 * (1.0 + (0.37 * k as f64).sin() * (0.05 * k as f64).cos()))
-        .collect();
+    let depths = wavy_depths();
     for side in [Side::Bearing, Side::Pin] {
         let profile = WornProfile::from_depths(side, 0.05, depths.clone()).unwrap();
         for (start, width) in [
@@ -242,9 +247,7 @@ fn radius_bounds_between_hold_every_sample() {
 fn slope_bound_holds_every_sample_and_is_tight() {
     use contact::SurfaceProfile;
     use wear::{Side, WornProfile};
-    let depths: Vec<f64> = (0..360)
-        .map(|k| 1e-5 * (1.0 + (0.37 * k as f64).sin() * (0.05 * k as f64).cos()))
-        .collect();
+    let depths = wavy_depths();
     for side in [Side::Bearing, Side::Pin] {
         let profile = WornProfile::from_depths(side, 0.05, depths.clone()).unwrap();
         let bound = profile.slope_bound().unwrap();
