@@ -401,6 +401,7 @@ impl SurfaceProfile for WornProfile {
         let b = self.nominal_radius + self.side.radius_per_depth() * high;
         Some((a.min(b), a.max(b)))
     }
+
     /// Exact bound: the B-spline's derivative mixes the differences of neighbouring cells with
     /// non-negative weights that sum to one, so it never exceeds the largest of them.
     fn slope_bound(&self) -> Option<f64> {
