@@ -68,11 +68,11 @@ pub enum Extrapolation {
     /// fewer samples). The bounds on the clearance change apply to the predictor (the rate at
     /// the start; the applied mean rate can move a clearance slightly further): no predictor
     /// changes a local clearance by more than `max_fraction`, the first by at most
-    /// `min_fraction`, and the estimate cuts no sub-step below that bound: noise the halves do not remove (all of it without
-    /// halves) does not fall with the step and would otherwise shrink it without end; at the
-    /// floor the sub-steps are [`Adaptive`](Self::Adaptive)'s at `min_fraction`. Fails with
-    /// [`WearError::SubstepLimit`] after `max_runs` runs of the K cycles in a stage (accepted
-    /// or not). `tests/controlled.rs` measures it on closed forms; docs/convergence.md on the
+    /// `min_fraction`, and the estimate cuts no sub-step below that bound: noise the halves do
+    /// not remove (all of it without halves) does not fall with the step and would otherwise
+    /// shrink it without end; at the floor the sub-steps are [`Adaptive`](Self::Adaptive)'s at
+    /// `min_fraction`. Fails with [`WearError::SubstepLimit`] after `max_runs` runs of the K
+    /// cycles in a stage (accepted or not). `tests/controlled.rs` measures it on closed forms; docs/convergence.md on the
     /// LGRES, whose wear rate changes too fast with the worn shape for it to lengthen the
     /// sub-steps.
     Controlled {

@@ -1058,30 +1058,36 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
 
         // Plain evaluations skip nodes by the overlap memory while its deepest node surely
         // still overlaps, and otherwise renew it with the overlaps they find.
-        let (s, c) = bearing.theta_sin_cos;
-        let pose = Pose::new(
-            e_value,
-            (s.value(), c.value()),
-            theta_bearing.value(),
-            theta_pin,
-        );
+        // (No memory, no pose: nothing of it runs for round bearings or dual numbers.)
         let mut memory = (T::PLAIN && self.bounds.bearing_slope.is_some()).then(|| {
-            self.bounds
+            let (s, c) = bearing.theta_sin_cos;
+            let pose = Pose::new(
+                e_value,
+                (s.value(), c.value()),
+                theta_bearing.value(),
+                theta_pin,
+            );
+            let remembered = self
+                .bounds
                 .memory
                 .take()
                 .filter(|m| m.overlap.len() == cells)
-                .unwrap_or_else(|| Remembered::empty(cells))
+                .unwrap_or_else(|| Remembered::empty(cells));
+            (remembered, pose)
         });
-        let skip_drift = memory.as_ref().filter(|m| !m.stale).and_then(|m| {
-            self.bounds
-                .drift(m.pose, pose)
-                .filter(|drift| m.deepest - drift > 0.0)
-        });
+        let skip_drift = memory
+            .as_ref()
+            .filter(|(m, _)| !m.stale)
+            .and_then(|(m, pose)| {
+                self.bounds
+                    .drift(m.pose, *pose)
+                    .filter(|drift| m.deepest - drift > 0.0)
+            });
         let mut computed = 0_usize;
         let (skip, mut record) = match (memory.as_mut(), skip_drift) {
-            (Some(m), Some(drift)) => (Some((&**m, drift)), None),
-            (Some(m), None) => {
-                m.renew(pose);
+            (Some((m, _)), Some(drift)) => (Some((&**m, drift)), None),
+            (Some((m, pose)), None) => {
+                m.renew(*pose);
                 (None, Some(&mut **m))
             }
             (None, _) => (None, None),
@@ -1261,7 +1267,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 emit(&last_node, last_part, &mut books, &mut out);
             }
         }
-        if let Some(mut m) = memory {
+        if let Some((mut m, _)) = memory {
             if skip_drift.is_some() {
                 m.stale = 2 * computed > m.computed;
             } else {
@@ -1455,10 +1461,10 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             .bearing_slope
             .and_then(|_| self.bounds.memory.take())
             .filter(|m| m.overlap.len() == cells);
-        let pose = Pose::new(e, bearing.theta_sin_cos, bearing_body.theta, pin_body.theta);
-        let skip = memory
-            .as_ref()
-            .and_then(|m| Some((m, self.bounds.drift(m.pose, pose)?)));
+        let skip = memory.as_ref().and_then(|m| {
+            let now = Pose::new(e, bearing.theta_sin_cos, bearing_body.theta, pin_body.theta);
+            Some((m, self.bounds.drift(m.pose, now)?))
+        });
         // The memory's deepest node is at least this deep now: no node below it can be the
         // deepest.
         let floor = skip.map_or(f64::NEG_INFINITY, |(m, drift)| m.deepest - drift);
