@@ -651,8 +651,9 @@ fn the_resolution_estimate_matches_the_error_the_nodes_make() {
 /// 0.2 µm of it in the groove —
 /// one joint evaluated again and again gives the forces, diagnostics, loaded nodes, Jacobian and
 /// event function (deepest overlap) of a fresh copy without memory, bit for bit; and its plain
-/// evaluations sample the bearing at most 70 % as often (measured 53 %: the walk's states near
-/// but out of contact, a third of them, are evaluated in full).
+/// evaluations sample the bearing at most 40 % as often (measured 25 %; 53 % before states near
+/// but out of contact, a third of the walk's, passed over what the memory rules out, and before
+/// the event function started from the memory's deepest node).
 #[test]
 fn the_overlap_memory_changes_no_result_and_skips_nodes() {
     let (normal, friction) = common::lgres_laws(0.9);
@@ -754,7 +755,7 @@ fn the_overlap_memory_changes_no_result_and_skips_nodes() {
     );
     assert!(contacts > 300, "{contacts} of 600 states in contact");
     assert!(
-        ratio < 0.7,
+        ratio < 0.4,
         "the memory skipped too few nodes: {:.0} %",
         100.0 * ratio
     );
