@@ -15,6 +15,14 @@ use std::f64::consts::TAU;
 /// other angles take `rem_euclid` itself.
 #[inline]
 pub fn wrap_angle(angle: f64) -> f64 {
+    // The common cases first (the same results as below, −0.0 included): a ray angle less a
+    // body angle, or an angle already wrapped.
+    if (0.0..TAU).contains(&angle) {
+        return angle;
+    }
+    if angle < 0.0 && angle > -TAU {
+        return angle + TAU;
+    }
     let size = angle.abs();
     if size.is_nan() || size >= 2.0 * TAU || size == TAU {
         return angle.rem_euclid(TAU);

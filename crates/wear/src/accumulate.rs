@@ -135,14 +135,22 @@ impl StageWear {
             finite("node pin_angle", node.pin_angle)?;
             finite("node bearing_angle", node.bearing_angle)?;
         }
+        // The nodes of a joint share one arc: its spread factors are computed once.
+        let mut spread = (f64::NAN, 0.0, 0.0);
         for node in start.iter().chain(end) {
             let speed = node.sliding(self.sliding).abs();
             let archard_rate = self.wear_coefficient * node.normal_force * speed;
             // Depth h over the node's arc; each surface's cells hold h/2 of radius over their
             // own width at their nominal radius (`layer_volume`).
             let depth = archard_rate * 0.5 * dt / (node.arc * self.hinge_width);
-            let pin_cells = spread_factor(node.arc, self.pin_radius, self.pin.len());
-            let bearing_cells = spread_factor(node.arc, self.bearing_radius, self.bearing.len());
+            if node.arc != spread.0 {
+                spread = (
+                    node.arc,
+                    spread_factor(node.arc, self.pin_radius, self.pin.len()),
+                    spread_factor(node.arc, self.bearing_radius, self.bearing.len()),
+                );
+            }
+            let (_, pin_cells, bearing_cells) = spread;
             deposit_linear(&mut self.pin, node.pin_angle, depth * pin_cells);
             deposit_linear(&mut self.bearing, node.bearing_angle, depth * bearing_cells);
             self.archard_volume += archard_rate * 0.5 * dt;
