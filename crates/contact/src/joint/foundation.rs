@@ -417,6 +417,19 @@ impl Skip {
     }
 }
 
+/// What a renewal of the overlap memory notes for a node it does not compute in full.
+#[derive(Clone, Copy)]
+enum Noted {
+    /// Its overlap `ρ_k − R_i⁻` within the bearing's smallest radius (a bound on its gap).
+    Below,
+    /// Its gap beyond that radius, exact.
+    Gap,
+    /// The old notes' bound plus the drift, a bound on its gap now.
+    Carried,
+    /// Nothing.
+    Nothing,
+}
+
 #[derive(Clone, Copy)]
 struct Pose {
     offset: [f64; 2],
@@ -542,19 +555,21 @@ impl OutlineBounds {
         }
     }
 
-    /// A bound on how much the gap `ρ_k − R_i(ψ_k)` of a node beyond the bearing's smallest
-    /// radius at pose `then` can differ at pose `now` (m), or `None` without a slope bound for
-    /// the bearing. A node point moves relative to the bearing by at most `b = |Δe| + r⁺ |Δθ|`:
-    /// its distance from the bearing centre by at most `b`, its direction (it was at least
-    /// `R_i⁻` from the centre) by at most `asin(b/R_i⁻)`, along which the bearing radius changes
-    /// by at most its slope bound times that. (A node then below `R_i⁻` needs no angle: its
-    /// overlap `ρ_k − R_i⁻` then bounds its gap, and `ρ_k` moves by at most `b`.)
+    /// A bound on how much the gap `ρ_k − R_i(ψ_k)` of any node at pose `then` can differ at
+    /// pose `now` (m), or `None` without a slope bound for the bearing. A node point moves
+    /// relative to the bearing by at most `b = |Δe| + r⁺ |Δθ|`: its distance from the bearing
+    /// centre by at most `b`, its direction (it was at least `ρ⁻ = min(R_i⁻, r⁻ − |e|)` from the
+    /// centre, `r⁻` the pin's smallest node radius) by at most `asin(b/ρ⁻)`, along which the
+    /// bearing radius changes by at most its slope bound times that.
     fn drift(&self, then: Pose, now: Pose) -> Option<f64> {
         let slope = self.bearing_slope?;
         let moved = (now.offset[0] - then.offset[0]).hypot(now.offset[1] - then.offset[1])
             + self.node_reach * (now.turn - then.turn).abs();
-        let turned = if moved < self.bearing_min {
-            (moved / self.bearing_min).asin()
+        let nearest = self
+            .bearing_min
+            .min(self.pin_min - then.offset[0].hypot(then.offset[1]));
+        let turned = if moved < nearest {
+            (moved / nearest).asin()
         } else {
             std::f64::consts::PI
         };
@@ -964,11 +979,13 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         )
     }
 
-    /// What the streaming loop of [`Self::foundation_eval`] looks ahead with for node `cell`: in
-    /// plain arithmetic `ρ_k − R_i⁻` within the bearing's smallest radius (the node's overlap,
-    /// bit for bit), beyond it +∞ (it may overlap: computed in full), and −∞ for a node the
-    /// overlap memory rules out ([`Skip`]; within the smallest radius only while the memory's
-    /// deepest node surely overlaps). With dual numbers, the node's overlap.
+    /// What the streaming loop of [`Self::foundation_eval`] looks ahead with for node `cell`, and
+    /// what a renewal of the overlap memory may note for it if it is not computed in full. In
+    /// plain arithmetic: `ρ_k − R_i⁻` within the bearing's smallest radius (the node's overlap,
+    /// bit for bit); beyond it the node's gap if the memory remembers it apart, else +∞ (it may
+    /// overlap: computed in full); −∞ for a node the memory rules out ([`Skip`]; without
+    /// placing it only while the memory's deepest node surely overlaps). With dual numbers, the
+    /// node's overlap.
     #[inline(always)]
     fn look_ahead(
         &self,
@@ -978,7 +995,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         bearing_centre_arm: &[f64; 2],
         theta_bearing: f64,
         memory: Option<(Skip, &Remembered)>,
-    ) -> (f64, bool) {
+    ) -> (f64, Noted) {
         if !plain {
             let overlap = self
                 .overlap_at(
@@ -991,7 +1008,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                     f64::INFINITY,
                 )
                 .unwrap_or(f64::NEG_INFINITY);
-            return (overlap, false);
+            return (overlap, Noted::Nothing);
         }
         let ruled_out = memory.filter(|(skip, m)| skip.gap_bound(m, cell) < skip.level);
         if let Some((skip, _)) = ruled_out
@@ -1000,15 +1017,15 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             // The memory first, so a node it rules out is not even placed. (Within the
             // smallest radius that gives −∞ for an overlap ≤ 0: neither overlaps, and neither
             // is the deepest once the memory's deepest node, which surely overlaps, is counted.)
-            return (f64::NEG_INFINITY, false);
+            return (f64::NEG_INFINITY, Noted::Carried);
         }
         let (_, _, d) = self.node_point(cell, &bodies.0, &bodies.1, bearing_centre_arm);
         let rho = dot(&d, &d).sqrt();
         if rho <= self.bounds.bearing_min {
-            return (rho - self.bounds.bearing_min, false);
+            return (rho - self.bounds.bearing_min, Noted::Below);
         }
         if ruled_out.is_some() {
-            return (f64::NEG_INFINITY, false);
+            return (f64::NEG_INFINITY, Noted::Carried);
         }
         // A node the memory remembers apart (but within the drift of touching) is probably
         // still apart: its gap alone (as `node` computes it, bit for bit) spares the full node
@@ -1020,9 +1037,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 .bearing_profile
                 .sample(d[1].atan2(d[0]) - theta_bearing)
                 .radius;
-            return (rho - radius, true);
+            return (rho - radius, Noted::Gap);
         }
-        (f64::INFINITY, false)
+        (f64::INFINITY, Noted::Nothing)
     }
 
     /// Node `cell`'s angle on the pin, its arm from the pin body's centroid, and its offset
@@ -1300,7 +1317,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             // may overlap, exactly as a node below the bearing's smallest radius.
             // (A method, not a closure: called twice, a closure is not inlined.)
             let theta = theta_bearing.value();
-            let (mut overlap_here, mut beyond_here) = self.look_ahead(
+            let (mut overlap_here, mut noted_here) = self.look_ahead(
                 first.rem_euclid(n) as usize,
                 T::PLAIN,
                 &plain,
@@ -1309,7 +1326,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 skip.zip(mem.as_deref()),
             );
             for k in first..=last {
-                let (overlap_after, beyond_after) = if k < last {
+                let (overlap_after, noted_after) = if k < last {
                     self.look_ahead(
                         (k + 1).rem_euclid(n) as usize,
                         T::PLAIN,
@@ -1319,7 +1336,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                         skip.zip(mem.as_deref()),
                     )
                 } else {
-                    (f64::NEG_INFINITY, false)
+                    (f64::NEG_INFINITY, Noted::Nothing)
                 };
                 let early =
                     (!T::PLAIN || overlap_here <= 0.0).then(|| books.see_overlap(overlap_here));
@@ -1341,18 +1358,16 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                     }
                     previous = Some((node, right_part));
                 } else {
-                    // (Recording, this is the node's exact overlap below the smallest radius or
-                    // its gap beyond it, or for a node the old notes rule out (−∞), their bound
-                    // carried over.)
                     if let Some(m) = mem.as_deref_mut().filter(|_| recording) {
                         let cell = k.rem_euclid(n) as usize;
-                        let bound = match skip {
-                            Some(skip) if overlap_here == f64::NEG_INFINITY => {
-                                skip.gap_bound(m, cell)
+                        match (noted_here, skip) {
+                            (Noted::Below, _) => m.note(cell, overlap_here, false),
+                            (Noted::Gap, _) => m.note(cell, overlap_here, true),
+                            (Noted::Carried, Some(skip)) => {
+                                m.note(cell, skip.gap_bound(m, cell), false);
                             }
-                            _ => overlap_here,
-                        };
-                        m.note(cell, bound, beyond_here);
+                            _ => {}
+                        }
                     }
                     if let Some((prev, prev_part)) = previous.take() {
                         emit(&prev, prev_part, &mut books, &mut out);
@@ -1360,7 +1375,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 }
                 overlap_before = overlap_here;
                 overlap_here = overlap_after;
-                beyond_here = beyond_after;
+                noted_here = noted_after;
             }
             if let Some((last_node, last_part)) = previous {
                 emit(&last_node, last_part, &mut books, &mut out);
