@@ -1310,9 +1310,10 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             let mut previous: Option<(Node<T>, T)> = None;
             let mut overlap_before = f64::NEG_INFINITY;
             // Plain arithmetic would compute a node's overlap twice (here and in `node_at`), so
-            // it looks ahead with the node's distance from the bearing centre only: below the
+            // it looks ahead with the node's distance from the bearing centre: below the
             // bearing's smallest radius that is the overlap `node_at` gives, bit for bit, and
-            // above it the node may overlap (+∞) and is computed in full.
+            // above it the node may overlap (+∞) and is computed in full, unless the memory
+            // remembers it apart: then its gap alone, again bit for bit `node_at`'s.
             // A node the memory rules out looks ahead as −∞: not computed unless a neighbour
             // may overlap, exactly as a node below the bearing's smallest radius.
             // (A method, not a closure: called twice, a closure is not inlined.)
