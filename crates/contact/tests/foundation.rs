@@ -651,9 +651,8 @@ fn the_resolution_estimate_matches_the_error_the_nodes_make() {
 /// 0.2 µm of it in the groove —
 /// one joint evaluated again and again gives the forces, diagnostics, loaded nodes, Jacobian and
 /// event function (deepest overlap) of a fresh copy without memory, bit for bit; and its plain
-/// evaluations sample the bearing at most 40 % as often (measured 25 %; 53 % before states near
-/// but out of contact, a third of the walk's, passed over what the memory rules out, and before
-/// the event function started from the memory's deepest node).
+/// evaluations sample the bearing at most 40 % as often (measured 25 %; it was 53 % while the
+/// walk's states near but out of contact, a third of them, were evaluated in full).
 #[test]
 fn the_overlap_memory_changes_no_result_and_skips_nodes() {
     let (normal, friction) = common::lgres_laws(0.9);
