@@ -72,9 +72,9 @@ pub enum Extrapolation {
     /// not remove (all of it without halves) does not fall with the step and would otherwise
     /// shrink it without end; at the floor the sub-steps are [`Adaptive`](Self::Adaptive)'s at
     /// `min_fraction`. Fails with [`WearError::SubstepLimit`] after `max_runs` runs of the K
-    /// cycles in a stage (accepted or not). `tests/controlled.rs` measures it on closed forms; docs/convergence.md on the
-    /// LGRES, whose wear rate changes too fast with the worn shape for it to lengthen the
-    /// sub-steps.
+    /// cycles in a stage (accepted or not). `tests/controlled.rs` measures it on closed forms;
+    /// docs/convergence.md on the LGRES, whose wear rate changes too fast with the worn shape
+    /// for it to lengthen the sub-steps.
     Controlled {
         /// Largest estimated local error per unit of a sub-step's wear, and the stage's
         /// relative sampling noise, in `(0, 1]`.

@@ -366,12 +366,6 @@ impl Remembered {
         }
     }
 
-    /// The remembered bound on node `cell`'s overlap (m; +∞ when unknown).
-    #[inline]
-    fn bound(&self, cell: usize) -> f64 {
-        self.bound_in(cell, self.generation)
-    }
-
     /// The bound generation `generation` noted for node `cell` (+∞ when it did not, or when
     /// the node has been noted since).
     #[inline]
@@ -395,6 +389,9 @@ impl Remembered {
 struct Skip {
     generation: u32,
     drift: f64,
+    /// The memory's deepest node's lower bound now, `deepest − drift`: no node whose gap stays
+    /// below it can be the deepest.
+    floor: f64,
     level: f64,
     overlapping: bool,
 }
@@ -405,6 +402,7 @@ impl Skip {
         Self {
             generation: memory.generation,
             drift,
+            floor,
             level: floor.min(0.0),
             overlapping: floor > 0.0,
         }
@@ -1010,7 +1008,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 .unwrap_or(f64::NEG_INFINITY);
             return (overlap, Noted::Nothing);
         }
-        let ruled_out = memory.filter(|(skip, m)| skip.gap_bound(m, cell) < skip.level);
+        let gap_bound = memory.map(|(skip, m)| (skip, skip.gap_bound(m, cell)));
+        let ruled_out = gap_bound.filter(|(skip, bound)| *bound < skip.level);
         if let Some((skip, _)) = ruled_out
             && skip.overlapping
         {
@@ -1032,7 +1031,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         // if it does not overlap, nor do its neighbours. (On the worn bench cycle 4 % fewer
         // instructions than computing it in full; other thresholds, from half a drift apart to
         // seven into contact, saved 1–3 %.)
-        if memory.is_some_and(|(skip, m)| skip.gap_bound(m, cell) < skip.drift) {
+        if gap_bound.is_some_and(|(skip, bound)| bound < skip.drift) {
             let radius = self
                 .bearing_profile
                 .sample(d[1].atan2(d[0]) - theta_bearing)
@@ -1576,13 +1575,11 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             .bearing_slope
             .and_then(|_| self.bounds.memory.take())
             .filter(|m| m.overlap.len() == cells);
-        let skip = memory.as_ref().and_then(|m| {
+        let skip = memory.as_deref().and_then(|m| {
             let now = Pose::new(e, bearing.theta_sin_cos, bearing_body.theta, pin_body.theta);
-            Some((m, self.bounds.drift(m.pose, now)?))
+            Some((Skip::new(m, self.bounds.drift(m.pose, now)?), m))
         });
-        // The memory's deepest node is at least this deep now: no node below it can be the
-        // deepest.
-        let floor = skip.map_or(f64::NEG_INFINITY, |(m, drift)| m.deepest - drift);
+        let floor = skip.map_or(f64::NEG_INFINITY, |(skip, _)| skip.floor);
         let runs = &candidates.runs[..candidates.count];
         let n = cells as i64;
         let overlap_of = |cell: usize, deepest: f64, gap_bound: f64| {
@@ -1599,7 +1596,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         // The memory's deepest node first: when it still overlaps, every node whose bound does
         // not beat it is passed over below without being placed. (The maximum over the
         // candidate runs does not depend on the order in which their nodes come.)
-        if let Some(cell) = skip.and_then(|(m, _)| m.deepest_cell)
+        if let Some(cell) = skip.and_then(|(_, m)| m.deepest_cell)
             && runs
                 .iter()
                 .any(|&(first, last)| (cell as i64 - first).rem_euclid(n) <= last - first)
@@ -1609,7 +1606,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         }
         for k in runs.iter().flat_map(|&(first, last)| first..=last) {
             let cell = k.rem_euclid(n) as usize;
-            let gap_bound = skip.map_or(f64::INFINITY, |(m, drift)| m.bound(cell) + drift);
+            let gap_bound = skip.map_or(f64::INFINITY, |(skip, m)| skip.gap_bound(m, cell));
             let gap_bound = if gap_bound < floor {
                 f64::NEG_INFINITY
             } else {
