@@ -415,6 +415,9 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
             "    {:<12} bearing on {}, pin on {}: {role}",
             c.name, c.bearing_body, c.pin_body
         );
+        if !c.ideal {
+            println!("    {:<12} {}", "", c.contact_description());
+        }
     }
     println!(
         "  constraint equations: {}; degrees of freedom (3·{} − {}, clearance joints as 0): {}",
@@ -469,12 +472,33 @@ fn peak_after(b: Option<&lgres::run::PeakStats>, window: f64) -> String {
         return format!("n/a after {window} s (the start-up window covers the whole run)");
     };
     format!(
-        "{:.2} kN after {window} s (median of {} cycle peaks {:.2} kN, range {:.2}–{:.2} kN)",
+        "{:.2} kN after {window} s (median of {} cycle peaks {:.2} ± {:.2} kN, range {:.2}–{:.2} \
+         kN; elastic share at the peaks {})",
         b.max * 1e-3,
         b.cycles,
         b.cycle_median * 1e-3,
+        b.cycle_median_noise * 1e-3,
         b.cycle_min * 1e-3,
-        b.cycle_max * 1e-3
+        b.cycle_max * 1e-3,
+        elastic_share(b)
+    )
+}
+
+/// The elastic share of the per-cycle peaks in words: median and smallest, and a warning when
+/// the median peak is mostly damping.
+fn elastic_share(b: &lgres::run::PeakStats) -> String {
+    if !b.elastic_share_median.is_finite() {
+        return "n/a".to_string();
+    }
+    let warning = if b.elastic_share_median < lgres::run::MIN_ELASTIC_SHARE {
+        " — MOSTLY DAMPING: not a load the surfaces carry"
+    } else {
+        ""
+    };
+    format!(
+        "median {:.0} %, min {:.0} %{warning}",
+        100.0 * b.elastic_share_median,
+        100.0 * b.elastic_share_min
     )
 }
 
@@ -482,6 +506,9 @@ fn peak_after(b: Option<&lgres::run::PeakStats>, window: f64) -> String {
 fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
     let s = &outcome.summary;
     println!("scene {}: {}", s.scene, s.description);
+    for contact in &s.contacts {
+        println!("  contact {contact}");
+    }
     let r = &s.response;
     println!(
         "response: {} cycle(s) of {:.3} s; peaks are statistics of per-cycle maxima",

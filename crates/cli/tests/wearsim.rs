@@ -139,6 +139,52 @@ fn cycles_zero_is_rejected_naming_the_field() {
 }
 
 #[test]
+fn a_bad_layer_reference_speed_is_refused_by_check_and_run_naming_the_field() {
+    let dir = scratch("reference_speed");
+    for (contact, why) in [
+        ("{ reference_speed = 0.0 }", "must be positive"),
+        ("{ reference_speed = -1.0 }", "must be positive"),
+        ("{ reference_speed = nan }", "must be a finite number"),
+        (
+            "{ model = \"line-of-centres\", reference_speed = 0.1 }",
+            "only the foundation model takes it",
+        ),
+    ] {
+        let scene = write_scene(
+            &dir,
+            &format!(
+                "extends = \"lgres\"\n[[clearance_joints]]\nname = \"B\"\ncontact = {contact}\n"
+            ),
+        );
+        for command in ["check", "run"] {
+            let out = dir.join("out");
+            let mut args = vec![command, scene.to_str().unwrap()];
+            if command == "run" {
+                args.extend(["--out", out.to_str().unwrap()]);
+            }
+            let o = wearsim(&args);
+            assert_eq!(
+                o.status.code(),
+                Some(2),
+                "{command} {contact}: {}",
+                stderr(&o)
+            );
+            let log = stderr(&o);
+            assert!(
+                log.contains("clearance_joints[1].contact.reference_speed") && log.contains(why),
+                "{command} {contact}: {log}"
+            );
+            assert!(
+                !out.exists(),
+                "{command} {contact}: wrote {}",
+                out.display()
+            );
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
 fn transient_window_longer_than_the_run_prints_n_a() {
     let dir = scratch("window");
     let scene = write_scene(

@@ -36,6 +36,13 @@ pub struct ContactDiagnostics {
     pub geometric_sliding_velocity: f64,
     /// Normal force magnitude `F_n ≥ 0` (N): the load between the surfaces.
     pub normal_force: f64,
+    /// The conservative part of the normal force (N): `K δⁿ` on the line of centres, the
+    /// magnitude of the layer's elastic resultant `|Σ G_k m_k|` on the foundation. With
+    /// `normal_force` it splits a peak into its elastic and damping parts: a force that is
+    /// mostly damping is the rate term of a law, not a load the surfaces carry. Can exceed
+    /// `normal_force` while the surfaces separate fast (the damped force clamps at zero).
+    #[serde(default)]
+    pub elastic_force: f64,
     /// Signed friction force along the contact tangent (N): `c_f c_d F_n sgn(v_t)`.
     pub friction_force: f64,
     /// Global position of the contact point on the bearing surface (m).

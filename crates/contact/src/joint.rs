@@ -50,7 +50,8 @@ mod general;
 
 use foundation::OutlineBounds;
 pub use foundation::{
-    ContactModel, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, NodeLoad,
+    ContactModel, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, DEFAULT_REFERENCE_SPEED,
+    Foundation, NodeLoad,
 };
 
 /// Which relative velocity of the contact counts as sliding (for friction, and for wear).
@@ -792,6 +793,7 @@ struct Loads {
     tangential_velocity: f64,
     geometric_sliding_velocity: f64,
     normal_force: f64,
+    elastic_force: f64,
     friction_force: f64,
     elastic_energy: f64,
     damping_power: f64,
@@ -818,6 +820,7 @@ fn diagnostics(
         tangential_velocity: loads.tangential_velocity,
         geometric_sliding_velocity: loads.geometric_sliding_velocity,
         normal_force: loads.normal_force,
+        elastic_force: loads.elastic_force,
         friction_force: loads.friction_force,
         contact_point: [kin.bearing_point.x, kin.bearing_point.y],
         elastic_energy: loads.elastic_energy,
@@ -864,6 +867,7 @@ fn assemble(
         tangential_velocity: kin.tangential_velocity,
         geometric_sliding_velocity: kin.penetration * kin.contact_angle_rate(),
         normal_force: normal.force,
+        elastic_force: normal.elastic,
         friction_force,
         elastic_energy: normal.potential,
         damping_power: (normal.force - normal.elastic) * kin.normal_velocity,

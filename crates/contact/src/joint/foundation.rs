@@ -85,6 +85,10 @@ pub const DEFAULT_REFERENCE_OVERLAP: f64 = 0.04;
 /// Default number of nodes on the pin's outline (the wear grid's default cell count).
 pub const DEFAULT_FOUNDATION_CELLS: usize = 1000;
 
+/// Default reference impact speed of the layer's damping (m/s): the slowest onset velocity its
+/// hysteresis factor is scaled by (see [`Foundation::with_reference_speed`]).
+pub const DEFAULT_REFERENCE_SPEED: f64 = 0.1;
+
 /// Parameters of the elastic-foundation contact: the layer and the nodes on the pin.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Foundation {
@@ -93,6 +97,13 @@ pub struct Foundation {
     line_modulus: f64,
     /// Nodes on the pin's outline over 360°.
     cells: usize,
+    /// The slowest onset velocity the layer's damping is scaled by (m/s).
+    #[serde(default = "default_reference_speed")]
+    reference_speed: f64,
+}
+
+fn default_reference_speed() -> f64 {
+    DEFAULT_REFERENCE_SPEED
 }
 
 impl Foundation {
@@ -104,6 +115,7 @@ impl Foundation {
         Self {
             line_modulus: effective_modulus / std::f64::consts::SQRT_2,
             cells: DEFAULT_FOUNDATION_CELLS,
+            reference_speed: DEFAULT_REFERENCE_SPEED,
         }
     }
 
@@ -162,6 +174,7 @@ impl Foundation {
         Ok(Self {
             line_modulus,
             cells: DEFAULT_FOUNDATION_CELLS,
+            reference_speed: DEFAULT_REFERENCE_SPEED,
         })
     }
 
@@ -177,6 +190,24 @@ impl Foundation {
         }
         self.cells = cells;
         Ok(self)
+    }
+
+    /// The same layer whose damping takes an onset velocity of at least `speed` (m/s, > 0):
+    /// node `k` carries `G_k (1 + χ ġ_k / max(|δ̇⁻|, v_ref))`, `χ` the joint's normal law's
+    /// hysteresis factor. An impact at `v_ref` or faster keeps the law's restitution `c_e`; a
+    /// slower one is damped less (for Lankarani–Nikravesh `1 − c² ≈ (1 − c_e²) v/v_ref`), and
+    /// a contact that began gently, such as a pin sliding in its groove, adds at most
+    /// `χ ġ_k/v_ref` of its elastic load instead of `χ ġ_k/10⁻⁴ m/s`. Choose `v_ref` near the
+    /// scene's typical impact speed (docs/model.md §10.6).
+    pub fn with_reference_speed(mut self, speed: f64) -> Result<Self, ContactError> {
+        positive("reference_speed", speed)?;
+        self.reference_speed = speed;
+        Ok(self)
+    }
+
+    /// The slowest onset velocity the layer's damping is scaled by (m/s).
+    pub fn reference_speed(&self) -> f64 {
+        self.reference_speed
     }
 
     /// `k w` (Pa).
@@ -721,6 +752,8 @@ struct Books {
     friction_power: f64,
     friction_force: f64,
     normal_resultant: [f64; 2],
+    /// `Σ G_k m_k` over the overlapping nodes, clamped ones included.
+    elastic_resultant: [f64; 2],
     load: f64,
     load_sliding: f64,
     /// The deepest overlap seen (m), and the rate `ġ` of its node once computed.
@@ -1154,7 +1187,12 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         } else {
             0.0
         };
-        let onset = onset_velocity.unwrap_or(centre_rate);
+        // The impact's onset velocity, floored at the layer's reference speed: a contact that
+        // began gently keeps a bounded damping coefficient (`Foundation::with_reference_speed`).
+        let onset = onset_velocity
+            .unwrap_or(centre_rate)
+            .abs()
+            .max(foundation.reference_speed);
         let theta_bearing = bearing_state[2];
         let theta_pin = pin_state[2].value();
 
@@ -1214,6 +1252,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 if g_k.value() <= 0.0 {
                     return 0.0;
                 }
+                books.elastic_resultant[0] += g_k.value() * node.m[0].value();
+                books.elastic_resultant[1] += g_k.value() * node.m[1].value();
                 let (factor, d_factor) = self.normal_law.hysteresis(node.g_rate.value(), onset);
                 if factor <= 0.0 {
                     // Clamped: the layer does not pull; its elastic load is released as damping.
@@ -1466,6 +1506,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             },
             geometric_sliding_velocity: penetration.max(0.0) * phi_rate,
             normal_force: books.normal_resultant[0].hypot(books.normal_resultant[1]),
+            elastic_force: books.elastic_resultant[0].hypot(books.elastic_resultant[1]),
             friction_force: books.friction_force,
             contact_point: [
                 centre[0] + bearing_sample.radius * cos,

@@ -136,6 +136,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             tangential_velocity: material_sliding,
             geometric_sliding_velocity: kin.penetration * phi_rate,
             normal_force: load,
+            elastic_force: normal.elastic * m_norm,
             friction_force: friction.force,
             elastic_energy: normal.potential,
             damping_power: (normal.force - normal.elastic) * delta_rate - released,

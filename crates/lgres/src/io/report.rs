@@ -105,8 +105,9 @@ fn scene_line(s: &Summary) -> String {
         },
     );
     format!(
-        "{} — {} response cycle(s) of {} s; response body {}; {wear}; {} wall time.",
+        "{} — contact {}. {} response cycle(s) of {} s; response body {}; {wear}; {} wall time.",
         s.description,
+        s.contacts.join("; "),
         s.response.cycles,
         sig(s.period_s, 4),
         s.response_body,
@@ -153,7 +154,10 @@ fn forces(html: &mut Html, s: &Summary) {
     html.lede(&format!(
         "Peaks are statistics of per-cycle maxima after the {} s start-up window (the clearance \
          dynamics are chaotic: single peaks do not repeat). Validity: whether the (worn) geometry \
-         stayed where the contact model holds; a joint outside it has no result.",
+         stayed where the contact model holds; a joint outside it has no result. Noise: the \
+         bootstrap standard deviation of the median. Elastic share: the conservative part of the \
+         force at each cycle's peak, median (smallest); the rest is the law's damping term, and a \
+         median below 50 % is flagged.",
         sig(s.transient_window_s, 3)
     ));
     let mut rows = Vec::new();
@@ -168,7 +172,9 @@ fn forces(html: &mut Html, s: &Summary) {
             "joint",
             "cycles",
             "median peak",
+            "± noise",
             "IQR",
+            "elastic share",
             "max after window",
             "max incl. start-up",
             "max penetration",
@@ -191,12 +197,30 @@ fn force_row(label: &str, j: &JointSummary) -> Vec<Td> {
         Td::text(&j.name),
         Td::num(after.map_or_else(|| "0".into(), |p| p.cycles.to_string())),
         Td::num(stat(|p| p.cycle_median)),
+        Td::num(stat(|p| p.cycle_median_noise)),
         Td::num(stat(|p| p.cycle_iqr)),
+        share_cell(after),
         Td::num(stat(|p| p.max)),
         Td::num(kn(j.normal_force_all.max)),
         Td::num(micro(j.max_penetration_m)),
         validity,
     ]
+}
+
+/// The elastic share of the peaks (median, smallest), marked when the median is mostly
+/// damping.
+fn share_cell(after: Option<&PeakStats>) -> Td {
+    match after.filter(|p| p.elastic_share_median.is_finite()) {
+        None => Td::text("n/a"),
+        Some(p) => Td::Verdict(
+            format!(
+                "{:.0} % (min {:.0} %)",
+                100.0 * p.elastic_share_median,
+                100.0 * p.elastic_share_min
+            ),
+            p.elastic_share_median >= crate::run::MIN_ELASTIC_SHARE,
+        ),
+    }
 }
 
 fn deviations(html: &mut Html, s: &Summary) {

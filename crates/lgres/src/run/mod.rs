@@ -54,7 +54,10 @@ pub use outcome::{
 use record::{Ideal, assemble, respond, simulate};
 use stages::stages;
 use summary::summarize;
-pub use summary::{ENERGY_BOOKS_TOLERANCE_J, STAGE_HALVES_TOLERANCE, peak_stats};
+pub use summary::{
+    ENERGY_BOOKS_TOLERANCE_J, MIN_ELASTIC_SHARE, STAGE_HALVES_TOLERANCE, median_bootstrap_noise,
+    peak_stats,
+};
 
 /// Most frames an animation shows: one drive cycle in at most this many poses
 /// ([`MechanismFrames`], [`crate::io::animation`]).
@@ -405,6 +408,11 @@ pub fn run_scene(
     let summary = Summary {
         scene: name.to_string(),
         description: scene.description.clone(),
+        contacts: scene
+            .clearance_joints
+            .iter()
+            .map(|j| format!("{}: {}", j.name, j.contact_description()))
+            .collect(),
         response_body: scene.bodies[body].name.clone(),
         period_s: period,
         transient_window_s: scene.run.transient_window,

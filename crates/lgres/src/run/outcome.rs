@@ -50,6 +50,9 @@ pub struct ContactSeries {
     pub clearance: f64,
     /// Normal force `F_n`, N.
     pub normal_force: Vec<f64>,
+    /// Its conservative part (the contact law's elastic force or the layer's elastic
+    /// resultant), N: `normal_force − elastic_force` is the damping.
+    pub elastic_force: Vec<f64>,
     /// Signed friction force along the tangent, N.
     pub friction_force: Vec<f64>,
     /// Penetration `δ` (negative: free), m.
@@ -177,6 +180,14 @@ pub struct PeakStats {
     pub cycle_max: f64,
     /// Interquartile range of the per-cycle peaks, N.
     pub cycle_iqr: f64,
+    /// Sampling noise of `cycle_median`: the standard deviation of the median over bootstrap
+    /// resamples of the per-cycle peaks (N; 0 with one cycle, where it is unknown).
+    pub cycle_median_noise: f64,
+    /// Median over the cycles of the elastic share `F_e/F_n` at each cycle's peak: near 1 the
+    /// peak is a load the surfaces carry; well below, the damping term of the law holds it up.
+    pub elastic_share_median: f64,
+    /// Smallest elastic share at a cycle's peak.
+    pub elastic_share_min: f64,
 }
 
 /// Contact summary of one joint in one response run.
@@ -406,6 +417,9 @@ pub struct Summary {
     pub scene: String,
     /// Scene description.
     pub description: String,
+    /// The contact that ran at each clearance joint, `name: model, law and damping; friction`
+    /// (the description is the scene author's words; this is what the code ran).
+    pub contacts: Vec<String>,
     /// Body whose response is recorded.
     pub response_body: String,
     /// Drive period, s.

@@ -77,6 +77,7 @@ impl Observer for Recorder<'_> {
                 .map(|p| p.outline_overlap(frame.q, OVERLAP_SAMPLES).depth);
             tally.frame(&d, overlap);
             series.normal_force.push(d.normal_force);
+            series.elastic_force.push(d.elastic_force);
             series.friction_force.push(d.friction_force);
             series.penetration.push(d.penetration);
             series.eccentricity.push(d.eccentricity);

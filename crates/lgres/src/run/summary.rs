@@ -92,20 +92,34 @@ pub(super) fn summarize(
                 ));
             }
         }
+        let after_transient = Some(peak_stats(
+            &response.times,
+            &series.normal_force,
+            &series.elastic_force,
+            period,
+            window,
+        ))
+        .filter(|p| p.cycles > 0);
+        let validity = series.validity.clone().map(|mut v| {
+            if let Some(p) = &after_transient {
+                v.judge_elastic_share(p.elastic_share_median);
+            }
+            v
+        });
         joint_summaries.push(JointSummary {
             name: series.name.clone(),
             clearance_m: series.clearance,
-            normal_force_all: peak_stats(&response.times, &series.normal_force, period, 0.0),
-            normal_force_after_transient: Some(peak_stats(
+            normal_force_all: peak_stats(
                 &response.times,
                 &series.normal_force,
+                &series.elastic_force,
                 period,
-                window,
-            ))
-            .filter(|p| p.cycles > 0),
+                0.0,
+            ),
+            normal_force_after_transient: after_transient,
             max_penetration_m: series.penetration.iter().copied().fold(f64::MIN, f64::max),
             max_eccentricity_m: series.eccentricity.iter().copied().fold(0.0, f64::max),
-            validity: series.validity.clone(),
+            validity,
             friction_dissipation_per_cycle_j: books.friction * per_cycle,
             damping_dissipation_per_cycle_j: books.damping * per_cycle,
             elastic_energy_start_j: books.stored_start,
@@ -155,43 +169,113 @@ pub(super) fn numerics(r: &SimulationResult) -> Numerics {
     }
 }
 
-/// Per-cycle peaks of `values` for samples at `t ≥ from`.
-pub fn peak_stats(times: &[f64], values: &[f64], period: f64, from: f64) -> PeakStats {
-    let mut peaks: Vec<f64> = Vec::new();
-    let mut current: Option<(usize, f64)> = None;
-    for (t, v) in times.iter().zip(values) {
+/// Per-cycle peaks of `values` for samples at `t ≥ from`, with the elastic share
+/// `elastic/value` at each cycle's peak sample (`elastic` may be empty: no shares).
+pub fn peak_stats(
+    times: &[f64],
+    values: &[f64],
+    elastic: &[f64],
+    period: f64,
+    from: f64,
+) -> PeakStats {
+    // Per cycle: (peak, elastic share at the peak).
+    let mut peaks: Vec<(f64, f64)> = Vec::new();
+    let mut current: Option<(usize, f64, f64)> = None;
+    for (k, (t, v)) in times.iter().zip(values).enumerate() {
         if *t < from {
             continue;
         }
+        let share = match elastic.get(k) {
+            Some(e) if *v > 0.0 => e / v,
+            _ => f64::NAN,
+        };
         // A sample exactly at the end of the run belongs to the last cycle.
         let cycle = ((t / period) * (1.0 - 1e-12)).floor().max(0.0) as usize;
         match current {
-            Some((c, peak)) if c == cycle => current = Some((c, peak.max(*v))),
-            Some((_, peak)) => {
-                peaks.push(peak);
-                current = Some((cycle, *v));
+            Some((c, peak, _)) if c == cycle && peak >= *v => {}
+            Some((c, _, _)) if c == cycle => current = Some((c, *v, share)),
+            Some((_, peak, peak_share)) => {
+                peaks.push((peak, peak_share));
+                current = Some((cycle, *v, share));
             }
-            None => current = Some((cycle, *v)),
+            None => current = Some((cycle, *v, share)),
         }
     }
-    peaks.extend(current.map(|(_, p)| p));
+    peaks.extend(current.map(|(_, p, s)| (p, s)));
     if peaks.is_empty() {
         return PeakStats::default();
     }
+    let mut shares: Vec<f64> = peaks
+        .iter()
+        .map(|p| p.1)
+        .filter(|s| s.is_finite())
+        .collect();
+    let mut peaks: Vec<f64> = peaks.into_iter().map(|p| p.0).collect();
     peaks.sort_by(f64::total_cmp);
-    let quantile = |q: f64| {
-        let x = q * (peaks.len() - 1) as f64;
-        let (lo, hi) = (x.floor() as usize, x.ceil() as usize);
-        peaks[lo] + (x - lo as f64) * (peaks[hi] - peaks[lo])
-    };
+    shares.sort_by(f64::total_cmp);
     PeakStats {
         max: peaks[peaks.len() - 1],
         cycles: peaks.len(),
-        cycle_median: quantile(0.5),
+        cycle_median: quantile(&peaks, 0.5),
         cycle_min: peaks[0],
         cycle_max: peaks[peaks.len() - 1],
-        cycle_iqr: quantile(0.75) - quantile(0.25),
+        cycle_iqr: quantile(&peaks, 0.75) - quantile(&peaks, 0.25),
+        cycle_median_noise: median_bootstrap_noise(&peaks),
+        elastic_share_median: if shares.is_empty() {
+            f64::NAN
+        } else {
+            quantile(&shares, 0.5)
+        },
+        elastic_share_min: shares.first().copied().unwrap_or(f64::NAN),
     }
+}
+
+/// The `q`-quantile of sorted, non-empty `values`, interpolated linearly.
+fn quantile(values: &[f64], q: f64) -> f64 {
+    let x = q * (values.len() - 1) as f64;
+    let (lo, hi) = (x.floor() as usize, x.ceil() as usize);
+    values[lo] + (x - lo as f64) * (values[hi] - values[lo])
+}
+
+/// Median elastic share of the per-cycle force peaks below which a response's forces are
+/// mostly the damping term of the law, not loads the surfaces carry: flagged, not results.
+pub const MIN_ELASTIC_SHARE: f64 = 0.5;
+
+/// Bootstrap resamples behind [`median_bootstrap_noise`].
+const BOOTSTRAP_RESAMPLES: usize = 2000;
+
+/// The standard deviation of the median of `sorted` over [`BOOTSTRAP_RESAMPLES`] resamples drawn
+/// with replacement: the sampling noise of a median of per-cycle peaks. Deterministic (a fixed
+/// SplitMix64 stream), so a run's summary is reproducible; 0 for fewer than two values.
+pub fn median_bootstrap_noise(sorted: &[f64]) -> f64 {
+    let n = sorted.len();
+    if n < 2 {
+        return 0.0;
+    }
+    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut next = move || {
+        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let mut sample = vec![0.0; n];
+    let (mut sum, mut sum_sq) = (0.0, 0.0);
+    for _ in 0..BOOTSTRAP_RESAMPLES {
+        for slot in sample.iter_mut() {
+            // Multiply-shift: an index in 0..n without modulo bias worth the name (n ≪ 2³²).
+            *slot = sorted[(((next() >> 32) * n as u64) >> 32) as usize];
+        }
+        sample.sort_by(f64::total_cmp);
+        let m = quantile(&sample, 0.5);
+        sum += m;
+        sum_sq += m * m;
+    }
+    let mean = sum / BOOTSTRAP_RESAMPLES as f64;
+    (sum_sq / BOOTSTRAP_RESAMPLES as f64 - mean * mean)
+        .max(0.0)
+        .sqrt()
 }
 
 pub(super) fn deviation(r: &Response, from: f64) -> Deviation {
@@ -222,3 +306,68 @@ pub(super) fn deviation(r: &Response, from: f64) -> Deviation {
 /// wear counts as converged in K. The stage's result averages both halves, so its own sampling
 /// noise is about `1/√2` of this.
 pub const STAGE_HALVES_TOLERANCE: f64 = 0.1;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// For a large sample from a normal distribution the median's standard error is
+    /// `√(π/2) σ/√n` (asymptotic); the bootstrap must find it within 15 % (its own resampling
+    /// noise at 2000 resamples is ~2 %, the rest is the finite sample).
+    #[test]
+    fn bootstrap_noise_of_the_median_matches_the_normal_closed_form() {
+        let n = 201;
+        // Evenly spaced normal quantiles (σ = 1) by bisection on the error function's series.
+        let cdf = |x: f64| 0.5 * (1.0 + erf(x / std::f64::consts::SQRT_2));
+        let sample: Vec<f64> = (0..n)
+            .map(|k| {
+                let p = (k as f64 + 0.5) / n as f64;
+                let (mut lo, mut hi) = (-10.0, 10.0);
+                for _ in 0..80 {
+                    let mid = 0.5 * (lo + hi);
+                    if cdf(mid) < p { lo = mid } else { hi = mid }
+                }
+                0.5 * (lo + hi)
+            })
+            .collect();
+        let expected = (std::f64::consts::PI / 2.0).sqrt() / (n as f64).sqrt();
+        let noise = median_bootstrap_noise(&sample);
+        assert!(
+            (noise / expected - 1.0).abs() < 0.15,
+            "{noise} vs {expected}"
+        );
+        assert_eq!(median_bootstrap_noise(&sample[..1]), 0.0);
+        // Constant peaks have no noise.
+        assert_eq!(median_bootstrap_noise(&[3.0; 7]), 0.0);
+    }
+
+    /// Abramowitz & Stegun 7.1.26 (|error| < 1.5e-7), enough for the quantiles above.
+    fn erf(x: f64) -> f64 {
+        let t = 1.0 / (1.0 + 0.327_591_1 * x.abs());
+        let poly = t
+            * (0.254_829_592
+                + t * (-0.284_496_736
+                    + t * (1.421_413_741 + t * (-1.453_152_027 + t * 1.061_405_429))));
+        (1.0 - poly * (-x * x).exp()).copysign(x)
+    }
+
+    /// The elastic share is read at each cycle's peak sample, not elsewhere in the cycle.
+    #[test]
+    fn the_elastic_share_is_taken_at_each_cycles_peak() {
+        // Two cycles of four samples; the peaks (10 and 20) carry elastic parts 4 and 18.
+        let times = [0.0, 0.25, 0.5, 0.75, 1.0, 1.25, 1.5, 1.75];
+        let force = [1.0, 10.0, 2.0, 0.0, 5.0, 6.0, 20.0, 1.0];
+        let elastic = [1.0, 4.0, 2.0, 0.0, 5.0, 6.0, 18.0, 1.0];
+        let p = peak_stats(&times, &force, &elastic, 1.0, 0.0);
+        assert_eq!(p.cycles, 2);
+        assert_eq!(p.cycle_median, 15.0);
+        assert_eq!(p.elastic_share_min, 0.4);
+        assert!((p.elastic_share_median - 0.65).abs() < 1e-12);
+        // Without an elastic series the share is unknown, not zero.
+        assert!(
+            peak_stats(&times, &force, &[], 1.0, 0.0)
+                .elastic_share_median
+                .is_nan()
+        );
+    }
+}

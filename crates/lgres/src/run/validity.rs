@@ -55,6 +55,9 @@ pub struct Limits {
     /// Foundation: largest estimated relative error of the normal load from the grid's
     /// resolution of the contact zones, at frames overlapping by more than 1 % of the clearance.
     pub resolution_error: f64,
+    /// Smallest median elastic share `F_e/F_n` of the per-cycle force peaks after the
+    /// start-up window: below it the peaks are mostly the law's damping term.
+    pub elastic_share: f64,
 }
 
 impl Default for Limits {
@@ -67,6 +70,7 @@ impl Default for Limits {
             missed_contact_fraction: 0.01,
             overlap_ratio: 0.2,
             resolution_error: 0.02,
+            elastic_share: crate::run::MIN_ELASTIC_SHARE,
         }
     }
 }
@@ -107,6 +111,9 @@ pub struct Validity {
     /// `contact::ContactDiagnostics::resolution_error`), at frames overlapping by more than 1 %
     /// of the clearance.
     pub max_resolution_error: f64,
+    /// Median elastic share of the per-cycle force peaks after the start-up window (`None`:
+    /// not judged, e.g. no peak after the window).
+    pub elastic_share_median: Option<f64>,
     /// The limits applied.
     pub limits: Limits,
 }
@@ -146,6 +153,7 @@ impl Tally {
                 narrowest_zone_cells: None,
                 max_contact_zones: 0,
                 max_resolution_error: 0.0,
+                elastic_share_median: None,
                 limits,
             },
         }
@@ -288,6 +296,26 @@ impl Tally {
             .collect();
         v.inside = v.reasons.is_empty();
         self.validity
+    }
+}
+
+impl Validity {
+    /// Judges the response's force peaks by their median elastic share (any contact model): a
+    /// response whose peaks are mostly the damping term of its law has no force results.
+    pub fn judge_elastic_share(&mut self, share: f64) {
+        if !share.is_finite() {
+            return;
+        }
+        self.elastic_share_median = Some(share);
+        if share < self.limits.elastic_share {
+            self.reasons.push(format!(
+                "the median force peak is only {:.0} % elastic: the rest is the damping term of \
+                 the law, not a load the surfaces carry (limit {:.0} %)",
+                100.0 * share,
+                100.0 * self.limits.elastic_share
+            ));
+            self.inside = false;
+        }
     }
 }
 

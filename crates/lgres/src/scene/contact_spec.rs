@@ -5,7 +5,8 @@ use serde::{Deserialize, Serialize};
 use super::ClearanceJoint;
 
 /// The contact model of a clearance joint, e.g. `contact = { model = "foundation" }` or
-/// `contact = { model = "foundation", layer_modulus = 5e14, width = 0.1, cells = 2000 }`.
+/// `contact = { model = "foundation", layer_modulus = 5e14, width = 0.1, cells = 2000,
+/// reference_speed = 0.1 }`.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
@@ -25,6 +26,13 @@ pub struct ContactSpec {
     /// contact zones; the outline between cell centres is linear).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cells: Option<usize>,
+    /// Foundation: the layer damping's reference impact speed `v_ref`, m/s. Each node's
+    /// damping is the joint's normal law with the impact's onset velocity taken as at least
+    /// this: impacts at `v_ref` or faster rebound with the law's restitution, slower ones and
+    /// a pin sliding in its groove are damped as an impact at `v_ref` would be. Default
+    /// `contact::DEFAULT_REFERENCE_SPEED` (0.1 m/s; docs/model.md §10.6).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reference_speed: Option<f64>,
 }
 
 impl ContactSpec {
@@ -80,6 +88,72 @@ impl ClearanceJoint {
             .cells
             .or(self.wear.map(|w| w.cells))
             .unwrap_or(contact::DEFAULT_FOUNDATION_CELLS);
-        Ok(contact::ContactModel::Foundation(layer.with_cells(cells)?))
+        let layer = layer.with_cells(cells)?.with_reference_speed(
+            spec.reference_speed
+                .unwrap_or(contact::DEFAULT_REFERENCE_SPEED),
+        )?;
+        Ok(contact::ContactModel::Foundation(layer))
+    }
+}
+
+impl ClearanceJoint {
+    /// The contact that runs at this joint in words: model, normal law and the damping it
+    /// applies, friction. Printed beside the scene's description and in the report, so that
+    /// every result names the laws behind it.
+    pub fn contact_description(&self) -> String {
+        use contact::NormalLawParams as N;
+        let (law, damped) = match &self.normal_law {
+            N::LankaraniNikravesh(p) => {
+                (format!("Lankarani–Nikravesh c_e = {}", p.restitution), true)
+            }
+            N::HuntCrossley(p) => (format!("Hunt–Crossley c_e = {}", p.restitution), true),
+            N::Flores(p) => (format!("Flores c_e = {}", p.restitution), true),
+            N::Hertz(_) => ("Hertz (undamped)".to_string(), false),
+        };
+        let elastic = matches!(
+            &self.normal_law,
+            N::LankaraniNikravesh(p) | N::HuntCrossley(p) | N::Flores(p) if p.restitution >= 1.0
+        );
+        let damping = |speed: &str| {
+            if damped && !elastic {
+                format!("{law}, {speed}")
+            } else {
+                format!("{law}, no damping")
+            }
+        };
+        let friction = match &self.friction {
+            contact::FrictionLawParams::Ambrosio(p) => {
+                format!("Ambrósio friction μ = {}", p.coefficient)
+            }
+            contact::FrictionLawParams::Coulomb(p) => {
+                format!("Coulomb friction μ = {}", p.coefficient)
+            }
+            contact::FrictionLawParams::None => "no friction".to_string(),
+        };
+        let spec = &self.contact;
+        let normal = match spec.model {
+            ContactModelName::LineOfCentres => format!(
+                "line-of-centres contact, {}",
+                damping(&match &self.normal_law {
+                    N::LankaraniNikravesh(p) | N::HuntCrossley(p) | N::Flores(p) => format!(
+                        "damping on the impact's onset velocity (floor {} m/s)",
+                        p.onset_velocity_floor
+                    ),
+                    N::Hertz(_) => String::new(),
+                })
+            ),
+            ContactModelName::Foundation => format!(
+                "elastic-foundation contact ({} nodes), {}",
+                spec.cells
+                    .or(self.wear.map(|w| w.cells))
+                    .unwrap_or(contact::DEFAULT_FOUNDATION_CELLS),
+                damping(&format!(
+                    "layer damping on the onset velocity floored at v_ref = {} m/s",
+                    spec.reference_speed
+                        .unwrap_or(contact::DEFAULT_REFERENCE_SPEED)
+                ))
+            ),
+        };
+        format!("{normal}; {friction}")
     }
 }

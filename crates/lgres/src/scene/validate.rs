@@ -295,6 +295,7 @@ impl Validator {
                 ("layer_modulus", spec.layer_modulus.is_some()),
                 ("width", spec.width.is_some()),
                 ("cells", spec.cells.is_some()),
+                ("reference_speed", spec.reference_speed.is_some()),
             ] {
                 if given {
                     self.push(
@@ -319,6 +320,9 @@ impl Validator {
         }
         if let Some(w) = spec.width {
             self.number(&format!("{q}.width"), w, true);
+        }
+        if let Some(v) = spec.reference_speed {
+            self.number(&format!("{q}.reference_speed"), v, true);
         }
         if let Some(n) = spec.cells {
             if !(8..=MAX_WEAR_CELLS).contains(&n) {
