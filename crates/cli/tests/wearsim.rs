@@ -139,16 +139,35 @@ fn cycles_zero_is_rejected_naming_the_field() {
 }
 
 #[test]
-fn a_bad_layer_reference_speed_is_refused_by_check_and_run_naming_the_field() {
+fn bad_layer_fields_are_refused_by_check_and_run_naming_the_field() {
     let dir = scratch("reference_speed");
-    for (contact, why) in [
-        ("{ reference_speed = 0.0 }", "must be positive"),
-        ("{ reference_speed = -1.0 }", "must be positive"),
-        ("{ reference_speed = nan }", "must be a finite number"),
+    for (contact, field, why) in [
+        (
+            "{ reference_speed = 0.0 }",
+            "reference_speed",
+            "must be positive",
+        ),
+        (
+            "{ reference_speed = -1.0 }",
+            "reference_speed",
+            "must be positive",
+        ),
+        (
+            "{ reference_speed = nan }",
+            "reference_speed",
+            "must be a finite number",
+        ),
         (
             "{ model = \"line-of-centres\", reference_speed = 0.1 }",
+            "reference_speed",
             "only the foundation model takes it",
         ),
+        (
+            "{ layer = \"pin-in-hole\", layer_modulus = 5e14 }",
+            "layer",
+            "give one of the two",
+        ),
+        ("{ layer = \"banana\" }", "layer", "unknown variant"),
     ] {
         let scene = write_scene(
             &dir,
@@ -171,7 +190,7 @@ fn a_bad_layer_reference_speed_is_refused_by_check_and_run_naming_the_field() {
             );
             let log = stderr(&o);
             assert!(
-                log.contains("clearance_joints[1].contact.reference_speed") && log.contains(why),
+                log.contains(&format!("clearance_joints[1].contact.{field}")) && log.contains(why),
                 "{command} {contact}: {log}"
             );
             assert!(

@@ -318,55 +318,77 @@ impl SurfaceProfile for FittedGroove {
 }
 
 /// The conformal limit of the layer: a pin pressed `δ` further into a groove it fits overlaps by
-/// `δ cos α` over the half outline facing the push, so the layer carries
+/// `δ cos α` over the half outline facing the push (Persson's and Ciavarella & Decuzzi's
+/// `cos θ` pressure of the zero-clearance limit), so the layer carries
 /// `F = k w R ∫ cos² α dα = (π/2) k w R δ`, linear in `δ` (Hertz's `δ^{3/2}` needs a clearance).
 /// With the calibrated `k w = E*/√2` that is `(π/(2√2)) E* R δ`: Liu, Zhang & Yang's conformal
-/// limit with the radius in place of the hinge width (docs/model.md §10.5).
+/// limit `(π/(2√2)) E* L δ` with the radius in place of the hinge width `L`; the pin-in-hole
+/// layer is Liu's own (docs/model.md §10.5).
 #[test]
 fn a_pin_in_a_groove_it_fits_carries_the_conformal_closed_form() {
     let rj = BEARING_RADIUS - CLEARANCE;
+    let width = 0.1;
     let groove = FittedGroove {
         pin_radius: rj,
         offset: CLEARANCE,
         bore: rj + 1e-8,
     };
-    let layer = Foundation::calibrated(&steel(), &steel());
-    let joint = common::off_centre_joint(
-        groove,
-        contact::CircularProfile::new(rj),
-        hertz(),
-        Frictionless,
-    );
-    let joint = joint.with_model(ContactModel::Foundation(layer));
-    // The off-centre joint's bearing and pin centres (as in `place`): the pin's centre goes
-    // `offset + δ` from the bearing's along x.
-    let bearing = BodyState::at_rest(0.0, 0.0, 0.0);
-    let (bc, pc) = ([0.04, -0.02], [-0.03, 0.025]);
-    for delta in [0.2e-6, 1e-6, 5e-6] {
-        let e = CLEARANCE + delta;
-        let pin = BodyState::at_rest(bc[0] + e - pc[0], bc[1] - pc[1], 0.0);
-        let f = joint.forces(&bearing, &pin, None);
-        let closed = 0.5 * std::f64::consts::PI * layer.line_modulus() * rj * delta;
-        let error = -f.pin.x / closed - 1.0;
-        eprintln!(
-            "δ = {:.1} µm: F = {:.1} kN, closed form {:.1} kN ({error:+.2e}), transverse {:.1e} N, \
-             {} nodes",
-            delta * 1e6,
-            -f.pin.x * 1e-3,
-            closed * 1e-3,
-            f.pin.y,
-            f.diagnostics.contact_cells
-        );
-        // What separates the layer from the closed form: the overlap is radial from the bearing
-        // centre, not along the groove's normal (angles ~ c/R), and the outline is linear
-        // between 1000 nodes, 500 of them loaded; measured 2e-5 to 8e-5, required < 5e-4.
-        assert!(error.abs() < 5e-4, "δ = {delta:e}: {error:e}");
-        assert!(f.pin.y.abs() < 1e-3 * closed, "{}", f.pin.y);
-        assert!(
-            f.diagnostics.contact_cells > 450,
-            "{}",
-            f.diagnostics.contact_cells
-        );
+    let effective_modulus = 1.0 / (2.0 * steel().compliance());
+    let conformal = std::f64::consts::PI / (2.0 * std::f64::consts::SQRT_2) * effective_modulus;
+    for (name, layer, length) in [
+        ("calibrated", Foundation::calibrated(&steel(), &steel()), rj),
+        (
+            "pin-in-hole",
+            Foundation::pin_in_hole(&steel(), &steel(), rj, width).expect("valid"),
+            width,
+        ),
+    ] {
+        let joint = common::off_centre_joint(
+            groove,
+            contact::CircularProfile::new(rj),
+            hertz(),
+            Frictionless,
+        )
+        .with_model(ContactModel::Foundation(layer));
+        // The off-centre joint's bearing and pin centres (as in `place`): the pin's centre goes
+        // `offset + δ` from the bearing's along x.
+        let bearing = BodyState::at_rest(0.0, 0.0, 0.0);
+        let (bc, pc) = ([0.04, -0.02], [-0.03, 0.025]);
+        for delta in [0.2e-6, 1e-6, 5e-6] {
+            let e = CLEARANCE + delta;
+            let pin = BodyState::at_rest(bc[0] + e - pc[0], bc[1] - pc[1], 0.0);
+            let f = joint.forces(&bearing, &pin, None);
+            let closed = 0.5 * std::f64::consts::PI * layer.line_modulus() * rj * delta;
+            let error = -f.pin.x / closed - 1.0;
+            // The same closed form in material terms: (π/(2√2)) E* × length × δ.
+            let material = conformal * length * delta;
+            eprintln!(
+                "{name}: δ = {:.1} µm: F = {:.2} kN, closed form {:.2} kN ({error:+.2e}), \
+                 (π/(2√2)) E* {} δ = {:.2} kN, transverse {:.1e} N, {} nodes",
+                delta * 1e6,
+                -f.pin.x * 1e-3,
+                closed * 1e-3,
+                if length == width { "L" } else { "R_j" },
+                material * 1e-3,
+                f.pin.y,
+                f.diagnostics.contact_cells
+            );
+            // What separates the layer from the closed form: the overlap is radial from the
+            // bearing centre, not along the groove's normal (angles ~ c/R), and the outline is
+            // linear between 1000 nodes, 500 of them loaded; measured 2e-5 to 8e-5, required
+            // < 5e-4.
+            assert!(error.abs() < 5e-4, "{name}, δ = {delta:e}: {error:e}");
+            assert!(
+                (closed / material - 1.0).abs() < 1e-12,
+                "{closed} vs {material}"
+            );
+            assert!(f.pin.y.abs() < 1e-3 * closed, "{}", f.pin.y);
+            assert!(
+                f.diagnostics.contact_cells > 450,
+                "{}",
+                f.diagnostics.contact_cells
+            );
+        }
     }
 }
 

@@ -165,6 +165,26 @@ impl Foundation {
         Ok(layer)
     }
 
+    /// The layer whose conformal stiffness is Liu, Zhang & Yang's for a pin in a hole (Mech.
+    /// Mach. Theory 42, 2007): a pin pressed `δ` into a groove it fits carries
+    /// `(π/2) k w R_j δ` (`R_j` the pin radius, in m), and with `k w = E* w/(√2 R_j)` that is
+    /// their law's conformal limit `(π/(2√2)) E* w δ`, proportional to the hinge width `w` (m)
+    /// as a cylinder's force is. [`Foundation::calibrated`] is the same with `R_j` in place of
+    /// `w`: the paper's Hertz law, which has no width in it.
+    pub fn pin_in_hole(
+        bearing: &Material,
+        pin: &Material,
+        pin_radius: f64,
+        width: f64,
+    ) -> Result<Self, ContactError> {
+        positive("pin radius", pin_radius)?;
+        positive("width", width)?;
+        let mut layer = Self::calibrated(bearing, pin);
+        layer.line_modulus *= width / pin_radius;
+        positive("layer line modulus", layer.line_modulus)?;
+        Ok(layer)
+    }
+
     /// A layer of modulus `k` (Pa/m, > 0) over hinge width `w` (m, > 0).
     pub fn with_layer(layer_modulus: f64, width: f64) -> Result<Self, ContactError> {
         positive("layer_modulus", layer_modulus)?;

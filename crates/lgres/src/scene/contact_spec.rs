@@ -18,6 +18,12 @@ pub struct ContactSpec {
     /// of the clearance (`contact::Foundation::hertz_matched`; `k w ≈ 1.03 E*/√2`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layer_modulus: Option<f64>,
+    /// Foundation: how the layer is calibrated when `layer_modulus` is not given: `paper`
+    /// (default: the paper's Hertz law on round surfaces, matched at an overlap of 4 % of the
+    /// clearance) or `pin-in-hole` (the conformal stiffness of Liu, Zhang & Yang's pin-in-hole
+    /// law, proportional to the hinge width; docs/model.md §10.5).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer: Option<LayerCalibration>,
     /// Foundation: hinge width `w` the layer modulus acts over, m. Default: `wear.width`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub width: Option<f64>,
@@ -49,6 +55,17 @@ impl ContactSpec {
     }
 }
 
+/// How a foundation's layer is calibrated (`contact.layer`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum LayerCalibration {
+    /// The paper's Hertz law on round surfaces (`contact::Foundation::hertz_matched`).
+    #[default]
+    Paper,
+    /// Liu, Zhang & Yang's conformal pin-in-hole stiffness (`contact::Foundation::pin_in_hole`).
+    PinInHole,
+}
+
 /// The contact models a scene can name.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -68,15 +85,19 @@ impl ClearanceJoint {
         if spec.model == ContactModelName::LineOfCentres {
             return Ok(contact::ContactModel::LineOfCentres);
         }
-        let layer = match spec.layer_modulus {
-            Some(k) => {
-                let width = spec
-                    .width
-                    .or(self.wear.map(|w| w.width))
-                    .unwrap_or(f64::NAN);
-                contact::Foundation::with_layer(k, width)?
-            }
-            None => contact::Foundation::hertz_matched(
+        let width = spec
+            .width
+            .or(self.wear.map(|w| w.width))
+            .unwrap_or(f64::NAN);
+        let layer = match (spec.layer_modulus, spec.layer.unwrap_or_default()) {
+            (Some(k), _) => contact::Foundation::with_layer(k, width)?,
+            (None, LayerCalibration::PinInHole) => contact::Foundation::pin_in_hole(
+                &contact::Material::try_from(self.bearing_material)?,
+                &contact::Material::try_from(self.pin_material)?,
+                self.pin_radius(),
+                width,
+            )?,
+            (None, LayerCalibration::Paper) => contact::Foundation::hertz_matched(
                 &contact::Material::try_from(self.bearing_material)?,
                 &contact::Material::try_from(self.pin_material)?,
                 self.bearing_radius,
@@ -143,10 +164,15 @@ impl ClearanceJoint {
                 })
             ),
             ContactModelName::Foundation => format!(
-                "elastic-foundation contact ({} nodes), {}",
+                "elastic-foundation contact ({} nodes, {} layer), {}",
                 spec.cells
                     .or(self.wear.map(|w| w.cells))
                     .unwrap_or(contact::DEFAULT_FOUNDATION_CELLS),
+                match (spec.layer_modulus, spec.layer.unwrap_or_default()) {
+                    (Some(_), _) => "given",
+                    (None, LayerCalibration::Paper) => "paper-calibrated",
+                    (None, LayerCalibration::PinInHole) => "pin-in-hole",
+                },
                 damping(&format!(
                     "layer damping on the onset velocity floored at v_ref = {} m/s",
                     spec.reference_speed

@@ -34,7 +34,7 @@ mod run_settings;
 mod types;
 mod validate;
 
-pub use contact_spec::{ContactModelName, ContactSpec};
+pub use contact_spec::{ContactModelName, ContactSpec, LayerCalibration};
 pub use error::{Issue, SceneError};
 pub use extends::{from_table, load_path, load_str, merged_table, merged_table_of_file};
 pub use run_settings::{DEFAULT_WEAR_SMOOTHING_DEG, RunSettings};

@@ -296,6 +296,7 @@ impl Validator {
                 ("width", spec.width.is_some()),
                 ("cells", spec.cells.is_some()),
                 ("reference_speed", spec.reference_speed.is_some()),
+                ("layer", spec.layer.is_some()),
             ] {
                 if given {
                     self.push(
@@ -320,6 +321,22 @@ impl Validator {
         }
         if let Some(w) = spec.width {
             self.number(&format!("{q}.width"), w, true);
+        }
+        if spec.layer.is_some() && spec.layer_modulus.is_some() {
+            self.push(
+                format!("{q}.layer"),
+                "…",
+                "a layer_modulus sets the layer itself: give one of the two",
+            );
+        } else if spec.layer == Some(super::LayerCalibration::PinInHole)
+            && spec.width.is_none()
+            && c.wear.is_none()
+        {
+            self.push(
+                format!("{q}.width"),
+                "(none)",
+                "the pin-in-hole layer needs the hinge width: give contact.width (or wear.width)",
+            );
         }
         if let Some(v) = spec.reference_speed {
             self.number(&format!("{q}.reference_speed"), v, true);
