@@ -50,8 +50,7 @@ mod general;
 
 use foundation::OutlineBounds;
 pub use foundation::{
-    ContactModel, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, DEFAULT_REFERENCE_SPEED,
-    Foundation, NodeLoad,
+    ContactModel, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, NodeLoad,
 };
 
 /// Which relative velocity of the contact counts as sliding (for friction, and for wear).

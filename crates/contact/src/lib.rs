@@ -91,9 +91,8 @@ pub use friction::{
 };
 pub use joint::{
     BodyState, ClearanceJoint, ContactForces, ContactJacobian, ContactModel,
-    DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, DEFAULT_REFERENCE_SPEED, Foundation,
-    JointKinematics, JointSurface, Material, MaterialParams, NodeLoad, OutlineOverlap,
-    SlidingVelocity,
+    DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, JointKinematics, JointSurface,
+    Material, MaterialParams, NodeLoad, OutlineOverlap, SlidingVelocity,
 };
 pub use normal::{
     DEFAULT_HERTZ_EXPONENT, DEFAULT_ONSET_VELOCITY_FLOOR, DampedHertzParams, Flores, Hertz,

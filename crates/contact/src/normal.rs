@@ -69,6 +69,13 @@ pub trait NormalLaw {
         let unit = self.evaluate(1.0, 1.0, velocity, onset_velocity);
         (unit.force, unit.d_velocity)
     }
+
+    /// The onset velocity the law divides by for a recorded `onset_velocity`: its magnitude,
+    /// floored by a damped law (the default, for laws without a floor, is the magnitude). A
+    /// normal rate within `±` this value is the range one impact spans.
+    fn effective_onset(&self, onset_velocity: f64) -> f64 {
+        onset_velocity.abs()
+    }
 }
 
 /// The shared kernel `F = K δⁿ (1 + damping_rate · δ̇)`, clamped at zero.
@@ -254,8 +261,13 @@ macro_rules! damped_hertz_law {
 
             #[inline]
             fn hysteresis(&self, velocity: f64, onset_velocity: f64) -> (f64, f64) {
-                let onset = onset_velocity.abs().max(self.params.onset_velocity_floor);
-                damping_factor(velocity, self.hysteresis / onset)
+                damping_factor(velocity, self.hysteresis / self.effective_onset(onset_velocity))
+            }
+
+            #[inline]
+            fn effective_onset(&self, onset_velocity: f64) -> f64 {
+                // `max` also maps a NaN onset to the floor.
+                onset_velocity.abs().max(self.params.onset_velocity_floor)
             }
         }
 
@@ -464,6 +476,16 @@ impl NormalLaw for NormalLawKind {
             Self::Hertz(law) => law.hysteresis(velocity, onset),
         }
     }
+
+    #[inline]
+    fn effective_onset(&self, onset: f64) -> f64 {
+        match self {
+            Self::LankaraniNikravesh(law) => law.effective_onset(onset),
+            Self::HuntCrossley(law) => law.effective_onset(onset),
+            Self::Flores(law) => law.effective_onset(onset),
+            Self::Hertz(law) => law.effective_onset(onset),
+        }
+    }
 }
 
 impl<L: NormalLaw + ?Sized> NormalLaw for &L {
@@ -475,6 +497,11 @@ impl<L: NormalLaw + ?Sized> NormalLaw for &L {
     #[inline]
     fn hysteresis(&self, velocity: f64, onset: f64) -> (f64, f64) {
         (**self).hysteresis(velocity, onset)
+    }
+
+    #[inline]
+    fn effective_onset(&self, onset: f64) -> f64 {
+        (**self).effective_onset(onset)
     }
 }
 

@@ -31,8 +31,14 @@
 //! # Damping and friction, per node
 //! Each node's load is `L_k = G_k φ(ġ_k)`, where `φ` is the joint's normal law's hysteresis
 //! factor (for Lankarani–Nikravesh `1 + 3(1 − c_e²)/4 · ġ/δ̇⁻`, clamped at zero so the layer
-//! never pulls) and `ġ_k = ∇g_k·q̇`. Damping dissipates `Σ (L_k − G_k) ġ_k ≥ 0`. On round
-//! surfaces `ġ_k ≈ δ̇` across the small contact arc, so the total is the law's force. Friction
+//! never pulls) and `ġ_k = ∇g_k·q̇`, held within `±δ̇⁻` (the law's floored onset velocity, or
+//! the layer's reference speed if larger). Within that range, the rates one impact spans, the
+//! law is unchanged: on round surfaces `ġ_k ≈ δ̇` across the small contact arc, so the total is
+//! the law's force and an impact rebounds with its `c_e` at any speed. Beyond it the factor is
+//! held at `1 ± χ`: a pin that settled gently into a worn groove (`δ̇⁻` at the floor) and then
+//! slides along its flanks would otherwise carry `χ ġ_k/δ̇⁻`, tens to hundreds of times its
+//! elastic load; held, the damping adds at most what an impact's onset adds. Damping
+//! dissipates `Σ (L_k − G_k) ġ_k ≥ 0` either way. Friction
 //! acts at each node along the local tangent `t̂_k ⟂ m_k`, with the law evaluated on the node's
 //! load `L_k |m_k|` and its material sliding velocity (the pin's material point at `P_k`
 //! relative to the bearing's), or the paper's `d_k φ̇` where the joint chooses it.
@@ -85,10 +91,6 @@ pub const DEFAULT_REFERENCE_OVERLAP: f64 = 0.04;
 /// Default number of nodes on the pin's outline (the wear grid's default cell count).
 pub const DEFAULT_FOUNDATION_CELLS: usize = 1000;
 
-/// Default reference impact speed of the layer's damping (m/s): the slowest onset velocity its
-/// hysteresis factor is scaled by (see [`Foundation::with_reference_speed`]).
-pub const DEFAULT_REFERENCE_SPEED: f64 = 0.1;
-
 /// Parameters of the elastic-foundation contact: the layer and the nodes on the pin.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Foundation {
@@ -97,13 +99,10 @@ pub struct Foundation {
     line_modulus: f64,
     /// Nodes on the pin's outline over 360°.
     cells: usize,
-    /// The slowest onset velocity the layer's damping is scaled by (m/s).
-    #[serde(default = "default_reference_speed")]
+    /// The slowest onset velocity the layer's damping is scaled by (m/s; 0: the law's own
+    /// floor).
+    #[serde(default)]
     reference_speed: f64,
-}
-
-fn default_reference_speed() -> f64 {
-    DEFAULT_REFERENCE_SPEED
 }
 
 impl Foundation {
@@ -115,7 +114,7 @@ impl Foundation {
         Self {
             line_modulus: effective_modulus / std::f64::consts::SQRT_2,
             cells: DEFAULT_FOUNDATION_CELLS,
-            reference_speed: DEFAULT_REFERENCE_SPEED,
+            reference_speed: 0.0,
         }
     }
 
@@ -194,7 +193,7 @@ impl Foundation {
         Ok(Self {
             line_modulus,
             cells: DEFAULT_FOUNDATION_CELLS,
-            reference_speed: DEFAULT_REFERENCE_SPEED,
+            reference_speed: 0.0,
         })
     }
 
@@ -212,20 +211,21 @@ impl Foundation {
         Ok(self)
     }
 
-    /// The same layer whose damping takes an onset velocity of at least `speed` (m/s, > 0):
-    /// node `k` carries `G_k (1 + χ ġ_k / max(|δ̇⁻|, v_ref))`, `χ` the joint's normal law's
-    /// hysteresis factor. An impact at `v_ref` or faster keeps the law's restitution `c_e`; a
-    /// slower one is damped less (for Lankarani–Nikravesh `1 − c² ≈ (1 − c_e²) v/v_ref`), and
-    /// a contact that began gently, such as a pin sliding in its groove, adds at most
-    /// `χ ġ_k/v_ref` of its elastic load instead of `χ ġ_k/10⁻⁴ m/s`. Choose `v_ref` near the
-    /// scene's typical impact speed (docs/model.md §10.6).
+    /// The same layer whose damping takes an onset velocity of at least `speed` (m/s, > 0),
+    /// beyond the normal law's own floor: node `k` then carries
+    /// `G_k (1 + χ ġ_k / max(|δ̇⁻|, v_ref))`. An impact at `v_ref` or faster keeps the law's
+    /// restitution `c_e`; a slower one is damped less, as by a constant (Hunt–Crossley)
+    /// dissipation coefficient `χ/v_ref` (for Lankarani–Nikravesh `1 − c² ≈ (1 − c_e²) v/v_ref`).
+    /// Off by default: the paper's law keeps `c_e` at every speed, and the rate limit of the
+    /// module docs already bounds the damping in persistent contact (docs/model.md §10.6).
     pub fn with_reference_speed(mut self, speed: f64) -> Result<Self, ContactError> {
         positive("reference_speed", speed)?;
         self.reference_speed = speed;
         Ok(self)
     }
 
-    /// The slowest onset velocity the layer's damping is scaled by (m/s).
+    /// The slowest onset velocity the layer's damping is scaled by (m/s; 0: none beyond the
+    /// normal law's floor).
     pub fn reference_speed(&self) -> f64 {
         self.reference_speed
     }
@@ -1207,12 +1207,15 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         } else {
             0.0
         };
-        // The impact's onset velocity, floored at the layer's reference speed: a contact that
-        // began gently keeps a bounded damping coefficient (`Foundation::with_reference_speed`).
-        let onset = onset_velocity
-            .unwrap_or(centre_rate)
-            .abs()
-            .max(foundation.reference_speed);
+        // The impact's onset velocity as the law reads it (floored), and at least the layer's
+        // reference speed when one is set (`Foundation::with_reference_speed`). A node's rate
+        // counts only within ± this: the range one impact spans (`Foundation`'s docs).
+        let onset = self.normal_law.effective_onset(
+            onset_velocity
+                .unwrap_or(centre_rate)
+                .abs()
+                .max(foundation.reference_speed),
+        );
         let theta_bearing = bearing_state[2];
         let theta_pin = pin_state[2].value();
 
@@ -1266,79 +1269,83 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         });
         let mut computed = 0_usize;
 
-        let mut carry =
-            |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| -> f64 {
-                let g_k = load_gradient * weight;
-                if g_k.value() <= 0.0 {
-                    return 0.0;
-                }
-                books.elastic_resultant[0] += g_k.value() * node.m[0].value();
-                books.elastic_resultant[1] += g_k.value() * node.m[1].value();
-                let (factor, d_factor) = self.normal_law.hysteresis(node.g_rate.value(), onset);
-                if factor <= 0.0 {
-                    // Clamped: the layer does not pull; its elastic load is released as damping.
-                    books.damping_power -= g_k.value() * node.g_rate.value();
-                    return 0.0;
-                }
-                let load = g_k * node.g_rate.chain(factor, d_factor);
-                let m_norm = dot(&node.m, &node.m).sqrt();
-                let t_hat = [-node.m[1] / m_norm, node.m[0] / m_norm];
-                let normal = load * m_norm;
-                let material = dot(&node.relative_velocity, &t_hat);
-                let paper = if node.g.value() > 0.0 {
-                    node.g * phi_rate
-                } else {
-                    zero
-                };
-                let sliding = match self.friction_sliding {
-                    SlidingVelocity::Material => material,
-                    SlidingVelocity::Paper => paper,
-                };
-                let friction = self.friction_law.evaluate(sliding.value(), normal.value());
-                let friction_force = sliding.chain2(
-                    normal,
-                    friction.force,
-                    friction.d_velocity,
-                    friction.d_normal_force,
-                );
-                let force_on_pin = [
-                    -(load * node.m[0]) - friction_force * t_hat[0],
-                    -(load * node.m[1]) - friction_force * t_hat[1],
-                ];
-                out.pin[0] = out.pin[0] + force_on_pin[0];
-                out.pin[1] = out.pin[1] + force_on_pin[1];
-                out.pin[2] = out.pin[2] + cross(&node.pin_arm, &force_on_pin);
-                out.bearing[0] = out.bearing[0] - force_on_pin[0];
-                out.bearing[1] = out.bearing[1] - force_on_pin[1];
-                out.bearing[2] = out.bearing[2] - cross(&node.bearing_arm, &force_on_pin);
-
-                let (load_v, normal_v, material_v) =
-                    (load.value(), normal.value(), material.value());
-                books.damping_power += (load_v - g_k.value()) * node.g_rate.value();
-                books.friction_power += friction.force * material_v;
-                books.friction_force += friction.force;
-                books.normal_resultant[0] += load_v * node.m[0].value();
-                books.normal_resultant[1] += load_v * node.m[1].value();
-                books.load += normal_v;
-                books.load_sliding += normal_v * material_v;
-                let Some(visit) = visit.as_mut() else {
-                    return normal_v;
-                };
-                visit(&NodeLoad {
-                    cell: node.cell,
-                    pin_angle: node.alpha,
-                    bearing_angle: wrap_angle(
-                        node.bearing_angle.unwrap_or_else(|| {
-                            node.ray[1].atan2(node.ray[0]) - theta_bearing.value()
-                        }),
-                    ),
-                    normal_force: normal_v,
-                    arc: self.bounds.node_arc,
-                    material_sliding: material_v,
-                    paper_sliding: paper.value(),
-                });
-                normal_v
+        let mut carry = |node: &Node<T>,
+                         load_gradient: T,
+                         books: &mut Books,
+                         out: &mut Output<T>|
+         -> f64 {
+            let g_k = load_gradient * weight;
+            if g_k.value() <= 0.0 {
+                return 0.0;
+            }
+            books.elastic_resultant[0] += g_k.value() * node.m[0].value();
+            books.elastic_resultant[1] += g_k.value() * node.m[1].value();
+            let rate = node.g_rate.value();
+            let (factor, d_factor) = self.normal_law.hysteresis(rate.clamp(-onset, onset), onset);
+            // Beyond the impact's range the factor is held: no partial in the rate.
+            let d_factor = if rate.abs() > onset { 0.0 } else { d_factor };
+            if factor <= 0.0 {
+                // Clamped: the layer does not pull; its elastic load is released as damping.
+                books.damping_power -= g_k.value() * node.g_rate.value();
+                return 0.0;
+            }
+            let load = g_k * node.g_rate.chain(factor, d_factor);
+            let m_norm = dot(&node.m, &node.m).sqrt();
+            let t_hat = [-node.m[1] / m_norm, node.m[0] / m_norm];
+            let normal = load * m_norm;
+            let material = dot(&node.relative_velocity, &t_hat);
+            let paper = if node.g.value() > 0.0 {
+                node.g * phi_rate
+            } else {
+                zero
             };
+            let sliding = match self.friction_sliding {
+                SlidingVelocity::Material => material,
+                SlidingVelocity::Paper => paper,
+            };
+            let friction = self.friction_law.evaluate(sliding.value(), normal.value());
+            let friction_force = sliding.chain2(
+                normal,
+                friction.force,
+                friction.d_velocity,
+                friction.d_normal_force,
+            );
+            let force_on_pin = [
+                -(load * node.m[0]) - friction_force * t_hat[0],
+                -(load * node.m[1]) - friction_force * t_hat[1],
+            ];
+            out.pin[0] = out.pin[0] + force_on_pin[0];
+            out.pin[1] = out.pin[1] + force_on_pin[1];
+            out.pin[2] = out.pin[2] + cross(&node.pin_arm, &force_on_pin);
+            out.bearing[0] = out.bearing[0] - force_on_pin[0];
+            out.bearing[1] = out.bearing[1] - force_on_pin[1];
+            out.bearing[2] = out.bearing[2] - cross(&node.bearing_arm, &force_on_pin);
+
+            let (load_v, normal_v, material_v) = (load.value(), normal.value(), material.value());
+            books.damping_power += (load_v - g_k.value()) * node.g_rate.value();
+            books.friction_power += friction.force * material_v;
+            books.friction_force += friction.force;
+            books.normal_resultant[0] += load_v * node.m[0].value();
+            books.normal_resultant[1] += load_v * node.m[1].value();
+            books.load += normal_v;
+            books.load_sliding += normal_v * material_v;
+            let Some(visit) = visit.as_mut() else {
+                return normal_v;
+            };
+            visit(&NodeLoad {
+                cell: node.cell,
+                pin_angle: node.alpha,
+                bearing_angle: wrap_angle(
+                    node.bearing_angle
+                        .unwrap_or_else(|| node.ray[1].atan2(node.ray[0]) - theta_bearing.value()),
+                ),
+                normal_force: normal_v,
+                arc: self.bounds.node_arc,
+                material_sliding: material_v,
+                paper_sliding: paper.value(),
+            });
+            normal_v
+        };
         // Every computed node passes here in order: its load, and the zone it belongs to.
         let mut emit =
             |node: &Node<T>, load_gradient: T, books: &mut Books, out: &mut Output<T>| {

@@ -32,11 +32,11 @@ pub struct ContactSpec {
     /// contact zones; the outline between cell centres is linear).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cells: Option<usize>,
-    /// Foundation: the layer damping's reference impact speed `v_ref`, m/s. Each node's
-    /// damping is the joint's normal law with the impact's onset velocity taken as at least
-    /// this: impacts at `v_ref` or faster rebound with the law's restitution, slower ones and
-    /// a pin sliding in its groove are damped as an impact at `v_ref` would be. Default
-    /// `contact::DEFAULT_REFERENCE_SPEED` (0.1 m/s; docs/model.md §10.6).
+    /// Foundation: a reference impact speed `v_ref` for the layer's damping, m/s (optional).
+    /// Each node's damping is the joint's normal law with the impact's onset velocity taken as
+    /// at least this: impacts at `v_ref` or faster rebound with the law's restitution, slower
+    /// ones are damped less (a constant dissipation coefficient). Default: none, the law's
+    /// restitution at every speed (docs/model.md §10.6).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference_speed: Option<f64>,
 }
@@ -109,10 +109,10 @@ impl ClearanceJoint {
             .cells
             .or(self.wear.map(|w| w.cells))
             .unwrap_or(contact::DEFAULT_FOUNDATION_CELLS);
-        let layer = layer.with_cells(cells)?.with_reference_speed(
-            spec.reference_speed
-                .unwrap_or(contact::DEFAULT_REFERENCE_SPEED),
-        )?;
+        let mut layer = layer.with_cells(cells)?;
+        if let Some(speed) = spec.reference_speed {
+            layer = layer.with_reference_speed(speed)?;
+        }
         Ok(contact::ContactModel::Foundation(layer))
     }
 }
@@ -173,11 +173,15 @@ impl ClearanceJoint {
                     (None, LayerCalibration::Paper) => "paper-calibrated",
                     (None, LayerCalibration::PinInHole) => "pin-in-hole",
                 },
-                damping(&format!(
-                    "layer damping on the onset velocity floored at v_ref = {} m/s",
-                    spec.reference_speed
-                        .unwrap_or(contact::DEFAULT_REFERENCE_SPEED)
-                ))
+                damping(&match spec.reference_speed {
+                    None => "layer damping per node, its rate held within the impact's onset \
+                             velocity"
+                        .to_string(),
+                    Some(v) => format!(
+                        "layer damping per node, its rate held within the impact's onset \
+                         velocity floored at v_ref = {v} m/s"
+                    ),
+                })
             ),
         };
         format!("{normal}; {friction}")
