@@ -323,7 +323,7 @@ impl SurfaceProfile for FittedGroove {
 /// `F = k w R ∫ cos² α dα = (π/2) k w R δ`, linear in `δ` (Hertz's `δ^{3/2}` needs a clearance).
 /// With the calibrated `k w = E*/√2` that is `(π/(2√2)) E* R δ`: Liu, Zhang & Yang's conformal
 /// limit `(π/(2√2)) E* L δ` with the radius in place of the hinge width `L`; the pin-in-hole
-/// layer is Liu's own (docs/model.md §10.5).
+/// layer is Liu's own (docs/model.md §10.7).
 #[test]
 fn a_pin_in_a_groove_it_fits_carries_the_conformal_closed_form() {
     let rj = BEARING_RADIUS - CLEARANCE;

@@ -21,7 +21,7 @@ pub struct ContactSpec {
     /// Foundation: how the layer is calibrated when `layer_modulus` is not given: `paper`
     /// (default: the paper's Hertz law on round surfaces, matched at an overlap of 4 % of the
     /// clearance) or `pin-in-hole` (the conformal stiffness of Liu, Zhang & Yang's pin-in-hole
-    /// law, proportional to the hinge width; docs/model.md §10.5).
+    /// law, proportional to the hinge width; docs/model.md §10.7).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layer: Option<LayerCalibration>,
     /// Foundation: hinge width `w` the layer modulus acts over, m. Default: `wear.width`.
