@@ -423,4 +423,26 @@ mod tests {
         assert!(v.inside, "{v:?}");
         assert_eq!(v.unloaded_penetrating_frames, 1);
     }
+
+    /// A response whose median force peak is mostly damping leaves validity with a reason; one
+    /// that is mostly elastic, or whose share is unknown, keeps its verdict.
+    #[test]
+    fn a_mostly_damped_force_peak_is_outside_validity() {
+        for (share, inside) in [(0.3, false), (0.49, false), (0.5, true), (0.97, true)] {
+            let mut v = Tally::new(5e-4, Limits::default(), true).finish();
+            assert!(v.inside);
+            v.judge_elastic_share(share);
+            assert_eq!(v.inside, inside, "share {share}");
+            assert_eq!(v.elastic_share_median, Some(share));
+            assert_eq!(
+                v.reasons.iter().any(|r| r.contains("% elastic")),
+                !inside,
+                "{:?}",
+                v.reasons
+            );
+        }
+        let mut v = Tally::new(5e-4, Limits::default(), true).finish();
+        v.judge_elastic_share(f64::NAN);
+        assert!(v.inside && v.elastic_share_median.is_none());
+    }
 }
