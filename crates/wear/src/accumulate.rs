@@ -23,6 +23,10 @@ pub struct StageWear {
     pin_radius: f64,
     bearing: Vec<f64>,
     pin: Vec<f64>,
+    /// Per cell, how much of the gap's overlap the record's wear closes per unit of overlap
+    /// (dimensionless, see [`relaxation`](Self::bearing_relaxation)).
+    bearing_relaxation: Vec<f64>,
+    pin_relaxation: Vec<f64>,
     archard_volume: f64,
     /// Cell weights of the last arc on each surface (see [`ArcDeposit`]).
     bearing_arc: ArcDeposit,
@@ -40,6 +44,8 @@ impl StageWear {
             pin_radius: joint.pin().nominal_radius(),
             bearing: vec![0.0; joint.bearing().cells()],
             pin: vec![0.0; joint.pin().cells()],
+            bearing_relaxation: vec![0.0; joint.bearing().cells()],
+            pin_relaxation: vec![0.0; joint.pin().cells()],
             archard_volume: 0.0,
             bearing_arc: ArcDeposit::default(),
             pin_arc: ArcDeposit::default(),
@@ -61,10 +67,36 @@ impl StageWear {
         Ok(wear)
     }
 
+    /// The same record with given relaxations per cell (dimensionless, finite and ≥ 0, one per
+    /// cell of each grid; see [`bearing_relaxation`](Self::bearing_relaxation)), for callers
+    /// that compute wear their own way (and for tests).
+    pub fn with_relaxation(mut self, bearing: Vec<f64>, pin: Vec<f64>) -> Result<Self, WearError> {
+        for (name, mine, given) in [
+            ("bearing relaxation", &self.bearing, &bearing),
+            ("pin relaxation", &self.pin, &pin),
+        ] {
+            if mine.len() != given.len() {
+                return Err(WearError::GridMismatch {
+                    name,
+                    expected: mine.len(),
+                    found: given.len(),
+                });
+            }
+            for &x in given {
+                non_negative(name, x)?;
+            }
+        }
+        self.bearing_relaxation = bearing;
+        self.pin_relaxation = pin;
+        Ok(self)
+    }
+
     /// Clears the record for reuse in the next stage without reallocating.
     pub fn reset(&mut self) {
         self.bearing.fill(0.0);
         self.pin.fill(0.0);
+        self.bearing_relaxation.fill(0.0);
+        self.pin_relaxation.fill(0.0);
         self.archard_volume = 0.0;
     }
 
@@ -134,6 +166,7 @@ impl StageWear {
             finite("node sliding", node.sliding(self.sliding))?;
             finite("node pin_angle", node.pin_angle)?;
             finite("node bearing_angle", node.bearing_angle)?;
+            non_negative("node stiffness", node.stiffness)?;
         }
         // The nodes of a joint share one arc: its spread factors are computed once.
         let mut spread = (f64::NAN, 0.0, 0.0);
@@ -153,6 +186,21 @@ impl StageWear {
             let (_, pin_cells, bearing_cells) = spread;
             deposit_linear(&mut self.pin, node.pin_angle, depth * pin_cells);
             deposit_linear(&mut self.bearing, node.bearing_angle, depth * bearing_cells);
+            // How much of the node's overlap this deposit closes per unit of overlap: the
+            // depth's derivative in the gap, spread like the depth (so a cell holds the mean
+            // over the nodes that reach it).
+            let relaxation = self.wear_coefficient * node.stiffness * speed * 0.5 * dt
+                / (node.arc * self.hinge_width);
+            deposit_linear(
+                &mut self.pin_relaxation,
+                node.pin_angle,
+                relaxation * pin_cells,
+            );
+            deposit_linear(
+                &mut self.bearing_relaxation,
+                node.bearing_angle,
+                relaxation * bearing_cells,
+            );
             self.archard_volume += archard_rate * 0.5 * dt;
         }
         Ok(())
@@ -196,7 +244,12 @@ impl StageWear {
     /// and the convergence study measure how well.
     pub fn smooth(&mut self, sigma: f64) {
         if sigma > 0.0 && sigma.is_finite() {
-            for cells in [&mut self.bearing, &mut self.pin] {
+            for cells in [
+                &mut self.bearing,
+                &mut self.pin,
+                &mut self.bearing_relaxation,
+                &mut self.pin_relaxation,
+            ] {
                 let per_cell = TAU / cells.len() as f64;
                 smooth_periodic(cells, sigma / per_cell);
             }
@@ -209,6 +262,8 @@ impl StageWear {
         for (mine, theirs) in [
             (&mut self.bearing, &other.bearing),
             (&mut self.pin, &other.pin),
+            (&mut self.bearing_relaxation, &other.bearing_relaxation),
+            (&mut self.pin_relaxation, &other.pin_relaxation),
         ] {
             for (h, o) in mine.iter_mut().zip(theirs) {
                 *h += o;
@@ -220,7 +275,13 @@ impl StageWear {
     /// Multiplies every depth (and the Archard volume) by `factor` (≥ 0): with [`add`](Self::add),
     /// the mean of two records of the same joint.
     pub fn scale(&mut self, factor: f64) {
-        for h in self.bearing.iter_mut().chain(self.pin.iter_mut()) {
+        for h in self
+            .bearing
+            .iter_mut()
+            .chain(self.pin.iter_mut())
+            .chain(self.bearing_relaxation.iter_mut())
+            .chain(self.pin_relaxation.iter_mut())
+        {
             *h *= factor;
         }
         self.archard_volume *= factor;
@@ -232,6 +293,8 @@ impl StageWear {
         for (mine, theirs) in [
             (&mut self.bearing, &other.bearing),
             (&mut self.pin, &other.pin),
+            (&mut self.bearing_relaxation, &other.bearing_relaxation),
+            (&mut self.pin_relaxation, &other.pin_relaxation),
         ] {
             for (h, o) in mine.iter_mut().zip(theirs) {
                 *h = (*h - o).max(0.0);
@@ -248,6 +311,91 @@ impl StageWear {
     /// Pin cell depths gathered so far (m, before amplification).
     pub fn pin(&self) -> &[f64] {
         &self.pin
+    }
+
+    /// Per bearing cell, the part of the gap's overlap the record's wear closes per unit of
+    /// overlap (dimensionless; 0 where nothing pressed, and with contacts that do not report a
+    /// layer stiffness, i.e. the line-of-centres contact).
+    ///
+    /// A node pressing with `F(g)` deposits `K_d F |v_s| dt/(arc w)`; wearing both surfaces by
+    /// that depth closes its overlap `g` by as much (each surface takes half in radius), so the
+    /// deposit's derivative in `g`, `λ = K_d (∂F/∂g) |v_s| dt/(arc w)`, is the rate (per unit
+    /// amplification) at which wear relaxes the cell's overlap: a cell that wore `Δh` more
+    /// presses `λ Δh` less. On a Winkler layer `∂F/∂g = k w arc`, so `λ = K_d k s` with `s`
+    /// the sliding distance while the cell is loaded. [`implicit`](Self::implicit) reads it.
+    pub fn bearing_relaxation(&self) -> &[f64] {
+        &self.bearing_relaxation
+    }
+
+    /// Per pin cell, as [`bearing_relaxation`](Self::bearing_relaxation).
+    pub fn pin_relaxation(&self) -> &[f64] {
+        &self.pin_relaxation
+    }
+
+    /// The relaxation averaged over the cells with the record's depths as weights, the larger
+    /// of the two surfaces (0 without wear): the `λ` that the bulk of the wear sees.
+    pub fn relaxation_weighted(&self) -> f64 {
+        let weighted = |depth: &[f64], relaxation: &[f64]| {
+            let total: f64 = depth.iter().sum();
+            if total > 0.0 {
+                depth
+                    .iter()
+                    .zip(relaxation)
+                    .map(|(h, l)| h * l)
+                    .sum::<f64>()
+                    / total
+            } else {
+                0.0
+            }
+        };
+        weighted(&self.bearing, &self.bearing_relaxation)
+            .max(weighted(&self.pin, &self.pin_relaxation))
+    }
+
+    /// The depths per unit amplification that a linearly implicit sub-step of
+    /// `amplification` applies (the relaxations kept; the Archard volume scaled with the
+    /// worn volume).
+    ///
+    /// Why: within a contact zone the wear rate falls where a surface wore more, at the rate
+    /// `λ` per unit amplification ([`bearing_relaxation`](Self::bearing_relaxation)), while the
+    /// pin sinks to keep carrying its load. So the shape of a wear pattern relaxes toward a
+    /// steady one at about `λ` per unit amplification, and the explicit update `a·w` is
+    /// unstable past `a λ = 2` and inaccurate well before. The Jacobian of the rate in the
+    /// depths, on each surface, is taken as `J = −Λ(I − P)`: `Λ = diag(λ)`, and `P` the
+    /// `Λ`-weighted projection onto the two translation patterns `cos θ`, `sin θ` (a surface
+    /// worn by `Δe·u(θ)` is met by a pin moved by `Δe`, and presses the same: those patterns
+    /// do not relax). The sub-step applies `a·w̃` with `(I − a J) w̃ = w`, solved exactly by
+    /// Woodbury's identity (a diagonal and a 2×2 system). A steady pattern (translation on
+    /// the loaded cells) passes unchanged, a shape mode is damped by `1/(1 + aλ)` (backward
+    /// Euler: stable at any amplification). Negative depths, which the projection can give
+    /// outside the loaded zone, are clamped to 0 (depths only grow). With all `λ = 0` the
+    /// result is this record.
+    ///
+    /// The partner surface is taken to wear in step (both surfaces' share of the overlap is
+    /// in `λ`). Both this and the projection hold for a contact whose direction is fixed in
+    /// both surfaces' frames (a pad, a pin that neither turns nor sees its load turn): there
+    /// the step is exactly backward Euler (`tests/stiff_wear.rs`). Where the contact sweeps a
+    /// surface, the patterns that do not relax are translations over each instant's contact
+    /// zone, not over the whole surface, and this step damps steady wear too (a turning pin's
+    /// even wear is no translation of its own frame): see [`WearStepping`](crate::WearStepping).
+    pub fn implicit(&self, amplification: f64) -> StageWear {
+        let mut out = self.clone();
+        if !(amplification > 0.0 && amplification.is_finite()) {
+            return out;
+        }
+        let before = out.worn_volume();
+        implicit_surface(
+            &self.bearing,
+            &self.bearing_relaxation,
+            amplification,
+            &mut out.bearing,
+        );
+        implicit_surface(&self.pin, &self.pin_relaxation, amplification, &mut out.pin);
+        let after = out.worn_volume();
+        if before > 0.0 {
+            out.archard_volume *= after / before;
+        }
+        out
     }
 
     /// Largest cell depth on either surface (m).
@@ -274,6 +422,75 @@ impl StageWear {
         layer_volume(&self.bearing, self.bearing_radius, self.hinge_width)
             + layer_volume(&self.pin, self.pin_radius, self.hinge_width)
     }
+}
+
+/// One surface's linearly implicit depths (see [`StageWear::implicit`]): `w̃ = y + a D⁻¹ΛU z`
+/// with `D = I + aΛ`, `y = D⁻¹w`, `z = N⁺ UᵀΛy` and `N = Σ λ_k/(1 + aλ_k) u_k u_kᵀ` (its
+/// pseudo-inverse: a zone that is a single direction has one translation pattern).
+fn implicit_surface(rate: &[f64], relaxation: &[f64], a: f64, out: &mut [f64]) {
+    let n = rate.len();
+    let per_cell = TAU / n as f64;
+    let direction = |k: usize| {
+        let (s, c) = ((k as f64 + 0.5) * per_cell).sin_cos();
+        [c, s]
+    };
+    let mut normal = [[0.0; 2]; 2];
+    let mut projected = [0.0; 2];
+    for (k, (&w, &lambda)) in rate.iter().zip(relaxation).enumerate() {
+        if lambda <= 0.0 {
+            continue;
+        }
+        let damped = 1.0 / (1.0 + a * lambda);
+        let u = direction(k);
+        for i in 0..2 {
+            projected[i] += lambda * u[i] * w * damped;
+            for j in 0..2 {
+                normal[i][j] += lambda * damped * u[i] * u[j];
+            }
+        }
+    }
+    let z = pseudo_solve(normal, projected);
+    for (k, ((o, &w), &lambda)) in out.iter_mut().zip(rate).zip(relaxation).enumerate() {
+        if lambda <= 0.0 {
+            *o = w;
+            continue;
+        }
+        let u = direction(k);
+        let damped = 1.0 / (1.0 + a * lambda);
+        *o = (damped * (w + a * lambda * (u[0] * z[0] + u[1] * z[1]))).max(0.0);
+    }
+}
+
+/// `N⁺ b` for a symmetric positive semi-definite 2×2 `N`: its eigenvalues below 1e-9 of the
+/// largest count as zero.
+fn pseudo_solve(n: [[f64; 2]; 2], b: [f64; 2]) -> [f64; 2] {
+    let (p, q, r) = (n[0][0], n[0][1], n[1][1]);
+    let mean = 0.5 * (p + r);
+    let spread = (0.25 * (p - r) * (p - r) + q * q).sqrt();
+    let (large, small) = (mean + spread, mean - spread);
+    if large.is_nan() || large <= 0.0 || large.is_infinite() {
+        return [0.0; 2];
+    }
+    // Unit eigenvector of the large eigenvalue (the small one's is perpendicular).
+    let v = if spread > 0.0 {
+        let (x, y) = if p >= r {
+            (large - r, q)
+        } else {
+            (q, large - p)
+        };
+        let norm = x.hypot(y);
+        [x / norm, y / norm]
+    } else {
+        [1.0, 0.0]
+    };
+    let w = [-v[1], v[0]];
+    let along = |e: [f64; 2]| e[0] * b[0] + e[1] * b[1];
+    let mut z = [v[0] * along(v) / large, v[1] * along(v) / large];
+    if small > 1e-9 * large {
+        z[0] += w[0] * along(w) / small;
+        z[1] += w[1] * along(w) / small;
+    }
+    z
 }
 
 /// How many cells of a surface of radius `radius` and `cells` cells an arc of length `arc`

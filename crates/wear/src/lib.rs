@@ -76,5 +76,5 @@ pub use joint::{ContactArc, DEFAULT_CELLS, ShapeBound, WearParams, WornJoint};
 pub use profile::{AngularRange, Peak, Side, WornProfile};
 pub use staging::{
     Extrapolation, ExtrapolationWarning, GeometryLimits, JointSubstep, RunContext, StagePlan,
-    StageReport, StagingError, SubstepReport, WearSample, run_stage, run_stages,
+    StageReport, StagingError, SubstepReport, WearSample, WearStepping, run_stage, run_stages,
 };

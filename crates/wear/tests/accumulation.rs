@@ -226,6 +226,7 @@ fn node_deposits_carry_the_archard_volume_exactly() {
             arc,
             material_sliding: speed,
             paper_sliding: 0.0,
+            stiffness: 1e9,
         };
         let start: Vec<NodeLoad> = (10..40).map(|k| node(k, 50.0 + k as f64, -0.3)).collect();
         let end: Vec<NodeLoad> = (12..45).map(|k| node(k, 80.0 - k as f64, 0.25)).collect();
@@ -288,4 +289,51 @@ fn smoothing_keeps_the_volume_and_spreads_a_spike() {
     let mut same = StageWear::from_depths(&joint, spike.clone(), vec![0.0; 200]).unwrap();
     same.smooth(0.0);
     assert_eq!(same.bearing(), &spike[..]);
+}
+
+#[test]
+fn node_deposits_carry_their_relaxation_and_the_implicit_step_keeps_even_wear() {
+    use contact::NodeLoad;
+    use wear::{WearParams, WornJoint};
+    // Nodes on every pin cell centre, meeting the bearing at the same angle, all alike.
+    let cells = 200;
+    let params = WearParams::new(1.8e-13, 0.1, cells).unwrap();
+    let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
+    let arc = R_PIN * TAU / cells as f64;
+    let (stiffness, speed, dt) = (4e9, 0.3, 1e-4);
+    // A turning pin: its even wear comes from nodes all around (here all at once).
+    let nodes: Vec<NodeLoad> = (0..cells)
+        .map(|k| {
+            let angle = (k as f64 + 0.5) * TAU / cells as f64;
+            NodeLoad {
+                cell: k,
+                pin_angle: angle,
+                bearing_angle: angle,
+                normal_force: 100.0,
+                arc,
+                material_sliding: speed,
+                paper_sliding: 0.0,
+                stiffness,
+            }
+        })
+        .collect();
+    let mut stage = joint.start_stage();
+    stage.accumulate_nodes(&nodes, &nodes, dt).unwrap();
+    // Two ends of K_d S |v| (dt/2)/(arc w): the depth's derivative in the overlap.
+    let lambda = 1.8e-13 * stiffness * speed * dt / (arc * 0.1);
+    assert_relative_eq!(stage.pin_relaxation()[60], lambda, max_relative = 1e-12);
+    // The bearing's wider cells hold the node's share, as its depths do.
+    assert_relative_eq!(
+        stage.bearing_relaxation()[60],
+        lambda * R_PIN / R_BEARING,
+        max_relative = 1e-9
+    );
+    assert_relative_eq!(stage.relaxation_weighted(), lambda, max_relative = 1e-9);
+    // Even wear all around is no translation of the pin's frame: the frame-fixed implicit
+    // step damps it by 1/(1 + aλ), here 1/2, although a turning pin wears evenly in steady
+    // state (the limitation `WearStepping::LinearlyImplicit` documents).
+    let implicit = stage.implicit(1.0 / lambda);
+    for k in [0, 60, 199] {
+        assert_relative_eq!(implicit.pin()[k], 0.5 * stage.pin()[k], max_relative = 1e-9);
+    }
 }

@@ -278,6 +278,11 @@ pub struct NodeLoad {
     pub material_sliding: f64,
     /// The paper's sliding velocity `d_k φ̇` (m/s).
     pub paper_sliding: f64,
+    /// How fast the node's normal force falls as the gap it closes opens evenly, as wear
+    /// opens it: `k w · arc · φ · |m_k|` (N/m; the layer's line modulus over the node's arc,
+    /// with the damping factor it carries). Wear stepping reads the stiffness of the wear
+    /// process from it (`wear`'s linearly implicit sub-steps).
+    pub stiffness: f64,
 }
 
 impl NodeLoad {
@@ -1343,6 +1348,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 arc: self.bounds.node_arc,
                 material_sliding: material_v,
                 paper_sliding: paper.value(),
+                stiffness: foundation.line_modulus * self.bounds.node_arc * factor * m_norm.value(),
             });
             normal_v
         };

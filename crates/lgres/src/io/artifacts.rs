@@ -203,6 +203,7 @@ fn life_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
             col("pin_peak_depth", "m"),
             col("worn_volume", "m^3"),
             col("max_local_clearance", "m"),
+            col("wear_stiffness", "1"),
         ],
     )?;
     for joint in &outcome.wear {
@@ -216,6 +217,7 @@ fn life_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
                 Cell::Number(p.pin_peak_depth_m),
                 Cell::Number(p.worn_volume_m3),
                 Cell::Number(p.max_local_clearance_m),
+                Cell::Number(p.wear_stiffness),
             ])?;
         }
     }

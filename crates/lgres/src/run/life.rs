@@ -30,6 +30,7 @@ pub(super) fn life_curves(
                 pin_peak_depth_m: j.pin().peak().depth,
                 worn_volume_m3: j.worn_volume(),
                 max_local_clearance_m: j.max_local_clearance(),
+                wear_stiffness: 0.0,
             }]
         })
         .collect();
@@ -49,6 +50,7 @@ pub(super) fn life_curves(
                     pin_peak_depth_m: j.max_pin_depth,
                     worn_volume_m3: j.worn_volume,
                     max_local_clearance_m: j.max_local_clearance,
+                    wear_stiffness: j.wear_stiffness,
                 });
             }
         }
@@ -136,6 +138,7 @@ mod tests {
             pin_peak_depth_m: 0.0,
             worn_volume_m3: 0.0,
             max_local_clearance_m: clearance,
+            wear_stiffness: 0.0,
         };
         let curve: Vec<LifePoint> = CURVE.iter().map(|(c, v)| point(*c, v * 1e-6)).collect();
         let r = clearance_limit(&curve, 560e-6);

@@ -151,6 +151,10 @@ pub struct LifePoint {
     /// Largest local clearance `c0 + (max h_i + max h_j)/2` (the deepest dents facing each
     /// other), m.
     pub max_local_clearance_m: f64,
+    /// How stiff the sub-step's update was, `aλ` weighted by the wear
+    /// ([`wear::JointSubstep::wear_stiffness`]; 0 at the start): an explicit update multiplies
+    /// a pattern relaxing at `λ` by `1 − aλ`.
+    pub wear_stiffness: f64,
 }
 
 /// When a joint's largest local clearance reaches the maintenance limit `run.clearance_limit`.
