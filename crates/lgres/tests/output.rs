@@ -264,7 +264,7 @@ clearance_limit = 0.000505
     assert_eq!(
         header,
         "joint [-],stage [1],substep [1],cycles [1],bearing_peak_depth [m],pin_peak_depth [m],\
-         worn_volume [m^3],max_local_clearance [m]"
+         worn_volume [m^3],max_local_clearance [m],wear_stiffness [1]"
     );
     let substeps: usize = wear.substeps_per_stage.iter().sum();
     assert!(substeps >= 2, "{substeps} sub-steps");
@@ -277,6 +277,14 @@ clearance_limit = 0.000505
     }
     let c0 = scene.clearance_joints[0].clearance;
     assert!((number(first, 7) - c0).abs() < 1e-15, "{first:?}");
+    // The start applied no update; every sub-step reports a finite, non-negative aλ.
+    assert_eq!(number(first, 8), 0.0);
+    assert!(
+        rows[1..]
+            .iter()
+            .all(|r| number(r, 8).is_finite() && number(r, 8) >= 0.0),
+        "{rows:?}"
+    );
     // Stages and sub-steps count from 1 in order; cycles and wear grow.
     let mut expected = (1, 1);
     for pair in rows.windows(2) {
