@@ -274,7 +274,9 @@ pub fn build(scene: &Scene, surfaces: Surfaces<'_>) -> Result<Built, BuildError>
                     })?;
                 let mut force = ClearanceForce::new(&c.name, bearing, pin, joint);
                 if let Some(t0) = surfaces.accumulate_from {
-                    force = force.with_stage_wear(w.start_stage(), t0);
+                    // The contact zones only where the stepping reads them.
+                    let zones = scene.run.wear_stepping == wear::WearStepping::LinearlyImplicit;
+                    force = force.with_stage_wear(w.start_stage().gathering_zones(zones), t0);
                     if let Some(split) = surfaces.split_halves_at {
                         force = force.with_halves(w.start_stage(), split);
                     }

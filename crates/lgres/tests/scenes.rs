@@ -430,6 +430,23 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
         msg[0].contains("needs run.adaptive_extrapolation = true"),
         "{msg:?}"
     );
+    let text = with("wear_tolerance = 0.05\nwear_stepping = \"linearly-implicit\"");
+    let msg = issues(scene::load_str(&text, "t").unwrap_err());
+    assert!(
+        msg[0].starts_with("run.wear_tolerance = ") && msg[0].contains("linearly-implicit"),
+        "{msg:?}"
+    );
+    let bad = scene::load_str(&with("wear_stepping = \"backward\""), "t").unwrap_err();
+    assert!(bad.to_string().contains("wear_stepping"), "{bad}");
+    let s = scene::load_str(&with("wear_stepping = \"linearly-implicit\""), "t").unwrap();
+    assert_eq!(s.run.wear_stepping, wear::WearStepping::LinearlyImplicit);
+    assert_eq!(
+        scene::load_str(&s.to_toml(), "t")
+            .unwrap()
+            .run
+            .wear_stepping,
+        wear::WearStepping::LinearlyImplicit
+    );
     let s = scene::load_str(&with("wear_tolerance = 0.05"), "t").unwrap();
     assert_eq!(s.run.wear_tolerance, Some(0.05));
     assert_eq!(

@@ -5,6 +5,7 @@ use std::f64::consts::TAU;
 use contact::{ContactDiagnostics, NodeLoad, SlidingVelocity};
 
 use crate::error::{WearError, finite, non_negative, positive};
+use crate::implicit::{self, ContactZone, ZoneBook};
 use crate::joint::{ContactArc, WornJoint};
 use crate::profile::{ArcDeposit, check_increment, layer_volume};
 
@@ -27,6 +28,10 @@ pub struct StageWear {
     /// (dimensionless, see [`relaxation`](Self::bearing_relaxation)).
     bearing_relaxation: Vec<f64>,
     pin_relaxation: Vec<f64>,
+    /// The contact zones of the record's steps: the wear process's Jacobian
+    /// ([`implicit`](Self::implicit)); gathered only when asked.
+    zones: ZoneBook,
+    gather_zones: bool,
     archard_volume: f64,
     /// Cell weights of the last arc on each surface (see [`ArcDeposit`]).
     bearing_arc: ArcDeposit,
@@ -46,6 +51,8 @@ impl StageWear {
             pin: vec![0.0; joint.pin().cells()],
             bearing_relaxation: vec![0.0; joint.bearing().cells()],
             pin_relaxation: vec![0.0; joint.pin().cells()],
+            zones: ZoneBook::default(),
+            gather_zones: false,
             archard_volume: 0.0,
             bearing_arc: ArcDeposit::default(),
             pin_arc: ArcDeposit::default(),
@@ -91,12 +98,37 @@ impl StageWear {
         Ok(self)
     }
 
+    /// The same record with `zones` added to its contact zones (for callers that compute
+    /// wear their own way, and for tests): what [`implicit`](Self::implicit) reads. Zones with
+    /// no node or a relaxation that is not positive are left out.
+    pub fn with_zones(mut self, zones: impl IntoIterator<Item = ContactZone>) -> Self {
+        let (pin, bearing) = (self.pin.len(), self.bearing.len());
+        for zone in zones {
+            self.zones.add(zone, pin, bearing);
+        }
+        self
+    }
+
+    /// The same record gathering (or not) the contact zones of the steps it is fed, which
+    /// [`implicit`](Self::implicit) needs (default: not; they cost memory and time for a
+    /// stage stepped explicitly).
+    pub fn gathering_zones(mut self, on: bool) -> Self {
+        self.gather_zones = on;
+        self
+    }
+
+    /// The contact zones gathered so far (merged where they meet the same cells).
+    pub fn zones(&self) -> &[ContactZone] {
+        self.zones.zones()
+    }
+
     /// Clears the record for reuse in the next stage without reallocating.
     pub fn reset(&mut self) {
         self.bearing.fill(0.0);
         self.pin.fill(0.0);
         self.bearing_relaxation.fill(0.0);
         self.pin_relaxation.fill(0.0);
+        self.zones.clear();
         self.archard_volume = 0.0;
     }
 
@@ -203,6 +235,30 @@ impl StageWear {
             );
             self.archard_volume += archard_rate * 0.5 * dt;
         }
+        // Each end's contact zones, for the wear process's Jacobian.
+        let (pin_cells, bearing_cells) = (self.pin.len(), self.bearing.len());
+        for nodes in [start, end].into_iter().filter(|_| self.gather_zones) {
+            let Some(first) = nodes.first() else {
+                continue;
+            };
+            let node_count = (TAU * self.pin_radius / first.arc).round() as usize;
+            let share = 0.5
+                * (spread_factor(first.arc, self.pin_radius, pin_cells)
+                    + spread_factor(first.arc, self.bearing_radius, bearing_cells));
+            let (coefficient, width, sliding) =
+                (self.wear_coefficient, self.hinge_width, self.sliding);
+            let zones = &mut self.zones;
+            implicit::zones_of(
+                nodes,
+                node_count,
+                share,
+                |node| {
+                    coefficient * node.stiffness * node.sliding(sliding).abs() * 0.5 * dt
+                        / (node.arc * width)
+                },
+                |zone| zones.add(zone, pin_cells, bearing_cells),
+            );
+        }
         Ok(())
     }
 
@@ -269,6 +325,8 @@ impl StageWear {
                 *h += o;
             }
         }
+        let (pin, bearing) = (self.pin.len(), self.bearing.len());
+        self.zones.merge(&other.zones, pin, bearing);
         self.archard_volume += other.archard_volume;
     }
 
@@ -284,6 +342,7 @@ impl StageWear {
         {
             *h *= factor;
         }
+        self.zones.scale(factor);
         self.archard_volume *= factor;
     }
 
@@ -300,6 +359,8 @@ impl StageWear {
                 *h = (*h - o).max(0.0);
             }
         }
+        // The zones of a difference are not known: the remainder steps explicitly.
+        self.zones.clear();
         self.archard_volume -= other.archard_volume;
     }
 
@@ -322,7 +383,8 @@ impl StageWear {
     /// deposit's derivative in `g`, `λ = K_d (∂F/∂g) |v_s| dt/(arc w)`, is the rate (per unit
     /// amplification) at which wear relaxes the cell's overlap: a cell that wore `Δh` more
     /// presses `λ Δh` less. On a Winkler layer `∂F/∂g = k w arc`, so `λ = K_d k s` with `s`
-    /// the sliding distance while the cell is loaded. [`implicit`](Self::implicit) reads it.
+    /// the sliding distance while the cell is loaded. A diagnostic: the sub-steps report
+    /// `a λ` weighted by the wear ([`JointSubstep::wear_stiffness`](crate::JointSubstep)).
     pub fn bearing_relaxation(&self) -> &[f64] {
         &self.bearing_relaxation
     }
@@ -353,49 +415,43 @@ impl StageWear {
     }
 
     /// The depths per unit amplification that a linearly implicit sub-step of
-    /// `amplification` applies (the relaxations kept; the Archard volume scaled with the
-    /// worn volume).
+    /// `amplification` applies (relaxations and zones kept; the Archard volume scaled with the
+    /// worn volume), and the conjugate-gradient iterations it took.
     ///
-    /// Why: within a contact zone the wear rate falls where a surface wore more, at the rate
-    /// `λ` per unit amplification ([`bearing_relaxation`](Self::bearing_relaxation)), while the
-    /// pin sinks to keep carrying its load. So the shape of a wear pattern relaxes toward a
-    /// steady one at about `λ` per unit amplification, and the explicit update `a·w` is
-    /// unstable past `a λ = 2` and inaccurate well before. The Jacobian of the rate in the
-    /// depths, on each surface, is taken as `J = −Λ(I − P)`: `Λ = diag(λ)`, and `P` the
-    /// `Λ`-weighted projection onto the two translation patterns `cos θ`, `sin θ` (a surface
-    /// worn by `Δe·u(θ)` is met by a pin moved by `Δe`, and presses the same: those patterns
-    /// do not relax). The sub-step applies `a·w̃` with `(I − a J) w̃ = w`, solved exactly by
-    /// Woodbury's identity (a diagonal and a 2×2 system). A steady pattern (translation on
-    /// the loaded cells) passes unchanged, a shape mode is damped by `1/(1 + aλ)` (backward
-    /// Euler: stable at any amplification). Negative depths, which the projection can give
-    /// outside the loaded zone, are clamped to 0 (depths only grow). With all `λ = 0` the
-    /// result is this record.
-    ///
-    /// The partner surface is taken to wear in step (both surfaces' share of the overlap is
-    /// in `λ`). Both this and the projection hold for a contact whose direction is fixed in
-    /// both surfaces' frames (a pad, a pin that neither turns nor sees its load turn): there
-    /// the step is exactly backward Euler (`tests/stiff_wear.rs`). Where the contact sweeps a
-    /// surface, the patterns that do not relax are translations over each instant's contact
-    /// zone, not over the whole surface, and this step damps steady wear too (a turning pin's
-    /// even wear is no translation of its own frame): see [`WearStepping`](crate::WearStepping).
-    pub fn implicit(&self, amplification: f64) -> StageWear {
+    /// Why: within a contact zone the wear rate falls where a surface wore more (a cell that
+    /// wore `Δh` more presses `λ Δh` less), while the pin moves to keep carrying its load. So
+    /// the shape of a wear pattern within the zones relaxes toward a steady one at about `λ`
+    /// per unit amplification, and the explicit update `a·w` multiplies such a pattern by
+    /// `1 − aλ`: unstable past `aλ = 2`, inaccurate well before. This step applies `a·w̃`
+    /// with `(I − aJ) w̃ = w`, `J` the rate's Jacobian in the depths gathered from the
+    /// record's contact zones (`crate::implicit`'s module docs): backward Euler for the
+    /// zones' shapes, while every pattern that is a translation over each zone that saw it
+    /// (a turning pin's even wear, a groove that fits the pin) passes unchanged. Negative
+    /// depths, which the projection can give at a zone's edge, are clamped to 0 (depths only
+    /// grow). Without zones (line-of-centres contacts, halves) the result is this record.
+    pub fn implicit(&self, amplification: f64) -> (StageWear, usize) {
         let mut out = self.clone();
-        if !(amplification > 0.0 && amplification.is_finite()) {
-            return out;
+        if self.zones.is_empty() || !(amplification > 0.0 && amplification.is_finite()) {
+            return (out, 0);
         }
         let before = out.worn_volume();
-        implicit_surface(
-            &self.bearing,
-            &self.bearing_relaxation,
+        let nb = self.bearing.len();
+        let stacked: Vec<f64> = self.bearing.iter().chain(&self.pin).copied().collect();
+        let (solved, iterations) = implicit::solve(
+            self.zones.zones(),
+            nb,
+            self.pin.len(),
             amplification,
-            &mut out.bearing,
+            &stacked,
         );
-        implicit_surface(&self.pin, &self.pin_relaxation, amplification, &mut out.pin);
+        for (o, x) in out.bearing.iter_mut().chain(out.pin.iter_mut()).zip(solved) {
+            *o = x.max(0.0);
+        }
         let after = out.worn_volume();
         if before > 0.0 {
             out.archard_volume *= after / before;
         }
-        out
+        (out, iterations)
     }
 
     /// Largest cell depth on either surface (m).
@@ -424,73 +480,11 @@ impl StageWear {
     }
 }
 
-/// One surface's linearly implicit depths (see [`StageWear::implicit`]): `w̃ = y + a D⁻¹ΛU z`
-/// with `D = I + aΛ`, `y = D⁻¹w`, `z = N⁺ UᵀΛy` and `N = Σ λ_k/(1 + aλ_k) u_k u_kᵀ` (its
-/// pseudo-inverse: a zone that is a single direction has one translation pattern).
-fn implicit_surface(rate: &[f64], relaxation: &[f64], a: f64, out: &mut [f64]) {
-    let n = rate.len();
-    let per_cell = TAU / n as f64;
-    let direction = |k: usize| {
-        let (s, c) = ((k as f64 + 0.5) * per_cell).sin_cos();
-        [c, s]
-    };
-    let mut normal = [[0.0; 2]; 2];
-    let mut projected = [0.0; 2];
-    for (k, (&w, &lambda)) in rate.iter().zip(relaxation).enumerate() {
-        if lambda <= 0.0 {
-            continue;
-        }
-        let damped = 1.0 / (1.0 + a * lambda);
-        let u = direction(k);
-        for i in 0..2 {
-            projected[i] += lambda * u[i] * w * damped;
-            for j in 0..2 {
-                normal[i][j] += lambda * damped * u[i] * u[j];
-            }
-        }
-    }
-    let z = pseudo_solve(normal, projected);
-    for (k, ((o, &w), &lambda)) in out.iter_mut().zip(rate).zip(relaxation).enumerate() {
-        if lambda <= 0.0 {
-            *o = w;
-            continue;
-        }
-        let u = direction(k);
-        let damped = 1.0 / (1.0 + a * lambda);
-        *o = (damped * (w + a * lambda * (u[0] * z[0] + u[1] * z[1]))).max(0.0);
-    }
-}
-
-/// `N⁺ b` for a symmetric positive semi-definite 2×2 `N`: its eigenvalues below 1e-9 of the
-/// largest count as zero.
-fn pseudo_solve(n: [[f64; 2]; 2], b: [f64; 2]) -> [f64; 2] {
-    let (p, q, r) = (n[0][0], n[0][1], n[1][1]);
-    let mean = 0.5 * (p + r);
-    let spread = (0.25 * (p - r) * (p - r) + q * q).sqrt();
-    let (large, small) = (mean + spread, mean - spread);
-    if large.is_nan() || large <= 0.0 || large.is_infinite() {
-        return [0.0; 2];
-    }
-    // Unit eigenvector of the large eigenvalue (the small one's is perpendicular).
-    let v = if spread > 0.0 {
-        let (x, y) = if p >= r {
-            (large - r, q)
-        } else {
-            (q, large - p)
-        };
-        let norm = x.hypot(y);
-        [x / norm, y / norm]
-    } else {
-        [1.0, 0.0]
-    };
-    let w = [-v[1], v[0]];
-    let along = |e: [f64; 2]| e[0] * b[0] + e[1] * b[1];
-    let mut z = [v[0] * along(v) / large, v[1] * along(v) / large];
-    if small > 1e-9 * large {
-        z[0] += w[0] * along(w) / small;
-        z[1] += w[1] * along(w) / small;
-    }
-    z
+/// The cell of a grid of `n` cells that holds body-frame angle `angle` (cell `i` spans
+/// `[i, i + 1)·2π/n`).
+pub(crate) fn cell_index(angle: f64, n: usize) -> usize {
+    let u = contact::wrap_angle(angle) * n as f64 / TAU;
+    (contact::floor(u) as usize).min(n - 1)
 }
 
 /// How many cells of a surface of radius `radius` and `cells` cells an arc of length `arc`

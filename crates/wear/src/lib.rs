@@ -66,12 +66,14 @@
 mod accumulate;
 mod controlled;
 mod error;
+mod implicit;
 mod joint;
 mod profile;
 mod staging;
 
 pub use accumulate::StageWear;
 pub use error::WearError;
+pub use implicit::ContactZone;
 pub use joint::{ContactArc, DEFAULT_CELLS, ShapeBound, WearParams, WornJoint};
 pub use profile::{AngularRange, Peak, Side, WornProfile};
 pub use staging::{

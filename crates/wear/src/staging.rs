@@ -242,14 +242,12 @@ pub enum WearStepping {
     /// [`JointSubstep::wear_stiffness`] reports `aλ`.
     #[default]
     Explicit,
-    /// Linearly implicit with the translation patterns of each surface's own frame as the only
-    /// ones that do not relax ([`StageWear::implicit`]): backward Euler, stable at any
-    /// amplification, **for a contact whose direction is fixed in both surfaces' frames** (a
-    /// pad, a pin that neither turns nor sees its load turn). Where the contact sweeps a
-    /// surface (a turning pin, a swinging load) it damps steady wear as if it were a
-    /// transient: on the LGRES it wore 58 % (A) and 87 % (B) less than the explicit steps
-    /// (docs/performance.md). The same as [`Explicit`](Self::Explicit) where the contact
-    /// reports no layer stiffness (the line-of-centres contact).
+    /// Linearly implicit: the surfaces take `a·w̃`, `(I − aJ) w̃ = w`, with the rate's
+    /// Jacobian in the depths gathered from the same cycles' contact zones
+    /// ([`StageWear::implicit`]): backward Euler for the shape of the wear pattern within the
+    /// zones, which relaxes at `λ`; what is a translation over every zone that saw it passes
+    /// unchanged. The same as [`Explicit`](Self::Explicit) where the contact reports no zones
+    /// (the line-of-centres contact).
     LinearlyImplicit,
 }
 
@@ -629,7 +627,7 @@ where
             WearStepping::Explicit => apply_all(joints, &wear, amplification, context)?,
             WearStepping::LinearlyImplicit => {
                 let implicit: Vec<StageWear> =
-                    wear.iter().map(|w| w.implicit(amplification)).collect();
+                    wear.iter().map(|w| w.implicit(amplification).0).collect();
                 apply_all(joints, &implicit, amplification, context)?
             }
         };

@@ -292,7 +292,7 @@ fn smoothing_keeps_the_volume_and_spreads_a_spike() {
 }
 
 #[test]
-fn node_deposits_carry_their_relaxation_and_the_implicit_step_keeps_even_wear() {
+fn node_deposits_carry_their_relaxation_and_a_whole_circle_zone_relaxes_even_wear() {
     use contact::NodeLoad;
     use wear::{WearParams, WornJoint};
     // Nodes on every pin cell centre, meeting the bearing at the same angle, all alike.
@@ -317,7 +317,7 @@ fn node_deposits_carry_their_relaxation_and_the_implicit_step_keeps_even_wear() 
             }
         })
         .collect();
-    let mut stage = joint.start_stage();
+    let mut stage = joint.start_stage().gathering_zones(true);
     stage.accumulate_nodes(&nodes, &nodes, dt).unwrap();
     // Two ends of K_d S |v| (dt/2)/(arc w): the depth's derivative in the overlap.
     let lambda = 1.8e-13 * stiffness * speed * dt / (arc * 0.1);
@@ -329,11 +329,66 @@ fn node_deposits_carry_their_relaxation_and_the_implicit_step_keeps_even_wear() 
         max_relative = 1e-9
     );
     assert_relative_eq!(stage.relaxation_weighted(), lambda, max_relative = 1e-9);
-    // Even wear all around is no translation of the pin's frame: the frame-fixed implicit
-    // step damps it by 1/(1 + aλ), here 1/2, although a turning pin wears evenly in steady
-    // state (the limitation `WearStepping::LinearlyImplicit` documents).
-    let implicit = stage.implicit(1.0 / lambda);
+    // One zone of all 200 nodes at once: even wear all around is no translation of it, so
+    // the implicit step relaxes it like any shape, by 1/(1 + aλ) with aλ ≈ 1 here.
+    let (implicit, iterations) = stage.implicit(1.0 / lambda);
+    assert!(iterations > 0);
+    // Exactly: the zone's λ is the mean of the two surfaces' shares (R_pin/R_bearing on the
+    // bearing), and the even parts c_b, c_p solve [1 + μ, μ; μ, 1 + μ] c̃ = c, μ = aλ/2
+    // (equal depths would be halved).
+    let mu = 0.5 * 0.5 * (1.0 + R_PIN / R_BEARING);
     for k in [0, 60, 199] {
-        assert_relative_eq!(implicit.pin()[k], 0.5 * stage.pin()[k], max_relative = 1e-9);
+        let (cb, cp) = (stage.bearing()[k], stage.pin()[k]);
+        let expected = ((1.0 + mu) * cp - mu * cb) / (1.0 + 2.0 * mu);
+        assert_relative_eq!(implicit.pin()[k], expected, max_relative = 1e-6);
+        assert!(implicit.pin()[k] < 0.51 * cp);
     }
+}
+
+#[test]
+fn a_turning_pins_even_wear_passes_the_implicit_step() {
+    use contact::NodeLoad;
+    use wear::{WearParams, WornJoint};
+    // The load stays at the bearing's bottom while the pin turns a cell per instant: a zone
+    // of 10 nodes meets the same bearing cells each time, and every pin cell once in each of
+    // the zone's places. The pin wears evenly (steady), the bearing a flat patch.
+    let cells = 200;
+    let params = WearParams::new(1.8e-13, 0.1, cells).unwrap();
+    let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
+    let per_cell = TAU / cells as f64;
+    let arc = R_PIN * per_cell;
+    let mut stage = joint.start_stage().gathering_zones(true);
+    for t in 0..cells {
+        let nodes: Vec<NodeLoad> = (0..10)
+            .map(|m| {
+                let k = (t + m) % cells;
+                NodeLoad {
+                    cell: k,
+                    pin_angle: (k as f64 + 0.5) * per_cell,
+                    bearing_angle: (145 + m) as f64 * per_cell,
+                    normal_force: 100.0,
+                    arc,
+                    material_sliding: 0.3,
+                    paper_sliding: 0.0,
+                    stiffness: 4e9,
+                }
+            })
+            .collect();
+        stage.accumulate_nodes(&nodes, &nodes, 1e-4).unwrap();
+    }
+    let lambda = stage.relaxation_weighted();
+    let (implicit, _) = stage.implicit(4.0 / lambda);
+    let even = stage.pin()[17];
+    for k in 0..cells {
+        assert_relative_eq!(stage.pin()[k], even, max_relative = 1e-9);
+        // Within the zone's curvature (a flat patch is a translation over 0.31 rad to 1 %).
+        let ratio = implicit.pin()[k] / even;
+        assert!((ratio - 1.0).abs() < 0.02, "pin cell {k}: ×{ratio}");
+    }
+    eprintln!(
+        "aλ = 4 (pin λ {:.3e} per unit): even pin wear ×{:.4} (frame-fixed step: ×0.2), {} zone(s)",
+        lambda,
+        implicit.pin()[17] / even,
+        stage.zones().len()
+    );
 }

@@ -1,10 +1,12 @@
 //! The wear process is stiff: a closed form for the linearly implicit sub-step.
 //!
-//! A round pin pressed with a constant load on a pad of Winkler layer (the bearing's layer
-//! spans the cells of a fixed arc around the bottom): the overlap on the pad is
-//! `d_k = e·u_k − c − h_k/2` (the journal-bearing gap, `h_k` the bearing's cell depth, half
-//! of it in radius), the pin's centre `e` such that `Σ d_k u_k` is the load, and the bearing
-//! wears `w_k = 2λ d_k` per unit amplification (its overlap closes at `λ d_k`). Write
+//! A pin that does not turn, pressed with a constant load on a pad of Winkler layer (the
+//! bearing's layer spans the cells of a fixed arc around the bottom): the overlap on the pad is
+//! `d_k = e·u_k − c − (h_k + g_k)/2` (the journal-bearing gap, `h_k`, `g_k` the bearing's and
+//! the facing pin cell's depths, half of each in radius), the pin's centre `e` such that
+//! `Σ d_k u_k` is the load, and both surfaces wear `w_k = λ d_k` per unit amplification (the
+//! overlap closes at `λ d_k`). The wear record says so with one contact zone over the pad.
+//! Write
 //! `d = Πd + d⊥`, `Π` the projection onto the translation patterns `u_k = (cos θ_k, sin θ_k)`
 //! on the pad: `Πd` is fixed by the load, and `d⊥`, the shape of the wear pattern relative
 //! to a steady one (a ridge), decays as `exp(−λN)` over `N` units of amplification. An
@@ -15,8 +17,8 @@ use std::convert::Infallible;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
 use wear::{
-    Extrapolation, RunContext, StagePlan, StageWear, WearParams, WearStepping, WornJoint,
-    run_stages,
+    ContactZone, Extrapolation, RunContext, StagePlan, StageWear, WearParams, WearStepping,
+    WornJoint, run_stages,
 };
 
 const CELLS: usize = 720;
@@ -39,7 +41,8 @@ fn on_pad(k: usize) -> bool {
 
 /// The pad's overlaps on `joint`'s bearing, with the pin's centre placed to carry the load.
 fn overlaps(joint: &WornJoint) -> Vec<f64> {
-    let depth = joint.bearing().depth();
+    let (bearing, pin) = (joint.bearing().depth(), joint.pin().depth());
+    let depth: Vec<f64> = bearing.iter().zip(pin).map(|(h, g)| h + g).collect();
     let pad: Vec<usize> = (0..CELLS).filter(|&k| on_pad(k)).collect();
     // Σ (e·u_k − c − h_k/2) u_k = LOAD: a 2×2 linear system in e.
     let (mut m, mut b) = ([[0.0; 2]; 2], LOAD);
@@ -126,21 +129,26 @@ fn ridged_joint() -> WornJoint {
     .unwrap()
 }
 
-/// The runner: one unit of amplification's wear on the frozen surfaces, and its relaxation.
+/// The runner: one unit of amplification's wear on the frozen surfaces, and its contact zone.
 fn pad_wear(joint: &WornJoint) -> StageWear {
     let d = overlaps(joint);
     assert!(
         (0..CELLS).filter(|&k| on_pad(k)).all(|k| d[k] > 0.0),
         "the pad stays in contact (the model is linear)"
     );
-    let rate = d.iter().map(|x| 2.0 * LAMBDA * x).collect();
-    let relaxation = (0..CELLS)
-        .map(|k| if on_pad(k) { LAMBDA } else { 0.0 })
-        .collect();
-    StageWear::from_depths(joint, rate, vec![0.0; CELLS])
+    let rate: Vec<f64> = d.iter().map(|x| LAMBDA * x).collect();
+    let first = (0..CELLS).find(|&k| on_pad(k)).unwrap();
+    let zone = ContactZone {
+        relaxation: LAMBDA,
+        pin_start: angle(first),
+        pin_step: TAU / CELLS as f64,
+        bearing_start: angle(first),
+        bearing_step: TAU / CELLS as f64,
+        nodes: (0..CELLS).filter(|&k| on_pad(k)).count() as u32,
+    };
+    StageWear::from_depths(joint, rate.clone(), rate)
         .unwrap()
-        .with_relaxation(relaxation, vec![0.0; CELLS])
-        .unwrap()
+        .with_zones([zone])
 }
 
 /// `steps` sub-steps of amplification `a` with `stepping`: the ridge's size relative to its
@@ -212,9 +220,9 @@ fn the_implicit_step_follows_the_closed_form_within_backward_eulers_error() {
 }
 
 #[test]
-fn without_relaxation_the_implicit_step_is_the_explicit_one() {
+fn without_zones_the_implicit_step_is_the_explicit_one() {
     let joint = ridged_joint();
     let wear = pad_wear(&joint);
     let plain = StageWear::from_depths(&joint, wear.bearing().to_vec(), vec![0.0; CELLS]).unwrap();
-    assert_eq!(plain.implicit(1e6), plain);
+    assert_eq!(plain.implicit(1e6), (plain, 0));
 }

@@ -169,6 +169,7 @@ pub(super) fn stages(
         };
     let plan = StagePlan::new(r.wear_stages as usize, r.amplification, extrapolation)
         .with_smoothing(r.wear_smoothing_deg.to_radians())
+        .with_stepping(r.wear_stepping)
         .with_geometry_limits(
             // The slope stop is the line-of-centres model's: the foundation follows any shape.
             (r.adaptive_extrapolation && r.stop_at_validity_limits && line_of_centres)

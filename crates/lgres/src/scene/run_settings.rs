@@ -40,6 +40,14 @@ pub struct RunSettings {
     /// Largest clearance change per extrapolation step, as a fraction of the current clearance.
     #[serde(default = "max_clearance_change")]
     pub max_clearance_change: f64,
+    /// How a sub-step extrapolates its cycles' wear: `"explicit"` (the rate at the start
+    /// times the amplification; the paper's jump) or `"linearly-implicit"` (the wear rate's
+    /// fall where a surface wore more, gathered from the same cycles' contact zones, taken
+    /// implicitly: [`wear::StageWear::implicit`]; the foundation contact only, the same as
+    /// explicit with the line-of-centres contact). Error-controlled stages (`wear_tolerance`)
+    /// are explicit whatever this says.
+    #[serde(default)]
+    pub wear_stepping: wear::WearStepping,
     /// Largest relative change of the clearance's slope per extrapolation step,
     /// `|Δc'|/(c0 + |c'|)`: bounds how fast a sub-step reshapes the worn profile. Default: 0.25
     /// when a clearance joint uses the line-of-centres contact (whose validity the shape
@@ -149,6 +157,7 @@ impl Default for RunSettings {
             amplification: amplification(),
             adaptive_extrapolation: true,
             max_clearance_change: max_clearance_change(),
+            wear_stepping: wear::WearStepping::default(),
             max_slope_change: None,
             max_curvature_change: None,
             wear_tolerance: None,

@@ -461,6 +461,13 @@ impl Validator {
                     "needs run.adaptive_extrapolation = true (the single jump has no sub-steps \
                      to control)",
                 );
+            } else if r.wear_stepping == wear::WearStepping::LinearlyImplicit {
+                self.push(
+                    "run.wear_tolerance",
+                    tolerance,
+                    "cannot be combined with run.wear_stepping = \"linearly-implicit\" \
+                     (error-controlled sub-steps are an explicit predictor-corrector; drop one)",
+                );
             }
         }
         if r.max_substeps == 0 {
