@@ -49,7 +49,7 @@ struct Overrides {
     /// Simulated cycles per wear stage K (scene: run.cycles_per_stage, the paper's 100). The
     /// amplification is rescaled so a stage still stands for the scene's K × amplification
     /// cycles. `run` defaults to 2 (even, so the stage's convergence in K is checked; the LGRES
-    /// stage is within 0.8 % of finer sub-steps, docs/convergence.md); give 100 for the paper's
+    /// stage is within 2.6 % of finer sub-steps, docs/convergence.md); give 100 for the paper's
     /// staging.
     #[arg(
         long,
