@@ -51,12 +51,13 @@ where
     F: FnMut(RunContext, &[WornJoint]) -> Result<W, E>,
 {
     let stage = report.stage;
-    let context = |run: usize| RunContext {
+    let context = |run: usize, used: f64| RunContext {
         stage,
         substep: run,
+        applied: used / plan.amplification,
     };
     // The rate at the sub-step's start and the run it came from.
-    let mut start = sample(runner, context(0), joints)?;
+    let mut start = sample(runner, context(0, 0.0), joints)?;
     let mut noise = NoiseLevel::new(joints.len());
     noise.add(&start);
     let mut start_run = 0;
@@ -98,8 +99,8 @@ where
         }
         let run = report.run_weights.len();
         let mut predicted = joints.to_vec();
-        apply_all(&mut predicted, &start.wear, step, context(run))?;
-        let end = sample(runner, context(run), &predicted)?;
+        apply_all(&mut predicted, &start.wear, step, context(run, used))?;
+        let end = sample(runner, context(run, used), &predicted)?;
         noise.add(&end);
         report.run_weights.push(0.0);
         let (estimate, order) = error_estimate(
@@ -128,7 +129,7 @@ where
         let at_limits = limited < step;
         let step = if at_limits { limited } else { step };
         if step > 0.0 {
-            let mut substep = apply_all(joints, &mean, step, context(run))?;
+            let mut substep = apply_all(joints, &mean, step, context(run, used))?;
             substep.error_estimate = Some(estimate);
             report.substeps.push(substep);
             report.run_weights[start_run] += 0.5 * step;

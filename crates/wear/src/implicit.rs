@@ -260,8 +260,9 @@ fn product(zones: &[Prepared], bearing_cells: usize, v: &[f64], out: &mut [f64])
 }
 
 /// Solves `(I − aJ) x = w` for the stacked depths (bearing then pin) by conjugate gradients
-/// (the matrix is symmetric positive definite), to a residual of 1e-10 of `w`'s norm.
-/// Returns `x` and the iterations taken.
+/// (the matrix is symmetric positive definite), preconditioned with `1 + a·Σ λ/2` over the
+/// nodes that meet each cell (the matrix's diagonal without the zones' projections), to a
+/// residual of 1e-10 of `w`'s norm. Returns `x` and the iterations taken.
 pub(crate) fn solve(
     zones: &[ContactZone],
     bearing_cells: usize,
@@ -271,6 +272,17 @@ pub(crate) fn solve(
 ) -> (Vec<f64>, usize) {
     let prepared = prepare(zones, pin_cells, bearing_cells);
     let n = w.len();
+    let mut inverse_diagonal = vec![0.0; n];
+    for z in &prepared {
+        let (b, p) = inverse_diagonal.split_at_mut(bearing_cells);
+        z.for_each(pin_cells, bearing_cells, |i, j, _| {
+            b[i] += z.half_relaxation;
+            p[j] += z.half_relaxation;
+        });
+    }
+    for d in &mut inverse_diagonal {
+        *d = 1.0 / (1.0 + a * *d);
+    }
     let apply = |v: &[f64], out: &mut [f64]| {
         product(&prepared, bearing_cells, v, out);
         for (o, x) in out.iter_mut().zip(v) {
@@ -278,31 +290,39 @@ pub(crate) fn solve(
         }
     };
     let dot = |x: &[f64], y: &[f64]| x.iter().zip(y).map(|(p, q)| p * q).sum::<f64>();
+    let precondition = |r: &[f64], z: &mut [f64]| {
+        for ((z, x), d) in z.iter_mut().zip(r).zip(&inverse_diagonal) {
+            *z = x * d;
+        }
+    };
     let mut x = w.to_vec();
     let mut ax = vec![0.0; n];
     apply(&x, &mut ax);
     let mut r: Vec<f64> = w.iter().zip(&ax).map(|(p, q)| p - q).collect();
-    let mut p = r.clone();
-    let mut rr = dot(&r, &r);
+    let mut z = vec![0.0; n];
+    precondition(&r, &mut z);
+    let mut p = z.clone();
+    let mut rz = dot(&r, &z);
     let goal = 1e-20 * dot(w, w);
     let mut ap = vec![0.0; n];
     let mut iterations = 0;
-    while rr > goal && iterations < 10 * n.max(1) {
+    while dot(&r, &r) > goal && iterations < 10 * n.max(1) {
         apply(&p, &mut ap);
         let pap = dot(&p, &ap);
         if pap.is_nan() || pap <= 0.0 {
             break;
         }
-        let alpha = rr / pap;
+        let alpha = rz / pap;
         for k in 0..n {
             x[k] += alpha * p[k];
             r[k] -= alpha * ap[k];
         }
-        let next = dot(&r, &r);
-        let beta = next / rr;
-        rr = next;
+        precondition(&r, &mut z);
+        let next = dot(&r, &z);
+        let beta = next / rz;
+        rz = next;
         for k in 0..n {
-            p[k] = r[k] + beta * p[k];
+            p[k] = z[k] + beta * p[k];
         }
         iterations += 1;
     }

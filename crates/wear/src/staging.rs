@@ -364,7 +364,7 @@ impl StagePlan {
 }
 
 /// What the runner is asked to simulate (for the caller's logging and outputs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunContext {
     /// Stage index, from 0.
     pub stage: usize,
@@ -372,6 +372,10 @@ pub struct RunContext {
     /// sub-step's; with controlled extrapolation run 0 measures the first rate and each later
     /// run a sub-step's prediction (accepted or not).
     pub substep: usize,
+    /// The fraction of the stage's amplification applied before this run, in `[0, 1)`: with
+    /// `substep`, about how many runs the stage will take (for progress).
+    #[serde(default)]
+    pub applied: f64,
 }
 
 /// One joint after a sub-step.
@@ -576,6 +580,7 @@ where
         let context = RunContext {
             stage,
             substep: report.substeps.len(),
+            applied: used / plan.amplification,
         };
         let wear = sample(runner, context, joints)?.wear;
         let per_unit = largest_change_per_amplification(joints, &wear)?;

@@ -118,7 +118,8 @@ fn adaptive_split_obeys_fraction_and_sums_to_factor() {
         calls[0],
         RunContext {
             stage: 0,
-            substep: 0
+            substep: 0,
+            applied: 0.0
         }
     );
     assert_eq!(calls.last().unwrap().stage, 1);

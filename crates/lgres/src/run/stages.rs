@@ -35,6 +35,8 @@ struct SceneRuns<'a> {
     /// Cycles per run.
     k: u32,
     progress: &'a mut dyn Progress,
+    /// When the current stage's first run started: the time estimate's clock.
+    clock: Option<(usize, Instant)>,
 }
 
 fn run_name(context: RunContext) -> String {
@@ -43,6 +45,48 @@ fn run_name(context: RunContext) -> String {
         context.stage + 1,
         context.substep + 1
     )
+}
+
+impl SceneRuns<'_> {
+    /// The progress label of a run: its name, and once part of the stage is applied, about
+    /// how many runs the stage takes and how long it has left (from the amplification applied
+    /// so far per run and per second; sub-steps grow as the clearance opens, so both are
+    /// upper estimates early on).
+    fn label(&mut self, context: RunContext) -> String {
+        let started = match self.clock {
+            Some((stage, at)) if stage == context.stage => at,
+            _ => {
+                let now = Instant::now();
+                self.clock = Some((context.stage, now));
+                now
+            }
+        };
+        let name = run_name(context);
+        let applied = context.applied;
+        if !(applied > 0.0 && applied < 1.0) || context.substep == 0 {
+            return name;
+        }
+        let runs = (context.substep as f64 / applied).round();
+        let left = started.elapsed().as_secs_f64() * (1.0 - applied) / applied;
+        format!(
+            "{name} of about {runs:.0} ({:.0} % of the stage applied, about {} left)",
+            100.0 * applied,
+            duration_words(left)
+        )
+    }
+}
+
+/// A duration in words a progress line can carry: "40 s", "7 min", "1 h 05 min".
+fn duration_words(seconds: f64) -> String {
+    let s = seconds.max(0.0).round() as u64;
+    match s {
+        0..=89 => format!("{s} s"),
+        90..=3569 => format!("{} min", (s + 30) / 60),
+        _ => {
+            let minutes = (s + 30) / 60;
+            format!("{} h {:02} min", minutes / 60, minutes % 60)
+        }
+    }
 }
 
 impl StageRuns for SceneRuns<'_> {
@@ -98,8 +142,8 @@ impl StageRuns for SceneRuns<'_> {
         context: RunContext,
         run: &mut StageSimulation,
     ) -> Result<SimulationResult, SimulationError> {
-        self.progress
-            .phase(&run_name(context), self.t_end / self.period);
+        let label = self.label(context);
+        self.progress.phase(&label, self.t_end / self.period);
         let mut recorder = Recorder {
             body: 0,
             joints: &[],
@@ -121,7 +165,8 @@ impl StageRuns for SceneRuns<'_> {
     fn ensemble_progress(&mut self, context: RunContext, done: f64) {
         let cycles = f64::from(self.k);
         if done <= 0.0 {
-            self.progress.phase(&run_name(context), cycles);
+            let label = self.label(context);
+            self.progress.phase(&label, cycles);
         } else if done >= 1.0 {
             self.progress.finish();
         } else {
@@ -206,6 +251,7 @@ pub(super) fn stages(
         period,
         k,
         progress: &mut *progress,
+        clock: None,
     };
     let threads = threads.unwrap_or_else(|| {
         std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
