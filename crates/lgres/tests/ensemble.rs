@@ -167,3 +167,36 @@ fn controlled_sub_steps_are_reported_and_thread_independent()
     );
     Ok(())
 }
+
+/// Linearly implicit sub-steps (`run.wear_stepping`): the summary says so, each sub-step
+/// reports how stiff it was, the step changes the surfaces (against explicit sub-steps of the
+/// same scene), and the threads change no bit.
+#[test]
+fn implicit_sub_steps_are_reported_and_thread_independent() -> Result<(), Box<dyn std::error::Error>>
+{
+    let scene = scene_with(2, "wear_stepping = \"linearly-implicit\"")?;
+    let mut worn = Vec::new();
+    for threads in [1, 2] {
+        let (outcome, surfaces) = on_threads(&scene, threads)?;
+        let wear = outcome.summary.wear.as_ref().ok_or("stages ran")?;
+        eprintln!("{threads} thread(s): {}", wear.extrapolation);
+        assert!(
+            wear.extrapolation.ends_with(
+                "linearly implicit (the wear's stiffness taken from the cycles' contact zones)"
+            ),
+            "{}",
+            wear.extrapolation
+        );
+        let life = &outcome.wear[0].life;
+        assert!(life.len() >= 3, "{life:?}");
+        assert!(life[1..].iter().all(|p| p.wear_stiffness > 0.0), "{life:?}");
+        worn.push(surfaces);
+    }
+    assert!(
+        worn[0] == worn[1],
+        "1 and 2 threads gave different surfaces"
+    );
+    let (_, explicit) = on_threads(&scene_with(2, "")?, 2)?;
+    assert!(explicit != worn[0], "the implicit step changed nothing");
+    Ok(())
+}

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use clearance::{Ensemble, StageRuns, StageSimulation, WearStagesError, run_ensemble_stages};
 use multibody::{OutputTimes, SimulationError, SimulationResult};
-use wear::{Extrapolation, GeometryLimits, RunContext, StagePlan, WornJoint};
+use wear::{Extrapolation, GeometryLimits, RunContext, StagePlan, WearStepping, WornJoint};
 
 use super::life::{clearance_limit, life_curves};
 use super::outcome::StageHalvesSummary;
@@ -417,7 +417,7 @@ pub(super) fn stages(
             surfaces[slot] = joints.get(*i).cloned();
         }
     }
-    let summary = WearSummary {
+    let mut summary = WearSummary {
         stages: r.wear_stages,
         cycles_per_stage: k,
         scene_cycles_per_stage: 0,
@@ -470,6 +470,14 @@ pub(super) fn stages(
         joints: joints_summary,
         wall_time_s: started.elapsed().as_secs_f64(),
     };
+    // Which stepping ran (error-controlled stages are explicit whatever the scene says).
+    if plan.stepping == WearStepping::LinearlyImplicit
+        && !matches!(plan.extrapolation, Extrapolation::Controlled { .. })
+    {
+        summary.extrapolation.push_str(
+            ", linearly implicit (the wear's stiffness taken from the cycles' contact zones)",
+        );
+    }
     Ok((history, summary, surfaces))
 }
 
