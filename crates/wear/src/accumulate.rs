@@ -359,8 +359,9 @@ impl StageWear {
                 *h = (*h - o).max(0.0);
             }
         }
-        // The zones of a difference are not known: the remainder steps explicitly.
-        self.zones.clear();
+        // The zones of a difference are not known: the remainder steps explicitly. Dropped,
+        // not cleared: a stage keeps every run's halves, and the capacity would stay with each.
+        self.zones = ZoneBook::default();
         self.archard_volume -= other.archard_volume;
     }
 
