@@ -218,11 +218,8 @@ impl StageWear {
             let (_, pin_cells, bearing_cells) = spread;
             deposit_linear(&mut self.pin, node.pin_angle, depth * pin_cells);
             deposit_linear(&mut self.bearing, node.bearing_angle, depth * bearing_cells);
-            // How much of the node's overlap this deposit closes per unit of overlap: the
-            // depth's derivative in the gap, spread like the depth (so a cell holds the mean
-            // over the nodes that reach it).
-            let relaxation = self.wear_coefficient * node.stiffness * speed * 0.5 * dt
-                / (node.arc * self.hinge_width);
+            // Spread like the depth, so a cell holds the mean over the nodes that reach it.
+            let relaxation = self.node_relaxation(node, dt);
             deposit_linear(
                 &mut self.pin_relaxation,
                 node.pin_angle,
@@ -235,31 +232,34 @@ impl StageWear {
             );
             self.archard_volume += archard_rate * 0.5 * dt;
         }
-        // Each end's contact zones, for the wear process's Jacobian.
+        // Each end's contact zones, for the wear process's Jacobian (the nodes' shared arc and
+        // its spread factors from the loop above).
         let (pin_cells, bearing_cells) = (self.pin.len(), self.bearing.len());
-        for nodes in [start, end].into_iter().filter(|_| self.gather_zones) {
-            let Some(first) = nodes.first() else {
-                continue;
-            };
-            let node_count = (TAU * self.pin_radius / first.arc).round() as usize;
-            let share = 0.5
-                * (spread_factor(first.arc, self.pin_radius, pin_cells)
-                    + spread_factor(first.arc, self.bearing_radius, bearing_cells));
-            let (coefficient, width, sliding) =
-                (self.wear_coefficient, self.hinge_width, self.sliding);
-            let zones = &mut self.zones;
-            implicit::zones_of(
-                nodes,
-                node_count,
-                share,
-                |node| {
-                    coefficient * node.stiffness * node.sliding(sliding).abs() * 0.5 * dt
-                        / (node.arc * width)
-                },
-                |zone| zones.add(zone, pin_cells, bearing_cells),
-            );
+        let (arc, pin_share, bearing_share) = spread;
+        if self.gather_zones && arc.is_finite() {
+            let node_count = (TAU * self.pin_radius / arc).round() as usize;
+            let share = 0.5 * (pin_share + bearing_share);
+            for nodes in [start, end] {
+                let mut zones = std::mem::take(&mut self.zones);
+                implicit::zones_of(
+                    nodes,
+                    node_count,
+                    share,
+                    |node| self.node_relaxation(node, dt),
+                    |zone| zones.add(zone, pin_cells, bearing_cells),
+                );
+                self.zones = zones;
+            }
         }
         Ok(())
+    }
+
+    /// How much of a node's overlap its deposit over half of a step `dt` closes per unit of
+    /// overlap: the depth's derivative in the gap, `K_d (∂F/∂g) |v_s| (dt/2)/(arc w)`
+    /// ([`bearing_relaxation`](Self::bearing_relaxation)).
+    fn node_relaxation(&self, node: &NodeLoad, dt: f64) -> f64 {
+        self.wear_coefficient * node.stiffness * node.sliding(self.sliding).abs() * 0.5 * dt
+            / (node.arc * self.hinge_width)
     }
 
     /// For a loaded state: its arc, depth rate `K_d p |v_t|` (m/s) and Archard volume rate
@@ -479,13 +479,6 @@ impl StageWear {
         layer_volume(&self.bearing, self.bearing_radius, self.hinge_width)
             + layer_volume(&self.pin, self.pin_radius, self.hinge_width)
     }
-}
-
-/// The cell of a grid of `n` cells that holds body-frame angle `angle` (cell `i` spans
-/// `[i, i + 1)·2π/n`).
-pub(crate) fn cell_index(angle: f64, n: usize) -> usize {
-    let u = contact::wrap_angle(angle) * n as f64 / TAU;
-    (contact::floor(u) as usize).min(n - 1)
 }
 
 /// How many cells of a surface of radius `radius` and `cells` cells an arc of length `arc`

@@ -69,7 +69,7 @@ impl ZoneBook {
         if zone.relaxation.is_nan() || zone.relaxation <= 0.0 || zone.nodes == 0 {
             return;
         }
-        let cell = |angle: f64, n: usize| crate::accumulate::cell_index(angle, n) as i64;
+        let cell = |angle: f64, n: usize| cell_at(angle.rem_euclid(TAU) * n as f64 / TAU, n) as i64;
         let per_bearing_cell = TAU / bearing_cells as f64;
         let key = (
             cell(zone.pin_start, pin_cells),

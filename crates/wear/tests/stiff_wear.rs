@@ -39,70 +39,68 @@ fn on_pad(k: usize) -> bool {
     (angle(k) - 3.0 * FRAC_PI_2).abs() < PAD
 }
 
-/// The pad's overlaps on `joint`'s bearing, with the pin's centre placed to carry the load.
-fn overlaps(joint: &WornJoint) -> Vec<f64> {
-    let (bearing, pin) = (joint.bearing().depth(), joint.pin().depth());
-    let depth: Vec<f64> = bearing.iter().zip(pin).map(|(h, g)| h + g).collect();
-    let pad: Vec<usize> = (0..CELLS).filter(|&k| on_pad(k)).collect();
-    // Σ (e·u_k − c − h_k/2) u_k = LOAD: a 2×2 linear system in e.
-    let (mut m, mut b) = ([[0.0; 2]; 2], LOAD);
-    for &k in &pad {
-        let (s, c) = angle(k).sin_cos();
-        let u = [c, s];
+/// The pad's direction at cell `k`, `u_k = (cos θ_k, sin θ_k)`.
+fn direction(k: usize) -> [f64; 2] {
+    let (s, c) = angle(k).sin_cos();
+    [c, s]
+}
+
+/// The translation `x` with `Σ_pad u_k (u_k·x) = b`: the 2×2 normal equations of a fit by
+/// the translation patterns over the pad.
+fn translation(b: [f64; 2]) -> [f64; 2] {
+    let mut m = [[0.0; 2]; 2];
+    for u in (0..CELLS).filter(|&k| on_pad(k)).map(direction) {
         for i in 0..2 {
-            b[i] += (CLEARANCE + 0.5 * depth[k]) * u[i];
             for j in 0..2 {
                 m[i][j] += u[i] * u[j];
             }
         }
     }
     let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-    let e = [
+    [
         (m[1][1] * b[0] - m[0][1] * b[1]) / det,
         (m[0][0] * b[1] - m[1][0] * b[0]) / det,
-    ];
+    ]
+}
+
+/// `Σ_pad v_k u_k`.
+fn moment(v: impl Fn(usize) -> f64) -> [f64; 2] {
     (0..CELLS)
-        .map(|k| {
-            if on_pad(k) {
-                let (s, c) = angle(k).sin_cos();
-                e[0] * c + e[1] * s - CLEARANCE - 0.5 * depth[k]
-            } else {
-                0.0
-            }
+        .filter(|&k| on_pad(k))
+        .fold([0.0; 2], |[x, y], k| {
+            let u = direction(k);
+            [x + v(k) * u[0], y + v(k) * u[1]]
         })
+}
+
+/// `f(k)` on the pad's cells, 0 off it.
+fn on_pad_only(f: impl Fn(usize) -> f64) -> Vec<f64> {
+    (0..CELLS)
+        .map(|k| if on_pad(k) { f(k) } else { 0.0 })
         .collect()
+}
+
+/// The pad's overlaps on `joint`'s bearing, with the pin's centre placed to carry the load.
+fn overlaps(joint: &WornJoint) -> Vec<f64> {
+    let (bearing, pin) = (joint.bearing().depth(), joint.pin().depth());
+    let gap = |k: usize| CLEARANCE + 0.5 * (bearing[k] + pin[k]);
+    // Σ (e·u_k − c − (h_k + g_k)/2) u_k = LOAD: a 2×2 linear system in e.
+    let [bx, by] = moment(gap);
+    let e = translation([LOAD[0] + bx, LOAD[1] + by]);
+    on_pad_only(|k| {
+        let u = direction(k);
+        e[0] * u[0] + e[1] * u[1] - gap(k)
+    })
 }
 
 /// The pad's overlaps with their translation patterns removed (0 off the pad): the shape
 /// that relaxes.
 fn shape(d: &[f64]) -> Vec<f64> {
-    let pad: Vec<usize> = (0..CELLS).filter(|&k| on_pad(k)).collect();
-    let (mut m, mut b) = ([[0.0; 2]; 2], [0.0; 2]);
-    for &k in &pad {
-        let (s, c) = angle(k).sin_cos();
-        let u = [c, s];
-        for i in 0..2 {
-            b[i] += d[k] * u[i];
-            for j in 0..2 {
-                m[i][j] += u[i] * u[j];
-            }
-        }
-    }
-    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-    let x = [
-        (m[1][1] * b[0] - m[0][1] * b[1]) / det,
-        (m[0][0] * b[1] - m[1][0] * b[0]) / det,
-    ];
-    (0..CELLS)
-        .map(|k| {
-            if on_pad(k) {
-                let (s, c) = angle(k).sin_cos();
-                d[k] - x[0] * c - x[1] * s
-            } else {
-                0.0
-            }
-        })
-        .collect()
+    let x = translation(moment(|k| d[k]));
+    on_pad_only(|k| {
+        let u = direction(k);
+        d[k] - x[0] * u[0] - x[1] * u[1]
+    })
 }
 
 fn norm(v: &[f64]) -> f64 {
