@@ -51,6 +51,7 @@ mod general;
 use foundation::OutlineBounds;
 pub use foundation::{
     ContactModel, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, NodeLoad,
+    Quadrature,
 };
 
 /// Which relative velocity of the contact counts as sliding (for friction, and for wear).

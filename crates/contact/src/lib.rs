@@ -92,7 +92,7 @@ pub use friction::{
 pub use joint::{
     BodyState, ClearanceJoint, ContactForces, ContactJacobian, ContactModel,
     DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, JointKinematics, JointSurface,
-    Material, MaterialParams, NodeLoad, OutlineOverlap, SlidingVelocity,
+    Material, MaterialParams, NodeLoad, OutlineOverlap, Quadrature, SlidingVelocity,
 };
 pub use normal::{
     DEFAULT_HERTZ_EXPONENT, DEFAULT_ONSET_VELOCITY_FLOOR, DampedHertzParams, Flores, Hertz,

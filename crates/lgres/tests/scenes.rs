@@ -347,6 +347,42 @@ fn contact_model_fields_are_validated_naming_the_field() {
     );
     let msg = one("{ cells = 4 }");
     assert!(msg[0].starts_with("clearance_joints[0].contact.cells = 4: must lie in 8.."));
+    // Simpson's quadrature (the default) pairs the nodes: an odd count is refused, naming the
+    // field it came from; the trapezoid takes it, and the quadrature round-trips.
+    let odd_wear = |contact: &str| {
+        edited(
+            "wear = { k_d = 1.8e-13, hardness = 1.716e9, width = 0.1, cells = 1000 }",
+            &format!(
+                "wear = {{ k_d = 1.8e-13, hardness = 1.716e9, width = 0.1, cells = 999 }}\n\
+                 contact = {contact}"
+            ),
+        )
+    };
+    let msg = issues(scene::load_str(&odd_wear("{}"), "t").unwrap_err());
+    assert!(
+        msg[0].starts_with("clearance_joints[0].wear.cells = 999: Simpson's quadrature"),
+        "{msg:?}"
+    );
+    let msg = one("{ cells = 2001, quadrature = \"simpson\" }");
+    assert!(
+        msg.iter()
+            .any(|m| m.starts_with("clearance_joints[0].contact.cells = 2001: Simpson's")),
+        "{msg:?}"
+    );
+    let trapezoid = scene::load_str(&odd_wear("{ quadrature = \"trapezoid\" }"), "t").unwrap();
+    let model = trapezoid.clearance_joints[0].contact_model().unwrap();
+    let contact::ContactModel::Foundation(layer) = model else {
+        panic!("{model:?}")
+    };
+    assert_eq!(
+        (layer.quadrature(), layer.cells()),
+        (contact::Quadrature::Trapezoid, 999)
+    );
+    let again = scene::load_str(&trapezoid.to_toml(), "t").unwrap();
+    assert_eq!(
+        again.clearance_joints[0].contact.quadrature,
+        Some(contact::Quadrature::Trapezoid)
+    );
     let msg = one("{ model = \"line-of-centres\", layer_modulus = 5e14 }");
     assert!(
         msg[0].starts_with("clearance_joints[0].contact.layer_modulus")

@@ -32,6 +32,10 @@ pub struct ContactSpec {
     /// contact zones; the outline between cell centres is linear).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cells: Option<usize>,
+    /// Foundation: how the layer's energy is integrated over the nodes: `simpson` (default;
+    /// needs an even node count) or `trapezoid` (`contact::Quadrature`; docs/model.md §10.1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quadrature: Option<contact::Quadrature>,
     /// Foundation: a reference impact speed `v_ref` for the layer's damping, m/s (optional).
     /// Each node's damping is the joint's normal law with the impact's onset velocity taken as
     /// at least this: impacts at `v_ref` or faster rebound with the law's restitution, slower
@@ -109,7 +113,9 @@ impl ClearanceJoint {
             .cells
             .or(self.wear.map(|w| w.cells))
             .unwrap_or(contact::DEFAULT_FOUNDATION_CELLS);
-        let mut layer = layer.with_cells(cells)?;
+        let mut layer = layer
+            .with_quadrature(spec.quadrature.unwrap_or_default())?
+            .with_cells(cells)?;
         if let Some(speed) = spec.reference_speed {
             layer = layer.with_reference_speed(speed)?;
         }

@@ -295,6 +295,7 @@ impl Validator {
                 ("layer_modulus", spec.layer_modulus.is_some()),
                 ("width", spec.width.is_some()),
                 ("cells", spec.cells.is_some()),
+                ("quadrature", spec.quadrature.is_some()),
                 ("reference_speed", spec.reference_speed.is_some()),
                 ("layer", spec.layer.is_some()),
             ] {
@@ -359,6 +360,29 @@ impl Validator {
                     ),
                 );
             }
+        }
+        // Simpson's quadrature pairs the nodes: their count (contact.cells, else wear.cells,
+        // else the default) must be even.
+        let nodes = spec
+            .cells
+            .or(c.wear.map(|w| w.cells))
+            .unwrap_or(contact::DEFAULT_FOUNDATION_CELLS);
+        if spec.quadrature.unwrap_or_default() == contact::Quadrature::Simpson
+            && !nodes.is_multiple_of(2)
+        {
+            let (field, source) = if spec.cells.is_some() {
+                (format!("{q}.cells"), "contact.cells")
+            } else {
+                (format!("{p}.wear.cells"), "wear.cells, the nodes' default")
+            };
+            self.push(
+                field,
+                nodes,
+                format!(
+                    "Simpson's quadrature (the default) needs an even node count ({source}): \
+                     give an even count or contact.quadrature = \"trapezoid\""
+                ),
+            );
         }
     }
 
