@@ -345,6 +345,19 @@ fn contact_model_fields_are_validated_naming_the_field() {
         ),
         "{msg:?}"
     );
+    // Coarser nodes that span whole cells are taken, but not with linearly implicit steps.
+    let coarse = scene::load_str(&with("{ cells = 500 }"), "t").unwrap();
+    assert_eq!(coarse.clearance_joints[0].contact.cells, Some(500));
+    let implicit = with("{ cells = 500 }").replacen(
+        "[run]\n",
+        "[run]\nwear_stepping = \"linearly-implicit\"\n",
+        1,
+    );
+    let msg = issues(scene::load_str(&implicit, "t").unwrap_err());
+    assert!(
+        msg[0].starts_with("clearance_joints[0].contact.cells = 500: run.wear_stepping"),
+        "{msg:?}"
+    );
     let msg = one("{ cells = 4 }");
     assert!(msg[0].starts_with("clearance_joints[0].contact.cells = 4: must lie in 8.."));
     // Simpson's quadrature (the default) pairs the nodes: an odd count is refused, naming the

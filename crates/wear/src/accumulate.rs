@@ -216,19 +216,29 @@ impl StageWear {
                 );
             }
             let (_, pin_cells, bearing_cells) = spread;
-            deposit_linear(&mut self.pin, node.pin_angle, depth * pin_cells);
-            deposit_linear(&mut self.bearing, node.bearing_angle, depth * bearing_cells);
+            // The node's angle in cells of each grid (the same angle on both surfaces).
+            let pin_span = spread_factor(node.arc, self.pin_radius, self.pin.len());
+            let bearing_span = spread_factor(node.arc, self.pin_radius, self.bearing.len());
+            deposit_over(&mut self.pin, node.pin_angle, depth * pin_cells, pin_span);
+            deposit_over(
+                &mut self.bearing,
+                node.bearing_angle,
+                depth * bearing_cells,
+                bearing_span,
+            );
             // Spread like the depth, so a cell holds the mean over the nodes that reach it.
             let relaxation = self.node_relaxation(node, dt);
-            deposit_linear(
+            deposit_over(
                 &mut self.pin_relaxation,
                 node.pin_angle,
                 relaxation * pin_cells,
+                pin_span,
             );
-            deposit_linear(
+            deposit_over(
                 &mut self.bearing_relaxation,
                 node.bearing_angle,
                 relaxation * bearing_cells,
+                bearing_span,
             );
             self.archard_volume += archard_rate * 0.5 * dt;
         }
@@ -485,6 +495,29 @@ impl StageWear {
 /// covers: a depth spread over the arc becomes this times the depth in one cell.
 fn spread_factor(arc: f64, radius: f64, cells: usize) -> f64 {
     arc / (radius * TAU / cells as f64)
+}
+
+/// Adds `amount` (a depth times cells) for a node spanning `span` cells of angle around
+/// body-frame angle `angle`: for a node no wider than a cell, split between the two nearest
+/// cell centres ([`deposit_linear`]); for a wider one (nodes coarser than the wear grid), over
+/// the cells its angle covers, in proportion to the part of each it covers, so that nodes side
+/// by side under an even load wear their cells evenly.
+fn deposit_over(cells: &mut [f64], angle: f64, amount: f64, span: f64) {
+    if span <= 1.0 {
+        deposit_linear(cells, angle, amount);
+        return;
+    }
+    let depth = amount / span;
+    let n = cells.len() as i64;
+    // The arc from `start` to `end` in cell units (cell k spans [k, k + 1)).
+    let centre = contact::wrap_angle(angle) * n as f64 / TAU;
+    let (start, end) = (centre - 0.5 * span, centre + 0.5 * span);
+    let first = contact::floor(start) as i64;
+    let last = contact::floor(end) as i64;
+    for k in first..=last {
+        let covered = (end.min((k + 1) as f64) - start.max(k as f64)).max(0.0);
+        cells[k.rem_euclid(n) as usize] += depth * covered;
+    }
 }
 
 /// Adds `amount` to the cells around body-frame angle `angle`, split between the two nearest

@@ -264,6 +264,47 @@ fn node_deposits_carry_the_archard_volume_exactly() {
     assert_eq!(stage.max_depth(), 0.0);
 }
 
+/// Nodes coarser than the wear grid (a node's arc over 2, 4 and 2.78 cells) under one even
+/// load all around wear every cell alike, at the closed-form depth `K_d p |v| dt/2` of each
+/// end: each node covers the cells under its own arc. (Split between the two nearest cell
+/// centres, as for nodes finer than the cells, four cells a node left half the cells bare.)
+#[test]
+fn nodes_coarser_than_the_cells_wear_an_even_load_evenly() {
+    use contact::NodeLoad;
+    use wear::{WearParams, WornJoint};
+    for (cells, node_cells) in [(1000, 500), (1000, 250), (1000, 360)] {
+        let params = WearParams::new(1.8e-13, 0.1, cells).unwrap();
+        let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
+        let mut stage = joint.start_stage();
+        let arc = R_PIN * TAU / node_cells as f64;
+        let nodes: Vec<NodeLoad> = (0..node_cells)
+            .map(|k| {
+                let angle = (k as f64 + 0.5) * TAU / node_cells as f64;
+                NodeLoad {
+                    cell: k,
+                    pin_angle: angle,
+                    bearing_angle: angle,
+                    normal_force: 40.0,
+                    arc,
+                    material_sliding: 0.2,
+                    paper_sliding: 0.0,
+                    stiffness: 1e9,
+                }
+            })
+            .collect();
+        let dt = 1e-4;
+        stage.accumulate_nodes(&nodes, &nodes, dt).unwrap();
+        // Both ends; each surface holds half the depth over its own radius (`layer_volume`).
+        let depth = 2.0 * 1.8e-13 * 40.0 / (arc * 0.1) * 0.2 * 0.5 * dt;
+        for d in stage.pin() {
+            assert_relative_eq!(*d, depth, max_relative = 1e-9);
+        }
+        for d in stage.bearing() {
+            assert_relative_eq!(*d, depth * R_PIN / R_BEARING, max_relative = 1e-9);
+        }
+    }
+}
+
 /// Smoothing a stage's wear keeps its volume, spreads a one-cell spike into a Gaussian of the
 /// given width (periodic across 0/2π), and leaves a uniform layer alone.
 #[test]

@@ -29,7 +29,8 @@ pub struct ContactSpec {
     pub width: Option<f64>,
     /// Foundation: nodes on the pin's outline. Default: `wear.cells` (each node a pin cell),
     /// else 1000; with wear a whole multiple of `wear.cells` (finer nodes resolve narrow
-    /// contact zones; the outline between cell centres is linear).
+    /// contact zones; the outline between cell centres is linear) or a divisor of it (each
+    /// node spans whole cells and wears them evenly; not with linearly implicit sub-steps).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cells: Option<usize>,
     /// Foundation: how the layer's energy is integrated over the nodes: `simpson` (default;

@@ -269,7 +269,7 @@ impl Validator {
             &format!("{p}.friction"),
             contact::FrictionLawKind::from_params(c.friction),
         );
-        self.contact_model(p, c);
+        self.contact_model(p, c, s.run.wear_stepping);
         if let Some(w) = &c.wear {
             let q = format!("{p}.wear");
             self.number(&format!("{q}.k_d"), w.k_d, true);
@@ -287,7 +287,7 @@ impl Validator {
         }
     }
 
-    fn contact_model(&mut self, p: &str, c: &ClearanceJoint) {
+    fn contact_model(&mut self, p: &str, c: &ClearanceJoint, stepping: wear::WearStepping) {
         let spec = &c.contact;
         let q = format!("{p}.contact");
         if spec.model == ContactModelName::LineOfCentres {
@@ -349,13 +349,28 @@ impl Validator {
                     n,
                     format!("must lie in 8..={MAX_WEAR_CELLS}"),
                 );
-            } else if let Some(w) = c.wear.filter(|w| w.cells > 0 && n % w.cells != 0) {
+            } else if let Some(w) = c
+                .wear
+                .filter(|w| w.cells > 0 && n % w.cells != 0 && w.cells % n != 0)
+            {
                 self.push(
                     format!("{q}.cells"),
                     n,
                     format!(
-                        "must be a whole multiple of wear.cells ({}): the foundation's nodes \
-                         subdivide the pin's wear cells",
+                        "must be a whole multiple of wear.cells ({}) or divide it: the \
+                         foundation's nodes subdivide the pin's wear cells, or span whole ones",
+                        w.cells
+                    ),
+                );
+            } else if let Some(w) = c.wear.filter(|w| n < w.cells)
+                && stepping == wear::WearStepping::LinearlyImplicit
+            {
+                self.push(
+                    format!("{q}.cells"),
+                    n,
+                    format!(
+                        "run.wear_stepping = \"linearly-implicit\" needs at least one node per \
+                         wear cell ({}): its contact zones map each node to one cell",
                         w.cells
                     ),
                 );
