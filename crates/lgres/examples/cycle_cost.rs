@@ -5,13 +5,14 @@
 //! ```sh
 //! CARGO_PROFILE_RELEASE_DEBUG=true cargo build --release -p lgres --example cycle_cost
 //! valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measured_cycle*' \
-//!     target/release/examples/cycle_cost [surfaces-folder [end-time]]
+//!     target/release/examples/cycle_cost [surfaces-folder [end-time [scene]]]
 //! ```
 //!
 //! Only `measured_cycle` (the integration, as the bench times it) is counted. With a folder
 //! (the `wear_<joint>_stage<k>.csv` files of an earlier run, as `--surfaces` reads them) the
 //! cycle runs on those worn surfaces (an empty argument: unworn); a second argument ends the
-//! run at that time (s) instead of one period. Prints the solver statistics and, for comparing
+//! run at that time (s) instead of one period (an empty argument: one period); a third names
+//! the scene (a built-in name or a TOML file; default `lgres`). Prints the solver statistics and, for comparing
 //! outputs, the final state and worn depths' sums.
 
 use std::path::Path;
@@ -22,15 +23,22 @@ use lgres::run::simulation_options;
 use multibody::{Formulation, OutputTimes, SimulationOptions, SimulationResult, State};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let scene = lgres::scenes::builtin("lgres")?;
-    let period = scene.cycle_period().ok_or("the default scene is driven")?;
-    let unworn = unworn_joints(&scene)?;
     let args: Vec<String> = std::env::args().skip(1).collect();
+    let scene = match args.get(2).map(String::as_str) {
+        None => lgres::scenes::builtin("lgres")?,
+        Some(name) if lgres::scenes::source(name).is_some() => lgres::scenes::builtin(name)?,
+        Some(path) => lgres::scene::load_path(Path::new(path))?,
+    };
+    let period = scene.cycle_period().ok_or("the scene is not driven")?;
+    let unworn = unworn_joints(&scene)?;
     let worn = match args.first().filter(|dir| !dir.is_empty()) {
         Some(dir) => load_last_stage(Path::new(dir), &scene, &unworn)?,
         None => unworn,
     };
-    let end: f64 = args.get(1).map_or(Ok(period), |s| s.parse())?;
+    let end: f64 = match args.get(1).filter(|s| !s.is_empty()) {
+        Some(s) => s.parse()?,
+        None => period,
+    };
     let mut built = build(
         &scene,
         Surfaces {
