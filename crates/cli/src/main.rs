@@ -330,9 +330,12 @@ struct Loaded {
     scene: Scene,
 }
 
-/// A run error, named after the scene when the scene is what is wrong with it.
+/// A run error, named after the scene when the scene is what is wrong with it (a scene error
+/// names its scene already).
 fn in_scene(spec: &str, e: RunError) -> CliError {
-    if e.is_bad_input() {
+    if let RunError::Scene(e) = e {
+        CliError::Scene(e)
+    } else if e.is_bad_input() {
         CliError::InScene {
             spec: spec.to_string(),
             source: Box::new(e),
@@ -366,11 +369,12 @@ fn out_dir(o: &Overrides, name: &str) -> PathBuf {
 fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
     let Loaded { name, scene: s } = load(spec, o)?;
     // Every check `run` makes before simulating, before anything is called valid.
-    let check = lgres::run::check_assembly(&s).map_err(|e| in_scene(spec, e))?;
-    println!("scene {name}: valid");
-    println!("  {}", s.description);
-    println!("  inertia: {}", s.inertia_convention);
-    println!("  bodies ({}):", s.bodies.len());
+    let options = o.run_overrides().run_options();
+    let check = lgres::run::check_assembly(&name, &s, &options).map_err(|e| in_scene(spec, e))?;
+    outln!("scene {name}: valid");
+    outln!("  {}", s.description);
+    outln!("  inertia: {}", s.inertia_convention);
+    outln!("  bodies ({}):", s.bodies.len());
     for b in &s.bodies {
         outln!(
             "    {:<12} m = {} kg, I = {} kg·m², at ({}, {}) m, {:.4}°",

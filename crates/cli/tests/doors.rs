@@ -4,13 +4,28 @@
 
 #![cfg(unix)]
 
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
 mod common;
 use common::{listing, scratch};
 
+fn wearsim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wearsim"))
+        .args(args)
+        .output()
+        .expect("wearsim runs")
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// `text` as a scene file `name` in `dir`.
+fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
 }
 
 /// Runs `wearsim args` with standard output (and, if `stderr_too`, standard error) a pipe
@@ -68,6 +83,117 @@ fn closed_pipes_end_quietly_and_leave_the_output_folder_whole() {
     assert!(
         out.join("summary.json").is_file(),
         "the run's folder is whole"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A small deterministic generator (xorshift), so every run sees the same cases.
+struct Cases(u64);
+
+impl Cases {
+    fn below(&mut self, n: u64) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0 % n
+    }
+}
+
+/// `check` and `run` (cut short by a one-step budget, so a scene it accepts fails with 1)
+/// on fuzzed `run.trajectories`, `run.cycles_per_stage` and the flags that override them:
+/// `check` passes exactly what `run` does not refuse as bad input.
+#[test]
+fn check_and_run_agree_on_fuzzed_stage_settings_and_flags() {
+    let dir = scratch("check-run");
+    let out = dir.join("out");
+    let mut cases = Cases(0x2545_F491_4F6C_DD1D);
+    let (mut accepted, mut refused) = (0, 0);
+    for case in 0..24 {
+        let trajectories = 1 + cases.below(6);
+        let k = 1 + cases.below(8);
+        let scene = write_file(
+            &dir,
+            &format!("s{case}.toml"),
+            &format!(
+                "extends = \"lgres\"\n[run]\ncycles = 1\nwear_stages = 1\nanimation = false\n\
+                 trajectories = {trajectories}\ncycles_per_stage = {k}\n"
+            ),
+        );
+        let mut flags: Vec<String> = vec!["--max-steps".into(), "1".into()];
+        match cases.below(4) {
+            0 => {}
+            1 => flags.extend([
+                "--cycles-per-stage".into(),
+                (1 + cases.below(8)).to_string(),
+            ]),
+            2 => flags.extend(["--cycles-per-stage".into(), "20000".into()]),
+            _ => flags.extend(["--trajectories".into(), (1 + cases.below(6)).to_string()]),
+        }
+        if cases.below(2) == 0 {
+            flags.extend(["--trajectories".into(), (1 + cases.below(70)).to_string()]);
+        }
+        let flags: Vec<&str> = flags.iter().map(String::as_str).collect();
+        let scene = scene.to_str().unwrap();
+        let check = wearsim(&[&["check", scene][..], &flags].concat());
+        let run = wearsim(&[&["run", scene, "--out", out.to_str().unwrap()][..], &flags].concat());
+        let (c, r) = (check.status.code(), run.status.code());
+        assert!(
+            matches!(c, Some(0 | 2)),
+            "{flags:?}: check {c:?}: {}",
+            stderr(&check)
+        );
+        assert!(
+            matches!(r, Some(1 | 2)),
+            "{flags:?}: run {r:?}: {}",
+            stderr(&run)
+        );
+        assert_eq!(
+            c == Some(2),
+            r == Some(2),
+            "scene trajectories {trajectories}, K {k}, {flags:?}: check says {}, run says {}",
+            stderr(&check),
+            stderr(&run)
+        );
+        if c == Some(0) {
+            accepted += 1;
+        } else {
+            refused += 1;
+        }
+    }
+    eprintln!("check against run: {accepted} accepted, {refused} refused");
+    assert!(
+        accepted > 0 && refused > 0,
+        "{accepted} accepted, {refused} refused"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn check_refuses_the_issues_trajectories_and_cycles_per_stage() {
+    let dir = scratch("check-k");
+    let scene = write_file(
+        &dir,
+        "f.toml",
+        "extends = \"lgres\"\n[run]\ntrajectories = 3\ncycles_per_stage = 2\n",
+    );
+    let o = wearsim(&["check", scene.to_str().unwrap(), "--cycles-per-stage", "2"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("run.trajectories = 3"),
+        "{}",
+        stderr(&o)
+    );
+    let o = wearsim(&["check", "lgres", "--cycles-per-stage", "20000"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("run.cycles_per_stage"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        stderr(&o).contains("in scene lgres as run (K = 20000"),
+        "{}",
+        stderr(&o)
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -1,7 +1,7 @@
 //! Regression tests of issue 13: bad input ends in a named error (never a panic, hang or a
 //! silently wrong run), and `check` rejects what `run` would.
 
-use lgres::run::{ContactSeries, RunError, check_assembly};
+use lgres::run::{ContactSeries, RunError, RunOptions, check_assembly};
 use lgres::scene::{SceneError, load_str};
 use lgres::scenes;
 
@@ -107,7 +107,7 @@ fn coulomb_friction_is_rejected_suggesting_ambrosio() {
 #[test]
 fn pin_outside_its_bearing_is_rejected_naming_the_field() {
     let scene = patched("[[clearance_joints]]\nname = \"A\"\npin_point = [0.57, 0.0]").unwrap();
-    let e = check_assembly(&scene).unwrap_err();
+    let e = check_assembly("t", &scene, &RunOptions::default()).unwrap_err();
     assert!(e.is_bad_input(), "{e}");
     let text = e.to_string();
     assert!(
@@ -263,7 +263,7 @@ fn check_rejects_a_mechanism_missing_a_clearance_joint_like_run() {
     let cut = text.find("# Joint B").unwrap();
     let end = text[cut..].find("[solver]").unwrap() + cut;
     let scene = load_str(&format!("{}{}", &text[..cut], &text[end..]), "no B").unwrap();
-    let e = check_assembly(&scene).unwrap_err();
+    let e = check_assembly("t", &scene, &RunOptions::default()).unwrap_err();
     assert!(e.is_bad_input(), "{e}");
     assert!(e.to_string().contains("kinematic analysis"), "{e}");
 }
@@ -273,7 +273,7 @@ fn check_rejects_an_unassemblable_mechanism_naming_the_joints() {
     // Rod 1's ground pin moved far away: the loop cannot close.
     let text = edited("other_point = [0.0, 1.518]", "other_point = [0.0, 5.0]");
     let scene = load_str(&text, "unassemblable").unwrap();
-    let e = check_assembly(&scene).unwrap_err();
+    let e = check_assembly("t", &scene, &RunOptions::default()).unwrap_err();
     assert!(e.is_bad_input(), "{e}");
     let message = e.to_string();
     assert!(!message.contains("[]"), "{message}");
