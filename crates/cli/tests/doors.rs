@@ -197,3 +197,49 @@ fn check_refuses_the_issues_trajectories_and_cycles_per_stage() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Every setting of the issue's item 4 is refused by `check`, naming its field.
+#[test]
+fn settings_without_a_bound_on_work_are_refused_naming_the_field() {
+    let dir = scratch("bounds");
+    let cases = [
+        ("[run]\nmax_substeps = 4294967295", "run.max_substeps"),
+        (
+            "[run]\nmax_clearance_change = 1e-300",
+            "run.max_clearance_change",
+        ),
+        ("[run]\nmax_slope_change = 5e-324", "run.max_slope_change"),
+        (
+            "[run]\nmax_curvature_change = 1e-9",
+            "run.max_curvature_change",
+        ),
+        ("[run]\nwear_tolerance = 1e-200", "run.wear_tolerance"),
+        ("[run]\namplification = 1e300", "run.amplification"),
+        (
+            "[[clearance_joints]]\nname = \"B\"\ncontact = { width = 1e6 }",
+            "clearance_joints[1].contact.width",
+        ),
+        (
+            "[[clearance_joints]]\nname = \"B\"\ncontact = { layer_modulus = 1e20 }",
+            "clearance_joints[1].contact.layer_modulus",
+        ),
+        (
+            "[[clearance_joints]]\nname = \"B\"\ncontact = { layer_modulus = 1e300 }",
+            "clearance_joints[1].contact.layer_modulus",
+        ),
+    ];
+    for (k, (patch, field)) in cases.iter().enumerate() {
+        let scene = write_file(
+            &dir,
+            &format!("b{k}.toml"),
+            &format!("extends = \"lgres\"\n{patch}\n"),
+        );
+        let o = wearsim(&["check", scene.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{patch}: {}", stderr(&o));
+        assert!(stderr(&o).contains(field), "{patch}: {}", stderr(&o));
+    }
+    let o = wearsim(&["study", "wear-stages", "--stage-cycles", "1e20"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("stage-cycles = 1e20"), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
