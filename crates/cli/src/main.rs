@@ -358,7 +358,13 @@ fn load(spec: &str, o: &Overrides) -> Result<Loaded, CliError> {
     } else {
         return Err(CliError::NoSuchScene(spec.to_string()));
     };
-    o.run_overrides().apply(&mut scene, spec)?;
+    let overrides = o.run_overrides();
+    let origin = if overrides == lgres::overrides::RunOverrides::default() {
+        spec.to_string()
+    } else {
+        format!("{spec} with command-line overrides")
+    };
+    overrides.apply(&mut scene, &origin)?;
     Ok(Loaded { name, scene })
 }
 

@@ -243,3 +243,62 @@ fn settings_without_a_bound_on_work_are_refused_naming_the_field() {
     assert!(stderr(&o).contains("stage-cycles = 1e20"), "{}", stderr(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn sweep_run_table_and_sweep_files_are_checked_up_front_with_exit_2() {
+    let dir = scratch("sweep-doors");
+    let out = dir.join("out");
+    let sweep = |run: &str| {
+        format!(
+            "scene = \"slider-crank\"\nmetrics = [\"response.joints.rod-slider.max_penetration_m\"]\n\
+             [run]\n{run}\n[[vary]]\npath = \"clearance_joints.rod-slider.clearance\"\n\
+             values = [5e-4]\n"
+        )
+    };
+    for (run, field) in [
+        ("max_wall_time = nan", "run.max_wall_time"),
+        ("rtol = 1.0", "run.rtol"),
+        ("max_steps = 0", "run.max_steps"),
+        ("cycles = 10001", "run.cycles"),
+        ("trajectories = 65", "run.trajectories"),
+        (
+            "cycles_per_stage = 3\ntrajectories = 2\nstages = 1",
+            "run.trajectories",
+        ),
+    ] {
+        let file = write_file(&dir, "s.toml", &sweep(run));
+        let o = wearsim(&[
+            "sweep",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{run}: {}", stderr(&o));
+        assert!(stderr(&o).contains(field), "{run}: {}", stderr(&o));
+        assert!(
+            !stderr(&o).contains("command-line"),
+            "{run}: {}",
+            stderr(&o)
+        );
+        assert!(!out.exists(), "{run}: nothing written");
+    }
+    let missing = dir.join("missing.toml");
+    let not_utf8 = dir.join("latin1.toml");
+    std::fs::write(&not_utf8, b"scene = \"caf\xe9\"\n").unwrap();
+    for file in [&missing, &dir, &not_utf8] {
+        let o = wearsim(&[
+            "sweep",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(
+            o.status.code(),
+            Some(2),
+            "{}: {}",
+            file.display(),
+            stderr(&o)
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
