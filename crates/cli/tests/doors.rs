@@ -302,3 +302,37 @@ fn sweep_run_table_and_sweep_files_are_checked_up_front_with_exit_2() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn control_characters_in_the_description_are_refused_and_never_printed_raw() {
+    let dir = scratch("description");
+    let scene = write_file(
+        &dir,
+        "d.toml",
+        "extends = \"lgres\"\ndescription = \"\\u001b]0;owned\\u0007\\u001b[2J\"\n",
+    );
+    let unused = dir.join("unused");
+    let (scene, unused) = (scene.to_str().unwrap(), unused.to_str().unwrap());
+    for args in [&["check", scene][..], &["run", scene, "--out", unused]] {
+        let o = wearsim(args);
+        let command = args[0];
+        assert_eq!(o.status.code(), Some(2), "{command}: {}", stderr(&o));
+        let printed = [o.stdout.as_slice(), o.stderr.as_slice()].concat();
+        assert!(
+            !printed.contains(&0x1b) && !printed.contains(&0x07),
+            "{command}: {}",
+            stderr(&o)
+        );
+        assert!(stderr(&o).contains("description"), "{}", stderr(&o));
+    }
+    assert!(!Path::new(unused).exists());
+    // Line breaks and tabs stay allowed.
+    let scene = write_file(
+        &dir,
+        "ok.toml",
+        "extends = \"lgres\"\ndescription = \"two\\nlines\\tand a tab\"\n",
+    );
+    let o = wearsim(&["check", scene.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -138,6 +138,18 @@ impl Limits<'_> {
     }
 
     fn scene(&mut self, s: &Scene) {
+        // `check` and `run` print the description and the reports embed it: a control
+        // character (ESC, BEL) would reach the terminal of whoever runs the scene.
+        if s.description
+            .chars()
+            .any(|c| c.is_control() && !matches!(c, '\n' | '\t'))
+        {
+            self.0.push(
+                "description",
+                &s.description,
+                "must not contain control characters (line breaks and tabs aside)",
+            );
+        }
         let g = s.gravity;
         self.at_most("gravity", g[0].hypot(g[1]), MAX_GRAVITY, "m/s²");
         self.count("bodies", s.bodies.len(), MAX_BODIES);
