@@ -336,3 +336,34 @@ fn control_characters_in_the_description_are_refused_and_never_printed_raw() {
     assert!(o.status.success(), "{}", stderr(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn extends_switches_a_joints_contact_model() {
+    let dir = scratch("extends-model");
+    let scene = write_file(
+        &dir,
+        "loc.toml",
+        "extends = \"lgres\"\n[[clearance_joints]]\nname = \"B\"\n\
+         contact = { model = \"line-of-centres\" }\n",
+    );
+    let o = wearsim(&["check", scene.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("line-of-centres"), "{text}");
+    // Naming the model the base already has (by default) keeps the base's fields.
+    let scene = write_file(
+        &dir,
+        "same.toml",
+        "extends = \"lgres\"\n[[clearance_joints]]\nname = \"B\"\n\
+         contact = { model = \"foundation\", reference_speed = 0.1 }\n",
+    );
+    let merged = lgres::scene::load_path(&scene).unwrap();
+    let b = merged
+        .clearance_joints
+        .iter()
+        .find(|j| j.name == "B")
+        .unwrap();
+    assert_eq!(b.contact.cells, Some(2000));
+    assert_eq!(b.contact.reference_speed, Some(0.1));
+    std::fs::remove_dir_all(&dir).unwrap();
+}
