@@ -367,3 +367,35 @@ fn extends_switches_a_joints_contact_model() {
     assert_eq!(b.contact.reference_speed, Some(0.1));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn out_through_a_symlink_writes_the_linked_folder_and_keeps_the_link() {
+    let dir = scratch("symlink-out");
+    let real = dir.join("real");
+    std::fs::create_dir(&real).unwrap();
+    let link = dir.join("link");
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    for _ in 0..2 {
+        let o = wearsim(&["run", "lgres-ideal", "--out", link.to_str().unwrap()]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink(),
+            "the link stays a link"
+        );
+        assert!(
+            real.join("summary.json").is_file(),
+            "written through the link"
+        );
+        assert_eq!(listing(&dir), ["link", "real"]);
+    }
+    // A link to nothing is refused, naming it.
+    let dangling = dir.join("dangling");
+    std::os::unix::fs::symlink(dir.join("nowhere"), &dangling).unwrap();
+    let o = wearsim(&["run", "lgres-ideal", "--out", dangling.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("symbolic link"), "{}", stderr(&o));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

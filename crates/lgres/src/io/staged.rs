@@ -248,8 +248,17 @@ struct OutputFolder {
 }
 
 impl OutputFolder {
+    /// `target` made absolute; a symbolic link is followed to the folder it names, so the
+    /// output is written through it and the link stays (replacing the link's own path would
+    /// put a real folder in its place and leave the linked folder with the old results).
     fn new(target: &Path) -> Result<Self, OutputError> {
-        let target = std::path::absolute(target).map_err(io_err(target))?;
+        let mut target = std::path::absolute(target).map_err(io_err(target))?;
+        if fs::symlink_metadata(&target).is_ok_and(|m| m.file_type().is_symlink()) {
+            target = fs::canonicalize(&target).map_err(|e| OutputError::Folder {
+                path: target.clone(),
+                reason: format!("is a symbolic link to a folder that cannot be used: {e}"),
+            })?;
+        }
         let folder_err = |reason: &str| OutputError::Folder {
             path: target.clone(),
             reason: reason.to_string(),
