@@ -87,6 +87,30 @@ fn closed_pipes_end_quietly_and_leave_the_output_folder_whole() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
+#[test]
+fn a_lock_held_by_a_live_run_is_refused_even_before_its_pid_is_written() {
+    let dir = scratch("lock-live");
+    let out = dir.join("out");
+    // A live owner that has created its lock file but not yet written its pid.
+    let lock = std::fs::File::create(dir.join(".out.lock")).unwrap();
+    lock.try_lock().unwrap();
+    let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
+    assert!(!out.exists());
+    assert_eq!(
+        listing(&dir),
+        [".out.lock"],
+        "the owner's lock file is kept"
+    );
+    // Released (its owner ended): taken.
+    drop(lock);
+    let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(listing(&dir), ["out"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A small deterministic generator (xorshift), so every run sees the same cases.
 struct Cases(u64);
 

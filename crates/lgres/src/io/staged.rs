@@ -2,7 +2,7 @@
 //! replaces the target whole at the end, and locked against a second writer (re-exported by
 //! [`super::output`]).
 
-use std::fs::{self, OpenOptions};
+use std::fs::{self, File, OpenOptions};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -83,6 +83,8 @@ pub struct StagedDir {
     target: PathBuf,
     staging: PathBuf,
     lock: PathBuf,
+    /// The lock file, locked while open (closed after the file is removed on drop).
+    _held: File,
     done: bool,
 }
 
@@ -119,7 +121,7 @@ impl StagedDir {
             )));
         }
         let lock = OutputFolder::lock_file(parent, &name);
-        take_lock(&target, &lock)?;
+        let held = take_lock(&target, &lock)?;
         remove_dead_staging(parent, &name);
         let staging = parent.join(format!(".{name}.staging-{}", std::process::id()));
         let created = fs::remove_dir_all(&staging)
@@ -140,6 +142,7 @@ impl StagedDir {
             target,
             staging,
             lock,
+            _held: held,
             done: false,
         })
     }
@@ -215,6 +218,8 @@ impl Drop for StagedDir {
 /// meanwhile. Released on drop, and by [`abandon_staged`] on a signal.
 pub struct FolderLock {
     lock: PathBuf,
+    /// The lock file, locked while open (closed after the file is removed on drop).
+    _held: File,
 }
 
 impl FolderLock {
@@ -226,9 +231,9 @@ impl FolderLock {
             name,
         } = OutputFolder::new(target)?;
         let lock = OutputFolder::lock_file(&parent, &name);
-        take_lock(&target, &lock)?;
+        let held = take_lock(&target, &lock)?;
         active().push((None, lock.clone()));
-        Ok(Self { lock })
+        Ok(Self { lock, _held: held })
     }
 }
 
@@ -376,68 +381,96 @@ fn foreign_entry(dir: &Path, holds: Holds) -> Result<Option<String>, OutputError
     Ok(None)
 }
 
-/// Create `lock` holding our process id; a lock of a process that no longer runs is taken over.
-fn take_lock(target: &Path, lock: &Path) -> Result<(), OutputError> {
-    for _ in 0..2 {
-        match OpenOptions::new().write(true).create_new(true).open(lock) {
-            Ok(mut f) => {
-                return write!(f, "{}", std::process::id()).map_err(io_err(lock));
-            }
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
-                let holder = fs::read_to_string(lock)
-                    .ok()
-                    .and_then(|s| s.trim().parse::<u32>().ok());
-                match holder {
-                    Some(pid) if process_alive(pid) => {
-                        return Err(OutputError::Locked {
-                            path: target.to_path_buf(),
-                            lock: lock.to_path_buf(),
-                            pid,
-                        });
-                    }
-                    // Stale (its run was killed) or half-written: take it over.
-                    _ => {
-                        let _ = fs::remove_file(lock);
-                    }
-                }
-            }
-            Err(e) => {
-                return Err(OutputError::Folder {
+/// Takes `lock`: an advisory lock (`flock`) on the file, held as long as the returned file
+/// is open, with our process id written in it for the message of a refused run. The system
+/// releases it when its process ends however it ends, so a lock left by a killed run is free
+/// and one held by a live run is not, with no window between telling the two apart (a
+/// process id alone cannot tell a live owner that has not written it yet from a dead one).
+fn take_lock(target: &Path, lock: &Path) -> Result<File, OutputError> {
+    let folder_err = |reason: String| OutputError::Folder {
+        path: target.to_path_buf(),
+        reason,
+    };
+    // A holder that finishes removes the file: a file opened just before that is locked in
+    // vain, so the lock counts only while the path still names the locked file.
+    for _ in 0..100 {
+        let mut file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(lock)
+            .map_err(|e| {
+                folder_err(format!(
+                    "cannot write its lock file {} beside it: {e}",
+                    lock.display()
+                ))
+            })?;
+        match file.try_lock() {
+            Ok(()) => {}
+            Err(fs::TryLockError::WouldBlock) => {
+                return Err(OutputError::Locked {
                     path: target.to_path_buf(),
-                    reason: format!(
-                        "cannot write its lock file {} beside it: {e}",
-                        lock.display()
-                    ),
+                    lock: lock.to_path_buf(),
+                    pid: fs::read_to_string(lock)
+                        .ok()
+                        .and_then(|s| s.trim().parse::<u32>().ok()),
                 });
             }
+            Err(fs::TryLockError::Error(e)) => {
+                return Err(folder_err(format!(
+                    "cannot lock its lock file {}: {e}",
+                    lock.display()
+                )));
+            }
         }
+        if !names_file(lock, &file) {
+            continue;
+        }
+        file.set_len(0)
+            .and_then(|()| write!(file, "{}", std::process::id()))
+            .map_err(io_err(lock))?;
+        return Ok(file);
     }
-    Err(OutputError::Folder {
-        path: target.to_path_buf(),
-        reason: format!("cannot take the lock file {}", lock.display()),
-    })
+    Err(folder_err(format!(
+        "cannot take the lock file {}: it is replaced again and again",
+        lock.display()
+    )))
 }
 
-/// Staging folders `.<name>.staging-<pid>` of runs that were killed without cleaning up.
+/// Whether `path` names the open `file` (not a file created at the path since).
+fn names_file(path: &Path, file: &File) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (fs::metadata(path), file.metadata()) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = file;
+        path.exists()
+    }
+}
+
+/// Staging and replaced folders (`.<name>.staging-<pid>`, `.<name>.previous-<pid>`) that runs
+/// killed on the way left behind: the lock is ours, so no live run is writing them.
 fn remove_dead_staging(parent: &Path, name: &str) {
-    let prefix = format!(".{name}.staging-");
+    let ours = std::process::id().to_string();
+    let prefixes = [format!(".{name}.staging-"), format!(".{name}.previous-")];
     let Ok(entries) = fs::read_dir(parent) else {
         return;
     };
     for entry in entries.flatten() {
         let file = entry.file_name().to_string_lossy().into_owned();
-        if let Some(pid) = file
-            .strip_prefix(&prefix)
-            .and_then(|p| p.parse::<u32>().ok())
-            && !process_alive(pid)
-        {
+        let stale = prefixes.iter().any(|prefix| {
+            file.strip_prefix(prefix.as_str())
+                .is_some_and(|pid| pid.parse::<u32>().is_ok() && pid != ours)
+        });
+        if stale {
             let _ = fs::remove_dir_all(entry.path());
         }
     }
-}
-
-/// Whether process `pid` runs (Linux: `/proc/<pid>`; elsewhere assumed, to be safe).
-fn process_alive(pid: u32) -> bool {
-    let proc = Path::new("/proc");
-    !proc.is_dir() || proc.join(pid.to_string()).exists()
 }
