@@ -810,11 +810,16 @@ const EXIT_INTERRUPTED: i32 = 130;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    // On SIGINT/SIGTERM remove the staging folder and lock of a run in progress: its target
-    // folder stays as it was.
+    // On SIGINT/SIGTERM remove the staging folder and lock of a run in progress and say what
+    // each output folder holds.
     if let Err(e) = ctrlc::set_handler(|| {
-        lgres::io::output::abandon_staged();
-        eprintln!("wearsim: interrupted; the output folder is left as it was");
+        let left = lgres::io::output::abandon_staged();
+        if left.is_empty() {
+            errln!("wearsim: interrupted; no output folder was being written");
+        }
+        for folder in left {
+            errln!("wearsim: interrupted; the output folder {folder}");
+        }
         std::process::exit(EXIT_INTERRUPTED);
     }) {
         errln!("wearsim: warning: cannot install the signal handler: {e}");

@@ -903,6 +903,11 @@ pub fn run_local(
     on_row: &mut dyn FnMut(&Row, usize, usize),
 ) -> Result<Vec<Row>, SweepError> {
     let (todo, mut rows) = pending(sweep, out, options.resume)?;
+    if !todo.is_empty() {
+        // From here the folder holds this sweep's rows only (those kept when resuming).
+        remove_drawn_outputs(out)?;
+        table::write_rows(sweep, &rows, &rows_path(out))?;
+    }
     let total = sweep.samples();
     let next = AtomicUsize::new(0);
     let jobs = options.jobs.max(1).min(todo.len().max(1));
@@ -945,6 +950,26 @@ pub fn run_local(
     rows.sort_by_key(|r| r.sample);
     write_outputs(sweep, &rows, out)?;
     Ok(rows)
+}
+
+/// Removes the page and figures of an earlier sweep in `out` before new rows are written:
+/// they were drawn from the earlier rows, and must not sit beside rows they do not show (an
+/// interrupted sweep leaves its rows alone; the end of a sweep draws them again).
+fn remove_drawn_outputs(out: &Path) -> Result<(), SweepError> {
+    for name in [
+        page::PAGE_FILE,
+        figures::SCATTER_FILE,
+        figures::HISTOGRAMS_FILE,
+    ] {
+        let path = out.join(name);
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(OutputError::Io { path, source: e }.into());
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// Write the rows (of any engine), the figures and the page showing both (`samples.html`) into

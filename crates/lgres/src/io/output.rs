@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-pub use super::staged::{FolderLock, StagedDir, abandon_staged, is_abandoned};
+pub use super::staged::{FolderLock, LeftBehind, StagedDir, abandon_staged, is_abandoned};
 use super::staged::{create_temp_unless_abandoned, create_unless_abandoned, forget_temp};
 
 /// An output file could not be written.

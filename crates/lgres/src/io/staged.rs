@@ -10,8 +10,27 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::output::{OutputError, io_err};
 
-/// Staging folders and lock files of runs in progress, for [`abandon_staged`].
-static ACTIVE: Mutex<Vec<(Option<PathBuf>, PathBuf)>> = Mutex::new(Vec::new());
+/// An output folder being written, for [`abandon_staged`].
+struct Active {
+    /// The folder the output ends up in.
+    target: PathBuf,
+    /// Its staging folder, or `None` for a folder written in place ([`FolderLock`]).
+    staging: Option<PathBuf>,
+    /// Its lock file.
+    lock: PathBuf,
+}
+
+/// The registry of output folders: those being written, and those whose staged output this
+/// process has moved into place (so an interrupt can say what is on disk).
+struct Registry {
+    active: Vec<Active>,
+    committed: Vec<PathBuf>,
+}
+
+static ACTIVE: Mutex<Registry> = Mutex::new(Registry {
+    active: Vec::new(),
+    committed: Vec::new(),
+});
 
 /// Set once [`abandon_staged`] has removed the staging folders: no folder or file may be
 /// created after that (a writer thread of a study would otherwise re-create the staging folder
@@ -65,7 +84,7 @@ pub(crate) fn forget_temp(tmp: &Path) {
     }
 }
 
-fn active() -> std::sync::MutexGuard<'static, Vec<(Option<PathBuf>, PathBuf)>> {
+fn active() -> std::sync::MutexGuard<'static, Registry> {
     ACTIVE
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner)
@@ -137,7 +156,11 @@ impl StagedDir {
                 staging.display()
             )));
         }
-        active().push((Some(staging.clone()), lock.clone()));
+        active().active.push(Active {
+            target: target.clone(),
+            staging: Some(staging.clone()),
+            lock: lock.clone(),
+        });
         Ok(Self {
             target,
             staging,
@@ -195,7 +218,10 @@ impl StagedDir {
             let _ = fs::remove_dir_all(&previous);
         }
         let _ = fs::remove_file(&self.lock);
-        registry.retain(|(s, _)| s.as_ref() != Some(&self.staging));
+        registry
+            .active
+            .retain(|a| a.staging.as_ref() != Some(&self.staging));
+        registry.committed.push(self.target.clone());
         self.done = true;
         Ok(self.target.clone())
     }
@@ -207,7 +233,9 @@ impl Drop for StagedDir {
             let mut registry = active();
             let _ = fs::remove_dir_all(&self.staging);
             let _ = fs::remove_file(&self.lock);
-            registry.retain(|(s, _)| s.as_ref() != Some(&self.staging));
+            registry
+                .active
+                .retain(|a| a.staging.as_ref() != Some(&self.staging));
         }
     }
 }
@@ -232,7 +260,11 @@ impl FolderLock {
         } = OutputFolder::new(target)?;
         let lock = OutputFolder::lock_file(&parent, &name);
         let held = take_lock(&target, &lock)?;
-        active().push((None, lock.clone()));
+        active().active.push(Active {
+            target,
+            staging: None,
+            lock: lock.clone(),
+        });
         Ok(Self { lock, _held: held })
     }
 }
@@ -241,7 +273,7 @@ impl Drop for FolderLock {
     fn drop(&mut self) {
         let mut registry = active();
         let _ = fs::remove_file(&self.lock);
-        registry.retain(|(_, lock)| lock != &self.lock);
+        registry.active.retain(|a| a.lock != self.lock);
     }
 }
 
@@ -300,17 +332,57 @@ impl OutputFolder {
     }
 }
 
+/// What is on disk in an output folder after [`abandon_staged`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum LeftBehind {
+    /// A staged output was removed before it was moved in: the folder is as it was.
+    AsItWas(PathBuf),
+    /// The output was moved in before the interrupt: the folder holds the finished output.
+    Finished(PathBuf),
+    /// A folder written in place (a sweep's rows, the precision and stress reports) holds
+    /// what was written before the interrupt.
+    WrittenSoFar(PathBuf),
+}
+
+impl std::fmt::Display for LeftBehind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LeftBehind::AsItWas(p) => write!(f, "{} is left as it was", p.display()),
+            LeftBehind::Finished(p) => {
+                write!(
+                    f,
+                    "{} holds the finished output (written before the interrupt)",
+                    p.display()
+                )
+            }
+            LeftBehind::WrittenSoFar(p) => write!(
+                f,
+                "{} holds the files written before the interrupt (a sweep: the finished rows \
+                 in samples.csv, its page and figures only at the end; --resume continues it)",
+                p.display()
+            ),
+        }
+    }
+}
+
 /// Remove every staging folder and lock of this process (for a SIGINT/SIGTERM handler, which
-/// then exits): the targets stay as they were before the interrupted runs.
-pub fn abandon_staged() {
+/// then exits) and say what each output folder holds: a staged target stays as it was before
+/// the interrupted run, unless its output was already moved in.
+pub fn abandon_staged() -> Vec<LeftBehind> {
+    let mut left = Vec::new();
     {
         let mut registry = active();
         ABANDONED.store(true, Ordering::SeqCst);
-        for (staging, lock) in registry.drain(..) {
-            if let Some(staging) = staging {
-                remove_while_writers_finish(&staging);
+        left.extend(registry.committed.drain(..).map(LeftBehind::Finished));
+        for entry in registry.active.drain(..) {
+            match &entry.staging {
+                Some(staging) => {
+                    remove_while_writers_finish(staging);
+                    left.push(LeftBehind::AsItWas(entry.target));
+                }
+                None => left.push(LeftBehind::WrittenSoFar(entry.target)),
             }
-            let _ = fs::remove_file(&lock);
+            let _ = fs::remove_file(&entry.lock);
         }
     }
     // A writer in flight removes its temporary file once its move is refused: wait for them
@@ -324,6 +396,7 @@ pub fn abandon_staged() {
     for tmp in temps().drain(..) {
         let _ = fs::remove_file(tmp);
     }
+    left
 }
 
 /// Removes `dir`, again while it reappears: a writer that opened its file before the
