@@ -423,3 +423,29 @@ fn out_through_a_symlink_writes_the_linked_folder_and_keeps_the_link() {
     assert!(stderr(&o).contains("symbolic link"), "{}", stderr(&o));
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Numbers in messages in their short form (`1e300`, not 301 digits).
+#[test]
+fn messages_write_extreme_numbers_short() {
+    let dir = scratch("messages");
+    let out = dir.join("precision");
+    let o = wearsim(&[
+        "precision",
+        "--start-up",
+        "1e300",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("1e300 s is longer"), "{}", stderr(&o));
+    assert!(stderr(&o).len() < 300, "{}", stderr(&o));
+    let o = wearsim(&["study", "wear-stages", "--stage-cycles", "1e-300"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("stage-cycles = 1e-300"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(listing(&dir), Vec::<String>::new(), "nothing written");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
