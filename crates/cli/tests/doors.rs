@@ -449,3 +449,70 @@ fn messages_write_extreme_numbers_short() {
     assert_eq!(listing(&dir), Vec::<String>::new(), "nothing written");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Closed pipes fuzzed over the commands: every built-in scene through `check`, the lists,
+/// refusals, and `precision` and `sweep` runs that write folders, each with standard output
+/// (and for the runs standard error too) a closed pipe. Never a panic or an abort: a command
+/// that succeeds exits as a closed pipe asks, one that fails keeps its own exit code, and a
+/// folder it writes is whole with nothing left beside it.
+#[test]
+fn every_command_survives_closed_pipes() {
+    let dir = scratch("closed-pipes-all");
+    let bad = write_file(&dir, "bad.toml", "extends = \"lgres\"\n[run]\ncycles = 0\n");
+    let sweep = write_file(
+        &dir,
+        "s.toml",
+        "scene = \"slider-crank\"\nmetrics = [\"response.joints.rod-slider.max_penetration_m\"]\n\
+         [run]\ncycles = 1\n[[vary]]\npath = \"clearance_joints.rod-slider.clearance\"\n\
+         values = [4e-4, 5e-4]\n",
+    );
+    let out = dir.join("out");
+    let (bad, sweep, out) = (
+        bad.to_str().unwrap(),
+        sweep.to_str().unwrap(),
+        out.to_str().unwrap(),
+    );
+    let mut cases: Vec<(Vec<&str>, i32, bool)> = lgres::scenes::BUILTINS
+        .iter()
+        .map(|b| (vec!["check", b.name], CLOSED_PIPE, false))
+        .collect();
+    cases.extend([
+        (vec!["scenes"], CLOSED_PIPE, false),
+        (vec!["check", bad], 2, false),
+        (vec!["study", "clearance", "--stage-cycles", "0"], 2, false),
+        (
+            vec![
+                "precision",
+                "lgres",
+                "--methods",
+                "bdf",
+                "--rtols",
+                "1e-3",
+                "--repeats",
+                "1",
+                "--duration",
+                "0.02",
+                "--out",
+                out,
+            ],
+            CLOSED_PIPE,
+            true,
+        ),
+        (vec!["sweep", sweep, "--out", out], CLOSED_PIPE, true),
+    ]);
+    for (args, code, both) in &cases {
+        let o = into_closed_pipe(args, *both);
+        assert_eq!(o.status.code(), Some(*code), "{args:?}: {}", stderr(&o));
+        assert!(!stderr(&o).contains("panicked"), "{args:?}: {}", stderr(&o));
+        if *both {
+            assert_eq!(
+                listing(&dir),
+                ["bad.toml", "out", "s.toml"],
+                "{args:?}: nothing beside the folder"
+            );
+            std::fs::remove_dir_all(dir.join("out")).unwrap();
+        }
+    }
+    eprintln!("closed pipes: {} commands", cases.len());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
