@@ -20,14 +20,44 @@ pub fn write_out(text: std::fmt::Arguments<'_>) {
     if STDOUT_CLOSED.load(Ordering::Relaxed) {
         return;
     }
-    if std::io::stdout().lock().write_fmt(text).is_err() {
+    if std::io::stdout()
+        .lock()
+        .write_all(printable(text).as_bytes())
+        .is_err()
+    {
         STDOUT_CLOSED.store(true, Ordering::Relaxed);
     }
 }
 
 /// Writes to standard error; a failure is ignored (there is nowhere left to report it).
 pub fn write_err(text: std::fmt::Arguments<'_>) {
-    let _ = std::io::stderr().lock().write_fmt(text);
+    let _ = std::io::stderr()
+        .lock()
+        .write_all(printable(text).as_bytes());
+}
+
+/// `text` with every control character but line breaks and tabs escaped (`\u{1b}`): a file
+/// name or a value printed in a message must not drive the terminal of whoever runs wearsim
+/// (ESC sequences retitle or clear it).
+fn printable(text: std::fmt::Arguments<'_>) -> String {
+    let text = text.to_string();
+    if !text.chars().any(is_unsafe) {
+        return text;
+    }
+    text.chars()
+        .map(|c| {
+            if is_unsafe(c) {
+                c.escape_unicode().to_string()
+            } else {
+                c.to_string()
+            }
+        })
+        .collect()
+}
+
+/// A control character other than a line break or a tab.
+fn is_unsafe(c: char) -> bool {
+    c.is_control() && !matches!(c, '\n' | '\t')
 }
 
 /// Flushes standard output and tells whether any of it was lost to a closed pipe.

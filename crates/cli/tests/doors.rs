@@ -516,3 +516,29 @@ fn every_command_survives_closed_pipes() {
     eprintln!("closed pipes: {} commands", cases.len());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Text that reaches the terminal from elsewhere than a scene's fields (here a file name in an
+/// error message) has its control characters escaped, never printed raw.
+#[test]
+fn control_characters_never_reach_the_terminal_raw() {
+    let dir = scratch("escaped-output");
+    let scene = write_file(
+        &dir,
+        "x\u{1b}]0;owned\u{7}.toml",
+        "extends = \"lgres\"\n[run]\ncycles = 0\n",
+    );
+    let o = wearsim(&["check", scene.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let printed = [o.stdout.as_slice(), o.stderr.as_slice()].concat();
+    assert!(
+        !printed.contains(&0x1b) && !printed.contains(&0x07),
+        "{}",
+        stderr(&o)
+    );
+    assert!(
+        stderr(&o).contains("x\\u{1b}]0;owned\\u{7}.toml"),
+        "{}",
+        stderr(&o)
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}
