@@ -9,6 +9,8 @@ use std::process::{Command, Output, Stdio};
 
 mod common;
 use common::{listing, scratch};
+mod lock_holder;
+use lock_holder::LockHolder;
 
 fn wearsim(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wearsim"))
@@ -92,8 +94,7 @@ fn a_lock_held_by_a_live_run_is_refused_even_before_its_pid_is_written() {
     let dir = scratch("lock-live");
     let out = dir.join("out");
     // A live owner that has created its lock file but not yet written its pid.
-    let lock = std::fs::File::create(dir.join(".out.lock")).unwrap();
-    lock.try_lock().unwrap();
+    let lock = LockHolder::take(&dir.join(".out.lock"));
     let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));

@@ -5,6 +5,8 @@ use std::process::{Command, Output};
 
 mod common;
 use common::{listing, scratch};
+mod lock_holder;
+use lock_holder::LockHolder;
 
 fn wearsim(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wearsim"))
@@ -309,8 +311,7 @@ fn second_run_into_a_locked_folder_is_refused() {
     let out = dir.join("out");
     // A live process (this test) holds the lock: refused at once, naming it, nothing written.
     std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
-    let held = std::fs::File::open(dir.join(".out.lock")).unwrap();
-    held.try_lock().unwrap();
+    let held = LockHolder::take(&dir.join(".out.lock"));
     let o = run_into("lgres-ideal", &out);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
@@ -386,8 +387,7 @@ fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
     };
     // Held by a live process (this test, with an advisory lock on it): refused at once.
     std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
-    let held = std::fs::File::open(dir.join(".out.lock")).unwrap();
-    held.try_lock().unwrap();
+    let held = LockHolder::take(&dir.join(".out.lock"));
     let o = study(&out).wait_with_output().unwrap();
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
@@ -437,8 +437,7 @@ fn precision_into_a_locked_folder_is_refused_and_releases_its_lock() {
     };
     // Held as a live run holds it (an advisory lock on the file).
     std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
-    let held = std::fs::File::open(dir.join(".out.lock")).unwrap();
-    held.try_lock().unwrap();
+    let held = LockHolder::take(&dir.join(".out.lock"));
     let o = precision(&out);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
