@@ -5,6 +5,8 @@
 //! bars and maps errors to exit codes (0 success, 1 could not run, 2 bad input). `study` runs
 //! [`lgres::analysis::study`] (see the `study` module).
 
+#[macro_use]
+mod console;
 mod progress;
 mod study;
 mod sweep;
@@ -328,9 +330,12 @@ struct Loaded {
     scene: Scene,
 }
 
-/// A run error, named after the scene when the scene is what is wrong with it.
+/// A run error, named after the scene when the scene is what is wrong with it (a scene error
+/// names its scene already).
 fn in_scene(spec: &str, e: RunError) -> CliError {
-    if e.is_bad_input() {
+    if let RunError::Scene(e) = e {
+        CliError::Scene(e)
+    } else if e.is_bad_input() {
         CliError::InScene {
             spec: spec.to_string(),
             source: Box::new(e),
@@ -353,7 +358,13 @@ fn load(spec: &str, o: &Overrides) -> Result<Loaded, CliError> {
     } else {
         return Err(CliError::NoSuchScene(spec.to_string()));
     };
-    o.run_overrides().apply(&mut scene, spec)?;
+    let overrides = o.run_overrides();
+    let origin = if overrides == lgres::overrides::RunOverrides::default() {
+        spec.to_string()
+    } else {
+        format!("{spec} with command-line overrides")
+    };
+    overrides.apply(&mut scene, &origin)?;
     Ok(Loaded { name, scene })
 }
 
@@ -364,13 +375,14 @@ fn out_dir(o: &Overrides, name: &str) -> PathBuf {
 fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
     let Loaded { name, scene: s } = load(spec, o)?;
     // Every check `run` makes before simulating, before anything is called valid.
-    let check = lgres::run::check_assembly(&s).map_err(|e| in_scene(spec, e))?;
-    println!("scene {name}: valid");
-    println!("  {}", s.description);
-    println!("  inertia: {}", s.inertia_convention);
-    println!("  bodies ({}):", s.bodies.len());
+    let options = o.run_overrides().run_options();
+    let check = lgres::run::check_assembly(&name, &s, &options).map_err(|e| in_scene(spec, e))?;
+    outln!("scene {name}: valid");
+    outln!("  {}", s.description);
+    outln!("  inertia: {}", s.inertia_convention);
+    outln!("  bodies ({}):", s.bodies.len());
     for b in &s.bodies {
-        println!(
+        outln!(
             "    {:<12} m = {} kg, I = {} kg·m², at ({}, {}) m, {:.4}°",
             b.name,
             b.mass,
@@ -387,19 +399,19 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
             v.join(", ")
         }
     };
-    println!(
+    outln!(
         "  revolute joints: {}",
         names(s.revolute_joints.iter().map(|j| j.name.as_str()).collect())
     );
-    println!(
+    outln!(
         "  prismatic joints: {}",
         names(s.prismatic_joints.iter().map(|j| j.name.as_str()).collect())
     );
-    println!(
+    outln!(
         "  drivers: {}",
         names(s.drivers.iter().map(|d| d.name.as_str()).collect())
     );
-    println!("  clearance joints ({}):", s.clearance_joints.len());
+    outln!("  clearance joints ({}):", s.clearance_joints.len());
     for c in &s.clearance_joints {
         let role = if c.ideal {
             "ideal revolute (2 equations)".to_string()
@@ -411,15 +423,17 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
                 if c.wear.is_some() { "on" } else { "off" }
             )
         };
-        println!(
+        outln!(
             "    {:<12} bearing on {}, pin on {}: {role}",
-            c.name, c.bearing_body, c.pin_body
+            c.name,
+            c.bearing_body,
+            c.pin_body
         );
         if !c.ideal {
-            println!("    {:<12} {}", "", c.contact_description());
+            outln!("    {:<12} {}", "", c.contact_description());
         }
     }
-    println!(
+    outln!(
         "  constraint equations: {}; degrees of freedom (3·{} − {}, clearance joints as 0): {}",
         s.constraint_count(),
         s.bodies.len(),
@@ -427,7 +441,7 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
         s.degrees_of_freedom()
     );
     let t = s.tolerances();
-    println!(
+    outln!(
         "  solver: {:?}, rtol {:e}, atol {:.3e} m / {:.3e} rad / {:.3e} (m|rad)/s; cycle {} s",
         s.solver.integrator,
         s.solver.rtol,
@@ -436,11 +450,14 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
         t.velocity,
         s.cycle_period().map_or("-".into(), |p| format!("{p:.6}"))
     );
-    println!(
+    outln!(
         "  assembly at t = 0: ok, {} coordinates, {} constraint equations, {} degrees of freedom \
          (clearance joints as force elements); largest joint-centre move from the file's poses \
          {:.3e} m",
-        check.coordinates, check.constraints, check.degrees_of_freedom, check.largest_move
+        check.coordinates,
+        check.constraints,
+        check.degrees_of_freedom,
+        check.largest_move
     );
     Ok(())
 }
@@ -505,18 +522,19 @@ fn elastic_share(b: &lgres::run::PeakStats) -> String {
 /// The one-screen summary at the end of a run.
 fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
     let s = &outcome.summary;
-    println!("scene {}: {}", s.scene, s.description);
+    outln!("scene {}: {}", s.scene, s.description);
     for contact in &s.contacts {
-        println!("  contact {contact}");
+        outln!("  contact {contact}");
     }
     let r = &s.response;
-    println!(
+    outln!(
         "response: {} cycle(s) of {:.3} s; peaks are statistics of per-cycle maxima",
-        r.cycles, s.period_s
+        r.cycles,
+        s.period_s
     );
     print_joints(r, s.transient_window_s);
     match &r.deviation_after_transient {
-        Some(d) => println!(
+        Some(d) => outln!(
             "  {} vs ideal after {} s: |Δx| {:.1} µm, |Δy| {:.1} µm, |Δv| {:.4}/{:.4} m/s, |Δa| \
              {:.1}/{:.1} m/s²",
             s.response_body,
@@ -528,13 +546,14 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
             d.ax_m_s2,
             d.ay_m_s2
         ),
-        None => println!(
+        None => outln!(
             "  {} vs ideal after {} s: n/a (the start-up window covers the whole run)",
-            s.response_body, s.transient_window_s
+            s.response_body,
+            s.transient_window_s
         ),
     }
     if let Some(n) = &r.numerics {
-        println!(
+        outln!(
             "  integrator: {} steps ({} rejected), {} events, drift {:.1e} m, energy residual \
              {:.2e} J ({:.1e} relative), {:.1} s",
             n.steps,
@@ -547,7 +566,7 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
         );
     }
     if let Some(w) = &s.wear {
-        println!(
+        outln!(
             "wear: {} stage(s), K = {} cycles per stage (scene: {}) on {} trajector{}, ×{:.0} so \
              a stage stands for {:.3e} cycles; {}; sub-steps {:?}{}; {:.1} s",
             w.stages,
@@ -571,7 +590,7 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
             w.wall_time_s
         );
         for j in &w.joints {
-            println!(
+            outln!(
                 "  joint {}: bearing peak {:.1} µm at {:.0}°, pin peak {:.1} µm at {:.0}°",
                 j.name,
                 j.bearing_peak_depth_m * 1e6,
@@ -582,21 +601,21 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
         }
         for j in &w.joints {
             if let Some(limit) = &j.clearance_limit {
-                println!(
+                outln!(
                     "  {}",
                     clearance_limit_line(&j.name, limit, w.cycles_applied)
                 );
             }
         }
         for text in &w.warnings {
-            println!("  {text}");
+            outln!("  {text}");
         }
     }
     if let Some(r) = &s.worn_response {
-        println!("worn response (on the surfaces after the last stage):");
+        outln!("worn response (on the surfaces after the last stage):");
         print_joints(r, s.transient_window_s);
     }
-    println!(
+    outln!(
         "wrote {files} files to {} in {:.1} s total",
         out.display(),
         s.wall_time_s
@@ -637,7 +656,7 @@ fn print_joints(r: &lgres::run::ResponseSummary, window: f64) {
     for j in &r.joints {
         let (a, b) = (&j.normal_force_all, j.normal_force_after_transient.as_ref());
         if let Some(v) = j.validity.as_ref().filter(|v| !v.inside) {
-            println!(
+            outln!(
                 "  joint {}: OUTSIDE the contact model's validity, so its force peaks are not \
                  results (summary.json has them, and the measures): {}",
                 j.name,
@@ -645,14 +664,14 @@ fn print_joints(r: &lgres::run::ResponseSummary, window: f64) {
             );
             continue;
         }
-        println!(
+        outln!(
             "  joint {}: peak F_n {:.2} kN (all), {}; max penetration {:.2} µm",
             j.name,
             a.max * 1e-3,
             peak_after(b, window),
             j.max_penetration_m * 1e6,
         );
-        println!(
+        outln!(
             "    dissipated per cycle: {:.3} J (damping {:.3} J + friction {:.3} J; books close \
              to {:.1e} J)",
             j.contact_dissipation_per_cycle_j,
@@ -662,7 +681,7 @@ fn print_joints(r: &lgres::run::ResponseSummary, window: f64) {
         );
     }
     for w in &r.energy_warnings {
-        println!("  WARNING: {w}");
+        outln!("  WARNING: {w}");
     }
 }
 
@@ -680,8 +699,8 @@ fn stress(quick: bool, o: &Overrides) -> Result<(), CliError> {
     let started = std::time::Instant::now();
     let results =
         lgres::analysis::stress::run_battery(&options, &mut |case, result| match result {
-            None => eprint!("{:<24} ", case.name),
-            Some(r) => eprintln!(
+            None => err!("{:<24} ", case.name),
+            Some(r) => errln!(
                 "{} ({:.1} s) {}",
                 r.outcome.label(),
                 r.wall_time_s,
@@ -693,12 +712,12 @@ fn stress(quick: bool, o: &Overrides) -> Result<(), CliError> {
             lgres::analysis::stress::StressError::Output(e) => CliError::Output(e),
         })?;
     let files = lgres::analysis::stress::write_report(&results, &out)?;
-    print!("{}", lgres::analysis::stress::markdown(&results));
+    out!("{}", lgres::analysis::stress::markdown(&results));
     let failed = results
         .iter()
         .filter(|r| r.outcome.label() == "FAILED")
         .count();
-    println!(
+    outln!(
         "{} case(s), {failed} failed; wrote {} files to {} in {:.1} s",
         results.len(),
         files.len(),
@@ -743,25 +762,25 @@ fn precision(spec: &str, args: &PrecisionArgs<'_>, o: &Overrides) -> Result<(), 
     let report =
         lgres::analysis::precision::run_sweep(&name, &scene, &options, &mut |event| match event {
             lgres::analysis::precision::Event::Start(method, rtol, what) => {
-                eprintln!(
+                errln!(
                     "[{:>6.0} s] {method:<9} rtol {rtol:.0e}: {what}",
                     started.elapsed().as_secs_f64()
                 );
             }
             lgres::analysis::precision::Event::Row(row) => match row.errors() {
-                Some(e) => eprintln!(
+                Some(e) => errln!(
                     "           {} steps, {:.3} s; start-up error {:.2e} m, cycle error {:.2e}",
                     row.steps,
                     row.wall_s,
                     e.start_up_m(),
                     e.cycle_max()
                 ),
-                None => eprintln!("           {:?}", row.outcome),
+                None => errln!("           {:?}", row.outcome),
             },
         })?;
     let files = report.write(&out)?;
-    println!("{}", report.markdown(None));
-    println!(
+    outln!("{}", report.markdown(None));
+    outln!(
         "wrote {} files to {} in {:.1} s",
         files.len(),
         out.display(),
@@ -771,18 +790,18 @@ fn precision(spec: &str, args: &PrecisionArgs<'_>, o: &Overrides) -> Result<(), 
 }
 
 fn list_scenes() {
-    println!("built-in scenes:");
+    outln!("built-in scenes:");
     for b in scenes::BUILTINS {
         let default = if b.name == scenes::DEFAULT {
             " (default)"
         } else {
             ""
         };
-        println!("  {:<24} {}{default}", b.name, b.summary);
+        outln!("  {:<24} {}{default}", b.name, b.summary);
     }
-    println!("studies:");
+    outln!("studies:");
     for s in scenes::STUDIES {
-        println!("  {:<24} {}: {}", s.name, s.summary, s.scenes.join(", "));
+        outln!("  {:<24} {}: {}", s.name, s.summary, s.scenes.join(", "));
     }
 }
 
@@ -791,14 +810,19 @@ const EXIT_INTERRUPTED: i32 = 130;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    // On SIGINT/SIGTERM remove the staging folder and lock of a run in progress: its target
-    // folder stays as it was.
+    // On SIGINT/SIGTERM remove the staging folder and lock of a run in progress and say what
+    // each output folder holds.
     if let Err(e) = ctrlc::set_handler(|| {
-        lgres::io::output::abandon_staged();
-        eprintln!("wearsim: interrupted; the output folder is left as it was");
+        let left = lgres::io::output::abandon_staged();
+        if left.is_empty() {
+            errln!("wearsim: interrupted; no output folder was being written");
+        }
+        for folder in left {
+            errln!("wearsim: interrupted; the output folder {folder}");
+        }
         std::process::exit(EXIT_INTERRUPTED);
     }) {
-        eprintln!("wearsim: warning: cannot install the signal handler: {e}");
+        errln!("wearsim: warning: cannot install the signal handler: {e}");
     }
     let o = &cli.overrides;
     let scene_settings = [
@@ -846,7 +870,7 @@ fn main() -> ExitCode {
         ),
     };
     if let Err(e) = flags {
-        eprintln!("wearsim: error: {e}");
+        errln!("wearsim: error: {e}");
         return ExitCode::from(e.exit_code());
     }
     let result = match &cli.command {
@@ -891,6 +915,8 @@ fn main() -> ExitCode {
         ),
     };
     match result {
+        // The work is done (an output folder is complete), but what it printed was lost.
+        Ok(()) if console::stdout_closed() => ExitCode::from(console::EXIT_CLOSED_PIPE),
         Ok(()) => ExitCode::SUCCESS,
         Err(_) if lgres::io::output::is_abandoned() => {
             // The interrupt handler removed the output under a writer, which failed for that
@@ -900,7 +926,7 @@ fn main() -> ExitCode {
             std::process::exit(EXIT_INTERRUPTED)
         }
         Err(e) => {
-            eprintln!("wearsim: error: {e}");
+            errln!("wearsim: error: {e}");
             ExitCode::from(e.exit_code())
         }
     }

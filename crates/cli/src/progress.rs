@@ -126,7 +126,7 @@ impl lgres::run::Progress for Bars {
     fn phase(&mut self, label: &str, cycles: f64) {
         self.finish();
         if !self.visible {
-            eprintln!("{}{label}: {} cycle(s)", self.prefix, rounded(cycles));
+            errln!("{}{label}: {} cycle(s)", self.prefix, rounded(cycles));
             self.line = Some(LinePhase {
                 label: label.to_string(),
                 cycles,
@@ -161,7 +161,7 @@ impl lgres::run::Progress for Bars {
             let percent = (100.0 * cycles / line.cycles.max(f64::MIN_POSITIVE)).floor() as i64;
             if percent > line.percent && self.throttle.due() {
                 line.percent = percent;
-                eprintln!(
+                errln!(
                     "{}{}: {percent:>3} % ({cycles:.2} of {} cycles, {:.0} s)",
                     self.prefix,
                     line.label,
@@ -177,7 +177,7 @@ impl lgres::run::Progress for Bars {
             bar.finish_and_clear();
         }
         if let Some(line) = self.line.take() {
-            eprintln!(
+            errln!(
                 "{}{}: done in {:.1} s",
                 self.prefix,
                 line.label,
@@ -192,7 +192,7 @@ impl lgres::run::Progress for Bars {
                 let _ = multi.println(text);
             }
             (None, Some(bar)) if self.visible => bar.println(text),
-            _ => eprintln!("{text}"),
+            _ => errln!("{text}"),
         }
     }
 }

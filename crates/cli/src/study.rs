@@ -45,10 +45,12 @@ pub fn run(name: &str, stage_cycles: Option<f64>, o: &Overrides) -> Result<(), C
     options.check()?;
     let staged = lgres::io::output::StagedDir::begin_study(&out)?;
     options.out = staged.path().to_path_buf();
-    println!(
+    outln!(
         "study {name}: {} response cycles per scene, K = {} cycles per wear stage, {} run(s) at \
          a time",
-        options.response_cycles, options.cycles_per_stage, options.jobs
+        options.response_cycles,
+        options.cycles_per_stage,
+        options.jobs
     );
     let bars = StudyBars::new();
     let (results, staged_report) = study::run_studies(&studies, &options, &bars)?;
@@ -71,7 +73,7 @@ pub fn run(name: &str, stage_cycles: Option<f64>, o: &Overrides) -> Result<(), C
         let substeps = s.wear.as_ref().map_or(String::new(), |w| {
             format!("; wear sub-steps {:?}", w.substeps_per_stage)
         });
-        println!(
+        outln!(
             "  {:<18} {:>6.1} s  {}{substeps}",
             r.key,
             s.wall_time_s,
@@ -79,12 +81,17 @@ pub fn run(name: &str, stage_cycles: Option<f64>, o: &Overrides) -> Result<(), C
         );
     }
     for (t, _, _) in judge::trends(&results) {
-        println!(
+        outln!(
             "  {}: {} — {} ({} of {} quantities grew, {} shrank)",
-            t.study, t.claim, t.verdict, t.grew, t.total, t.shrank
+            t.study,
+            t.claim,
+            t.verdict,
+            t.grew,
+            t.total,
+            t.shrank
         );
     }
-    println!(
+    outln!(
         "report: {} and {} ({:.0} s of runs)",
         path.with_extension("html").display(),
         path.display(),

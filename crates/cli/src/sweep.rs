@@ -26,7 +26,7 @@ pub fn run(file: &Path, resume: bool, o: &Overrides) -> Result<(), CliError> {
         options.jobs = j.get();
     }
     let (todo, _) = sweep::pending(&sweep, &out, resume)?;
-    println!(
+    outln!(
         "sweep {}: {} samples of scene {} ({} to run, {} thread(s)), {} metric(s)",
         sweep.name,
         sweep.samples(),
@@ -59,13 +59,13 @@ pub fn run(file: &Path, resume: bool, o: &Overrides) -> Result<(), CliError> {
             if on_terminal {
                 bar.println(failed);
             } else {
-                eprintln!("{failed}");
+                errln!("{failed}");
             }
         }
         // In a log: a line per finished sample, at most about one a second (and the last).
         let done = bar.position();
         if !on_terminal && (throttle.due() || done == sweep.samples() as u64) {
-            eprintln!(
+            errln!(
                 "sweep {}: {done}/{} samples, {:.0} s",
                 sweep.name,
                 sweep.samples(),
@@ -75,7 +75,7 @@ pub fn run(file: &Path, resume: bool, o: &Overrides) -> Result<(), CliError> {
     })?;
     bar.finish_and_clear();
     let failed = rows.iter().filter(|r| r.status == Status::Failed).count();
-    println!(
+    outln!(
         "{} rows ({} ok, {failed} failed) in {} in {:.1} s",
         rows.len(),
         rows.len() - failed,

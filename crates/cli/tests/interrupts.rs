@@ -230,3 +230,54 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
     eprintln!("stress: {stopped} interrupted, {finished} finished first");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 35, item 3: a sweep re-run into a finished sweep's folder and interrupted leaves no
+/// page or figure of the earlier rows beside its own, and says what the folder holds.
+#[test]
+fn an_interrupted_sweep_rerun_leaves_no_page_of_other_rows() {
+    let dir = scratch("sweep-rerun");
+    let out = dir.join("out");
+    let file = dir.join("s.toml");
+    std::fs::write(
+        &file,
+        "scene = \"lgres\"\nmetrics = [\"response.joints.A.max_penetration_m\"]\n\
+         [run]\ncycles = 1\nstages = 0\n[[vary]]\npath = \"clearance_joints.A.clearance\"\n\
+         values = [4e-4, 4.5e-4, 5e-4, 5.5e-4, 6e-4, 6.5e-4, 7e-4, 7.5e-4]\n",
+    )
+    .unwrap();
+    let args = [
+        "sweep",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--jobs",
+        "1",
+    ];
+    let (code, length) = interrupted(&args, Duration::from_secs(3600));
+    assert_eq!(code, Some(0));
+    assert!(out.join("samples.html").is_file() && out.join("scatter.png").is_file());
+    // Again, interrupted a fifth of the way in (its samples run one after the other).
+    let child = Command::new(env!("CARGO_BIN_EXE_wearsim"))
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(length / 5);
+    let _ = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    let o = child.wait_with_output().unwrap();
+    let names = listing(&out);
+    match o.status.code() {
+        Some(0) => assert!(names.contains(&"samples.html".to_string()), "{names:?}"),
+        Some(130) => {
+            assert_eq!(names, ["samples.csv"], "only the new rows");
+            let said = String::from_utf8_lossy(&o.stderr);
+            assert!(said.contains("holds the files written before"), "{said}");
+        }
+        other => panic!("exit {other:?}"),
+    }
+    assert_eq!(listing(&dir), ["out", "s.toml"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}

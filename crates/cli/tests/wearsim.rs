@@ -5,6 +5,8 @@ use std::process::{Command, Output};
 
 mod common;
 use common::{listing, scratch};
+mod lock_holder;
+use lock_holder::LockHolder;
 
 fn wearsim(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wearsim"))
@@ -307,13 +309,17 @@ fn folder_with_foreign_files_is_refused_and_kept() {
 fn second_run_into_a_locked_folder_is_refused() {
     let dir = scratch("lock");
     let out = dir.join("out");
-    // A live process (this test) holds the lock: refused at once, nothing written.
+    // A live process (this test) holds the lock: refused at once, naming it, nothing written.
     std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
+    let held = LockHolder::take(&dir.join(".out.lock"));
     let o = run_into("lgres-ideal", &out);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
+    let holder = format!("process {}", std::process::id());
+    assert!(stderr(&o).contains(&holder), "{}", stderr(&o));
     assert!(!out.exists());
-    // A lock whose process is gone (killed run) is taken over.
+    drop(held);
+    // A lock whose process is gone (killed run: the system released it) is taken over.
     std::fs::write(dir.join(".out.lock"), "999999999").unwrap();
     let o = run_into("lgres-ideal", &out);
     assert!(o.status.success(), "{}", stderr(&o));
@@ -379,12 +385,14 @@ fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
             "{what}"
         );
     };
-    // Held by a live process (this test): refused at once.
+    // Held by a live process (this test, with an advisory lock on it): refused at once.
     std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
+    let held = LockHolder::take(&dir.join(".out.lock"));
     let o = study(&out).wait_with_output().unwrap();
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
     unchanged("locked");
+    drop(held);
     std::fs::remove_file(dir.join(".out.lock")).unwrap();
     // Interrupted while its scenes run: the previous study stays, nothing hidden is left.
     let child = study(&out);
@@ -427,11 +435,14 @@ fn precision_into_a_locked_folder_is_refused_and_releases_its_lock() {
             out.to_str().unwrap(),
         ])
     };
+    // Held as a live run holds it (an advisory lock on the file).
     std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
+    let held = LockHolder::take(&dir.join(".out.lock"));
     let o = precision(&out);
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
     assert!(!out.exists());
+    drop(held);
     std::fs::remove_file(dir.join(".out.lock")).unwrap();
     let o = precision(&out);
     assert!(o.status.success(), "{}", stderr(&o));

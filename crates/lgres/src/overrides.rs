@@ -6,7 +6,7 @@
 //!
 //! let mut scene = lgres::scenes::builtin("lgres")?;
 //! let o = RunOverrides { cycles: Some(1), stages: Some(0), ..Default::default() };
-//! o.apply(&mut scene, "lgres")?;
+//! o.apply(&mut scene, "lgres with command-line overrides")?;
 //! assert_eq!((scene.run.cycles, scene.run.wear_stages), (1, 0));
 //! assert_eq!(o.run_options().cycles_per_stage, Some(lgres::overrides::QUICK_CYCLES_PER_STAGE));
 //! # Ok::<(), lgres::scene::SceneError>(())
@@ -53,7 +53,21 @@ pub struct RunOverrides {
 }
 
 impl RunOverrides {
-    /// Set the overridden fields of `scene` and validate it again (`origin` names the scene).
+    /// The scene field each override sets, by the name a sweep file's `[run]` table gives it
+    /// (`cycles_per_stage` and `trajectories` are the run's: [`crate::run::scene_as_run`]).
+    pub const SCENE_FIELDS: [(&'static str, &'static str); 8] = [
+        ("cycles", "run.cycles"),
+        ("stages", "run.wear_stages"),
+        ("rtol", "solver.rtol"),
+        ("max_steps", "solver.max_steps"),
+        ("max_wall_time", "solver.max_wall_time"),
+        ("cycles_per_stage", "run.cycles_per_stage"),
+        ("trajectories", "run.trajectories"),
+        ("wear_tolerance", "run.wear_tolerance"),
+    ];
+
+    /// Set the overridden fields of `scene` and validate it again; `origin` names the scene
+    /// and where the overrides came from (e.g. "lgres with command-line overrides").
     pub fn apply(&self, scene: &mut Scene, origin: &str) -> Result<(), SceneError> {
         if let Some(c) = self.cycles {
             scene.run.cycles = c;
@@ -76,7 +90,7 @@ impl RunOverrides {
         if let Some(t) = self.wear_tolerance {
             scene.run.wear_tolerance = Some(t);
         }
-        scene.validate(&format!("{origin} with command-line overrides"))
+        scene.validate(origin)
     }
 
     /// The options of [`crate::run::run_scene`]: `K` defaults to [`QUICK_CYCLES_PER_STAGE`]

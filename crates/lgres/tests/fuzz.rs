@@ -219,7 +219,7 @@ fn fuzz(base: &str, cases: u32, seed: u8) -> Counts {
         scene.solver.output_interval = interval.max(BRIEF_RUN / 100.0);
         scene.solver.max_steps = Some(BRIEF_STEPS);
         scene.solver.max_wall_time = Some(BRIEF_WALL_S);
-        let checked = check_assembly(&scene);
+        let checked = check_assembly("t", &scene, &RunOptions::default());
         match &checked {
             Ok(_) => c.checked_ok += 1,
             Err(e) => {

@@ -1,7 +1,7 @@
 //! Regression tests of issue 13: bad input ends in a named error (never a panic, hang or a
 //! silently wrong run), and `check` rejects what `run` would.
 
-use lgres::run::{ContactSeries, RunError, check_assembly};
+use lgres::run::{ContactSeries, RunError, RunOptions, check_assembly};
 use lgres::scene::{SceneError, load_str};
 use lgres::scenes;
 
@@ -107,7 +107,7 @@ fn coulomb_friction_is_rejected_suggesting_ambrosio() {
 #[test]
 fn pin_outside_its_bearing_is_rejected_naming_the_field() {
     let scene = patched("[[clearance_joints]]\nname = \"A\"\npin_point = [0.57, 0.0]").unwrap();
-    let e = check_assembly(&scene).unwrap_err();
+    let e = check_assembly("t", &scene, &RunOptions::default()).unwrap_err();
     assert!(e.is_bad_input(), "{e}");
     let text = e.to_string();
     assert!(
@@ -263,7 +263,7 @@ fn check_rejects_a_mechanism_missing_a_clearance_joint_like_run() {
     let cut = text.find("# Joint B").unwrap();
     let end = text[cut..].find("[solver]").unwrap() + cut;
     let scene = load_str(&format!("{}{}", &text[..cut], &text[end..]), "no B").unwrap();
-    let e = check_assembly(&scene).unwrap_err();
+    let e = check_assembly("t", &scene, &RunOptions::default()).unwrap_err();
     assert!(e.is_bad_input(), "{e}");
     assert!(e.to_string().contains("kinematic analysis"), "{e}");
 }
@@ -273,7 +273,7 @@ fn check_rejects_an_unassemblable_mechanism_naming_the_joints() {
     // Rod 1's ground pin moved far away: the loop cannot close.
     let text = edited("other_point = [0.0, 1.518]", "other_point = [0.0, 5.0]");
     let scene = load_str(&text, "unassemblable").unwrap();
-    let e = check_assembly(&scene).unwrap_err();
+    let e = check_assembly("t", &scene, &RunOptions::default()).unwrap_err();
     assert!(e.is_bad_input(), "{e}");
     let message = e.to_string();
     assert!(!message.contains("[]"), "{message}");
@@ -348,4 +348,99 @@ fn run_scene_validates_a_scene_built_in_code() {
     let e = lgres::run_scene("code", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(e.is_bad_input());
     assert!(e.to_string().contains("solver.output_interval"), "{e}");
+}
+
+/// Issue 35, item 4: every setting that sets how much work a run does, fuzzed over values on
+/// both sides of its bound (from the smallest subnormal to the largest finite number): the
+/// verdict is the bound's (computed from `lgres::scene::limits`), and a refusal names the field.
+#[test]
+fn work_bounds_hold_over_fuzzed_values() {
+    use lgres::scene::limits::{
+        MAX_CYCLES_PER_STAGE_REPRESENTED, MAX_LAYER_MODULUS, MAX_LENGTH, MAX_SUBSTEPS,
+        MIN_SUBSTEP_FRACTION,
+    };
+    // Values spread over every decade, and each bound with its neighbours.
+    let mut values: Vec<f64> = (-323..=308).step_by(7).map(|e| 10f64.powi(e)).collect();
+    for bound in [
+        MIN_SUBSTEP_FRACTION,
+        MAX_LAYER_MODULUS,
+        MAX_LENGTH,
+        MAX_CYCLES_PER_STAGE_REPRESENTED,
+        1.0,
+    ] {
+        values.extend([bound, bound * (1.0 - 1e-12), bound * (1.0 + 1e-12)]);
+    }
+    values.extend([5e-324, f64::MAX]);
+    let base = patched("").expect("the default scene loads");
+    let k = f64::from(base.run.cycles_per_stage);
+    // (field, TOML patch of a value, whether the value is in range).
+    type Case = (&'static str, fn(f64) -> String, fn(f64, f64) -> bool);
+    let cases: [Case; 7] = [
+        (
+            "run.max_clearance_change",
+            |v| format!("[run]\nmax_clearance_change = {v:e}"),
+            |v, _| (MIN_SUBSTEP_FRACTION..=1.0).contains(&v),
+        ),
+        (
+            "run.max_slope_change",
+            |v| format!("[run]\nmax_slope_change = {v:e}"),
+            |v, _| v >= MIN_SUBSTEP_FRACTION,
+        ),
+        (
+            "run.max_curvature_change",
+            |v| format!("[run]\nmax_curvature_change = {v:e}"),
+            |v, _| v >= MIN_SUBSTEP_FRACTION,
+        ),
+        (
+            "run.wear_tolerance",
+            |v| format!("[run]\nwear_tolerance = {v:e}"),
+            |v, _| (MIN_SUBSTEP_FRACTION..=1.0).contains(&v),
+        ),
+        (
+            "run.amplification",
+            |v| format!("[run]\namplification = {v:e}"),
+            |v, k| v > 0.0 && v * k <= MAX_CYCLES_PER_STAGE_REPRESENTED,
+        ),
+        (
+            "contact.width",
+            |v| format!("[[clearance_joints]]\nname = \"B\"\ncontact = {{ width = {v:e} }}"),
+            |v, _| v > 0.0 && v <= MAX_LENGTH,
+        ),
+        (
+            "contact.layer_modulus",
+            |v| {
+                format!("[[clearance_joints]]\nname = \"B\"\ncontact = {{ layer_modulus = {v:e} }}")
+            },
+            |v, _| v > 0.0 && v <= MAX_LAYER_MODULUS,
+        ),
+    ];
+    let mut tried = 0;
+    for (field, patch, in_range) in cases {
+        for &v in &values {
+            tried += 1;
+            match patched(&patch(v)) {
+                Ok(_) => assert!(in_range(v, k), "{field} = {v:e} accepted"),
+                Err(e) => {
+                    assert!(!in_range(v, k), "{field} = {v:e} refused: {e}");
+                    assert!(e.to_string().contains(field), "{field} not named: {e}");
+                }
+            }
+        }
+    }
+    for n in [
+        0,
+        1,
+        MAX_SUBSTEPS - 1,
+        MAX_SUBSTEPS,
+        MAX_SUBSTEPS + 1,
+        u32::MAX,
+    ] {
+        tried += 1;
+        let verdict = patched(&format!("[run]\nmax_substeps = {n}"));
+        assert_eq!(verdict.is_ok(), (1..=MAX_SUBSTEPS).contains(&n), "{n}");
+        if let Err(e) = verdict {
+            assert!(e.to_string().contains("run.max_substeps"), "{e}");
+        }
+    }
+    eprintln!("work bounds: {tried} values");
 }

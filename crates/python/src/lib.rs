@@ -374,7 +374,9 @@ fn run<'py>(
         threads,
         surfaces,
     };
-    overrides.apply(&mut scene, &name).map_err(scene_err)?;
+    overrides
+        .apply(&mut scene, &format!("{name} with the run's arguments"))
+        .map_err(scene_err)?;
     let options = overrides.run_options();
     let result = py.detach(|| {
         catch_unwind(AssertUnwindSafe(|| -> Result<RunOutcome, PyErrText> {

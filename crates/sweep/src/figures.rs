@@ -26,13 +26,18 @@ fn short(name: &str) -> String {
     parts[parts.len().saturating_sub(2)..].join(".")
 }
 
+/// The scatter figure's file name.
+pub const SCATTER_FILE: &str = "scatter.png";
+/// The histograms' file name (random sweeps).
+pub const HISTOGRAMS_FILE: &str = "histograms.png";
+
 /// Draw the figures of `rows` into `out`; returns the files written.
 pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, OutputError> {
     let ok: Vec<&Row> = rows.iter().filter(|r| r.status == Status::Ok).collect();
     let mut files = Vec::new();
     let (ni, nm) = (sweep.inputs.len(), sweep.metrics.len());
     let (cols, nrows) = (ni, nm);
-    let path = out.join("scatter.png");
+    let path = out.join(SCATTER_FILE);
     let size = (PANEL.0 * cols as u32, PANEL.1 * nrows as u32 + 40);
     let title = format!(
         "Sweep {}: {} of {} samples ran (scene {})",
@@ -87,7 +92,7 @@ pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, Out
             ));
         }
         let (c, r) = grid(columns.len(), 3);
-        let path = out.join("histograms.png");
+        let path = out.join(HISTOGRAMS_FILE);
         let title = format!(
             "Sweep {}: histograms of {} samples that ran",
             sweep.name,

@@ -145,7 +145,8 @@ pub enum SweepError {
 impl SweepError {
     /// Whether the sweep file is at fault (exit code 2) rather than the machine (1).
     pub fn is_bad_input(&self) -> bool {
-        !matches!(self, SweepError::Output(_) | SweepError::Io { .. })
+        // A sweep file that is missing, a folder or not UTF-8 is bad input, as a scene file.
+        !matches!(self, SweepError::Output(_))
     }
 }
 
@@ -472,6 +473,60 @@ pub struct Sweep {
     wholes: HashMap<String, Option<Whole>>,
 }
 
+/// The `[run]` table against the base scene, with the scene's rules and the run's
+/// ([`lgres::run::scene_as_run`]), before any sample: a bad setting would fail every row. The
+/// error names the table's field (`run.max_wall_time`) and the scene field it sets.
+fn check_run_table(
+    overrides: &RunOverrides,
+    base: &toml::Table,
+    scene_name: &str,
+) -> Result<(), SweepError> {
+    let mut scene = lgres::scene::from_table(base.clone(), scene_name)?;
+    let origin = format!("{scene_name} with the sweep file's [run] table");
+    let refused = match overrides.apply(&mut scene, &origin) {
+        Ok(()) => match lgres::run::scene_as_run(scene_name, &scene, &overrides.run_options()) {
+            Ok(_) => return Ok(()),
+            Err(RunError::Scene(e)) => e,
+            Err(RunError::Trajectories { trajectories, .. }) => {
+                return Err(SweepError::Field {
+                    field: "run.trajectories".into(),
+                    value: trajectories.to_string(),
+                    reason: RunError::Trajectories {
+                        trajectories,
+                        cycles_per_stage: scene.run.cycles_per_stage,
+                    }
+                    .to_string(),
+                });
+            }
+            Err(other) => {
+                return Err(SweepError::Field {
+                    field: "run".into(),
+                    value: "[run]".into(),
+                    reason: other.to_string(),
+                });
+            }
+        },
+        Err(e) => e,
+    };
+    // Name the table's field when the scene refuses what it set.
+    if let SceneError::Invalid { issues, .. } = &refused {
+        for issue in issues {
+            let field = RunOverrides::SCENE_FIELDS
+                .iter()
+                .find(|(_, path)| *path == issue.path)
+                .map(|(field, _)| *field);
+            if let Some(field) = field {
+                return Err(SweepError::Field {
+                    field: format!("run.{field}"),
+                    value: issue.value.clone(),
+                    reason: format!("{} (it sets the scene's {})", issue.reason, issue.path),
+                });
+            }
+        }
+    }
+    Err(refused.into())
+}
+
 /// Top-level keys of `summary.json`: a metric must start with one.
 const SUMMARY_KEYS: [&str; 9] = [
     "scene",
@@ -535,6 +590,7 @@ impl Sweep {
         base: toml::Table,
     ) -> Result<Sweep, SweepError> {
         let overrides = file.run.overrides()?;
+        check_run_table(&overrides, &base, &scene_name)?;
         let inputs = file
             .vary
             .iter()
@@ -693,7 +749,10 @@ impl Sweep {
         }
         let origin = format!("{} sample {index}", self.name);
         let mut scene = lgres::scene::from_table(table, &origin)?;
-        self.overrides.apply(&mut scene, &origin)?;
+        self.overrides.apply(
+            &mut scene,
+            &format!("{origin} with the sweep file's [run] table"),
+        )?;
         Ok(scene)
     }
 
@@ -844,6 +903,11 @@ pub fn run_local(
     on_row: &mut dyn FnMut(&Row, usize, usize),
 ) -> Result<Vec<Row>, SweepError> {
     let (todo, mut rows) = pending(sweep, out, options.resume)?;
+    if !todo.is_empty() {
+        // From here the folder holds this sweep's rows only (those kept when resuming).
+        remove_drawn_outputs(out)?;
+        table::write_rows(sweep, &rows, &rows_path(out))?;
+    }
     let total = sweep.samples();
     let next = AtomicUsize::new(0);
     let jobs = options.jobs.max(1).min(todo.len().max(1));
@@ -886,6 +950,26 @@ pub fn run_local(
     rows.sort_by_key(|r| r.sample);
     write_outputs(sweep, &rows, out)?;
     Ok(rows)
+}
+
+/// Removes the page and figures of an earlier sweep in `out` before new rows are written:
+/// they were drawn from the earlier rows, and must not sit beside rows they do not show (an
+/// interrupted sweep leaves its rows alone; the end of a sweep draws them again).
+fn remove_drawn_outputs(out: &Path) -> Result<(), SweepError> {
+    for name in [
+        page::PAGE_FILE,
+        figures::SCATTER_FILE,
+        figures::HISTOGRAMS_FILE,
+    ] {
+        let path = out.join(name);
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                return Err(OutputError::Io { path, source: e }.into());
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }
 
 /// Write the rows (of any engine), the figures and the page showing both (`samples.html`) into

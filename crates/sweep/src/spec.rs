@@ -89,26 +89,10 @@ pub(crate) fn parse(text: &str, origin: &str) -> Result<File, SweepError> {
 }
 
 impl RunSection {
+    /// The run settings of every sample (only the stage count is checked here).
     pub(crate) fn overrides(&self) -> Result<RunOverrides, SweepError> {
-        if let Some(r) = self.rtol.filter(|r| !(r.is_finite() && *r > 0.0)) {
-            return Err(bad("run.rtol", r, "must be a finite positive number"));
-        }
-        if let Some(t) = self
-            .wear_tolerance
-            .filter(|t| !(t.is_finite() && *t > 0.0 && *t <= 1.0))
-        {
-            return Err(bad("run.wear_tolerance", t, "must lie in (0, 1]"));
-        }
-        if self.cycles == Some(0) {
-            return Err(bad("run.cycles", 0, "must be at least 1"));
-        }
-        if self.cycles_per_stage == Some(0) {
-            return Err(bad("run.cycles_per_stage", 0, "must be at least 1"));
-        }
-        if self.trajectories == Some(0) {
-            return Err(bad("run.trajectories", 0, "must be at least 1"));
-        }
-        // The scene refuses more, but only once a sample is built, and the scene's validation
+        // Every value is checked with the scene's rules once the base scene is known
+        // (`check_run_table`). The scene refuses more, but only once a sample is built, and the scene's validation
         // of an enormous count itself takes forever (it lists every stage's file names): so
         // here, up front, by this field.
         let most = lgres::scene::limits::MAX_WEAR_STAGES;

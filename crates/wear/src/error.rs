@@ -1,10 +1,11 @@
-//! Errors of the wear crate. Each names the offending parameter and its value.
+//! Errors of the wear crate. Each names the offending parameter and its value; numbers are
+//! written with `{:?}`, the shortest form that reads back (`1e300`, not 301 digits).
 
 /// Invalid wear parameter, grid or wear record.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum WearError {
     /// A scalar parameter outside its allowed range (or not finite).
-    #[error("{name} = {value} is invalid: must be {requirement}")]
+    #[error("{name} = {value:?} is invalid: must be {requirement}")]
     InvalidParameter {
         /// Parameter name, e.g. `"wear_coefficient"`, `"hinge_width"`, `"amplification"`.
         name: &'static str,
@@ -17,7 +18,7 @@ pub enum WearError {
     #[error("cells = 0 is invalid: a surface grid needs at least one cell")]
     ZeroCells,
     /// The pin does not fit in the bearing.
-    #[error("pin radius {pin} m must be smaller than bearing radius {bearing} m")]
+    #[error("pin radius {pin:?} m must be smaller than bearing radius {bearing:?} m")]
     RadiiInconsistent {
         /// Pin radius (m).
         pin: f64,
@@ -31,7 +32,7 @@ pub enum WearError {
         name: &'static str,
     },
     /// A wear-depth entry is negative or not finite.
-    #[error("{name}[{index}] = {value} is invalid: wear depth must be finite and >= 0")]
+    #[error("{name}[{index}] = {value:?} is invalid: wear depth must be finite and >= 0")]
     InvalidDepth {
         /// Which buffer, e.g. `"pin depth"`.
         name: &'static str,
@@ -51,7 +52,7 @@ pub enum WearError {
         found: usize,
     },
     /// Applying the wear would remove the whole pin (its worn radius would reach zero).
-    #[error("pin of radius {radius} m would be worn through: its depth would reach {depth} m")]
+    #[error("pin of radius {radius:?} m would be worn through: its depth would reach {depth:?} m")]
     PinWornThrough {
         /// Nominal pin radius (m).
         radius: f64,
@@ -60,7 +61,8 @@ pub enum WearError {
     },
     /// A bearing worn deeper than its own radius: no longer a joint (e.g. a corrupt wear file).
     #[error(
-        "bearing of radius {radius} m worn deeper than its own radius: its depth reaches {depth} m"
+        "bearing of radius {radius:?} m worn deeper than its own radius: its depth reaches \
+         {depth:?} m"
     )]
     BearingTooDeep {
         /// Nominal bearing radius (m).
@@ -78,8 +80,9 @@ pub enum WearError {
     },
     /// Adaptive extrapolation hit its sub-step limit before spending the stage's amplification.
     #[error(
-        "stage {stage}: adaptive extrapolation used max_substeps = {limit} sub-steps and \
-         still has amplification {remaining} left"
+        "stage {}: adaptive extrapolation used max_substeps = {limit} sub-steps and still has \
+         amplification {remaining:?} left (run.max_substeps)",
+        stage + 1
     )]
     SubstepLimit {
         /// Stage index (0-based).

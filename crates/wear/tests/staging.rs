@@ -195,9 +195,19 @@ fn substep_limit_and_runner_errors_surface() {
     assert!(
         matches!(
             err,
-            StagingError::Wear(WearError::SubstepLimit { limit: 3, .. })
+            StagingError::Wear(WearError::SubstepLimit {
+                stage: 0,
+                limit: 3,
+                ..
+            })
         ),
         "{err}"
+    );
+    // Stages are counted from 1 in messages, and the setting is named.
+    let text = err.to_string();
+    assert!(
+        text.contains("stage 1:") && text.contains("(run.max_substeps)"),
+        "{text}"
     );
 
     let err = run_stages(&mut js, &plan, |_, _: &[WornJoint]| {

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-pub use super::staged::{FolderLock, StagedDir, abandon_staged, is_abandoned};
+pub use super::staged::{FolderLock, LeftBehind, StagedDir, abandon_staged, is_abandoned};
 use super::staged::{create_temp_unless_abandoned, create_unless_abandoned, forget_temp};
 
 /// An output file could not be written.
@@ -73,16 +73,17 @@ pub enum OutputError {
     },
     /// Another run is writing the same output folder.
     #[error(
-        "output folder {path}: another wearsim run (process {pid}) is writing it (lock file \
-         {lock}); wait for it or choose another --out"
+        "output folder {path}: another wearsim run ({}) is writing it (lock file {lock}); wait \
+         for it or choose another --out",
+        pid.map_or_else(|| "its process id not yet written".to_string(), |p| format!("process {p}"))
     )]
     Locked {
         /// The folder.
         path: PathBuf,
         /// The lock file.
         lock: PathBuf,
-        /// Process holding the lock.
-        pid: u32,
+        /// Process holding the lock, once it has written it.
+        pid: Option<u32>,
     },
     /// A name would not be a plain file name (it could create folders or escape the output
     /// folder); validation normally rejects it first.

@@ -2,7 +2,7 @@
 //! replaces the target whole at the end, and locked against a second writer (re-exported by
 //! [`super::output`]).
 
-use std::fs::{self, OpenOptions};
+use std::fs::{self, File, OpenOptions};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
@@ -10,8 +10,27 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use super::output::{OutputError, io_err};
 
-/// Staging folders and lock files of runs in progress, for [`abandon_staged`].
-static ACTIVE: Mutex<Vec<(Option<PathBuf>, PathBuf)>> = Mutex::new(Vec::new());
+/// An output folder being written, for [`abandon_staged`].
+struct Active {
+    /// The folder the output ends up in.
+    target: PathBuf,
+    /// Its staging folder, or `None` for a folder written in place ([`FolderLock`]).
+    staging: Option<PathBuf>,
+    /// Its lock file.
+    lock: PathBuf,
+}
+
+/// The registry of output folders: those being written, and those whose staged output this
+/// process has moved into place (so an interrupt can say what is on disk).
+struct Registry {
+    active: Vec<Active>,
+    committed: Vec<PathBuf>,
+}
+
+static ACTIVE: Mutex<Registry> = Mutex::new(Registry {
+    active: Vec::new(),
+    committed: Vec::new(),
+});
 
 /// Set once [`abandon_staged`] has removed the staging folders: no folder or file may be
 /// created after that (a writer thread of a study would otherwise re-create the staging folder
@@ -65,7 +84,7 @@ pub(crate) fn forget_temp(tmp: &Path) {
     }
 }
 
-fn active() -> std::sync::MutexGuard<'static, Vec<(Option<PathBuf>, PathBuf)>> {
+fn active() -> std::sync::MutexGuard<'static, Registry> {
     ACTIVE
         .lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner)
@@ -83,6 +102,8 @@ pub struct StagedDir {
     target: PathBuf,
     staging: PathBuf,
     lock: PathBuf,
+    /// The lock file, locked while open (closed after the file is removed on drop).
+    _held: File,
     done: bool,
 }
 
@@ -119,7 +140,7 @@ impl StagedDir {
             )));
         }
         let lock = OutputFolder::lock_file(parent, &name);
-        take_lock(&target, &lock)?;
+        let held = take_lock(&target, &lock)?;
         remove_dead_staging(parent, &name);
         let staging = parent.join(format!(".{name}.staging-{}", std::process::id()));
         let created = fs::remove_dir_all(&staging)
@@ -135,11 +156,16 @@ impl StagedDir {
                 staging.display()
             )));
         }
-        active().push((Some(staging.clone()), lock.clone()));
+        active().active.push(Active {
+            target: target.clone(),
+            staging: Some(staging.clone()),
+            lock: lock.clone(),
+        });
         Ok(Self {
             target,
             staging,
             lock,
+            _held: held,
             done: false,
         })
     }
@@ -192,7 +218,10 @@ impl StagedDir {
             let _ = fs::remove_dir_all(&previous);
         }
         let _ = fs::remove_file(&self.lock);
-        registry.retain(|(s, _)| s.as_ref() != Some(&self.staging));
+        registry
+            .active
+            .retain(|a| a.staging.as_ref() != Some(&self.staging));
+        registry.committed.push(self.target.clone());
         self.done = true;
         Ok(self.target.clone())
     }
@@ -204,7 +233,9 @@ impl Drop for StagedDir {
             let mut registry = active();
             let _ = fs::remove_dir_all(&self.staging);
             let _ = fs::remove_file(&self.lock);
-            registry.retain(|(s, _)| s.as_ref() != Some(&self.staging));
+            registry
+                .active
+                .retain(|a| a.staging.as_ref() != Some(&self.staging));
         }
     }
 }
@@ -215,6 +246,8 @@ impl Drop for StagedDir {
 /// meanwhile. Released on drop, and by [`abandon_staged`] on a signal.
 pub struct FolderLock {
     lock: PathBuf,
+    /// The lock file, locked while open (closed after the file is removed on drop).
+    _held: File,
 }
 
 impl FolderLock {
@@ -226,9 +259,13 @@ impl FolderLock {
             name,
         } = OutputFolder::new(target)?;
         let lock = OutputFolder::lock_file(&parent, &name);
-        take_lock(&target, &lock)?;
-        active().push((None, lock.clone()));
-        Ok(Self { lock })
+        let held = take_lock(&target, &lock)?;
+        active().active.push(Active {
+            target,
+            staging: None,
+            lock: lock.clone(),
+        });
+        Ok(Self { lock, _held: held })
     }
 }
 
@@ -236,7 +273,7 @@ impl Drop for FolderLock {
     fn drop(&mut self) {
         let mut registry = active();
         let _ = fs::remove_file(&self.lock);
-        registry.retain(|(_, lock)| lock != &self.lock);
+        registry.active.retain(|a| a.lock != self.lock);
     }
 }
 
@@ -248,8 +285,17 @@ struct OutputFolder {
 }
 
 impl OutputFolder {
+    /// `target` made absolute; a symbolic link is followed to the folder it names, so the
+    /// output is written through it and the link stays (replacing the link's own path would
+    /// put a real folder in its place and leave the linked folder with the old results).
     fn new(target: &Path) -> Result<Self, OutputError> {
-        let target = std::path::absolute(target).map_err(io_err(target))?;
+        let mut target = std::path::absolute(target).map_err(io_err(target))?;
+        if fs::symlink_metadata(&target).is_ok_and(|m| m.file_type().is_symlink()) {
+            target = fs::canonicalize(&target).map_err(|e| OutputError::Folder {
+                path: target.clone(),
+                reason: format!("is a symbolic link to a folder that cannot be used: {e}"),
+            })?;
+        }
         let folder_err = |reason: &str| OutputError::Folder {
             path: target.clone(),
             reason: reason.to_string(),
@@ -286,17 +332,57 @@ impl OutputFolder {
     }
 }
 
+/// What is on disk in an output folder after [`abandon_staged`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum LeftBehind {
+    /// A staged output was removed before it was moved in: the folder is as it was.
+    AsItWas(PathBuf),
+    /// The output was moved in before the interrupt: the folder holds the finished output.
+    Finished(PathBuf),
+    /// A folder written in place (a sweep's rows, the precision and stress reports) holds
+    /// what was written before the interrupt.
+    WrittenSoFar(PathBuf),
+}
+
+impl std::fmt::Display for LeftBehind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LeftBehind::AsItWas(p) => write!(f, "{} is left as it was", p.display()),
+            LeftBehind::Finished(p) => {
+                write!(
+                    f,
+                    "{} holds the finished output (written before the interrupt)",
+                    p.display()
+                )
+            }
+            LeftBehind::WrittenSoFar(p) => write!(
+                f,
+                "{} holds the files written before the interrupt (a sweep: the finished rows \
+                 in samples.csv, its page and figures only at the end; --resume continues it)",
+                p.display()
+            ),
+        }
+    }
+}
+
 /// Remove every staging folder and lock of this process (for a SIGINT/SIGTERM handler, which
-/// then exits): the targets stay as they were before the interrupted runs.
-pub fn abandon_staged() {
+/// then exits) and say what each output folder holds: a staged target stays as it was before
+/// the interrupted run, unless its output was already moved in.
+pub fn abandon_staged() -> Vec<LeftBehind> {
+    let mut left = Vec::new();
     {
         let mut registry = active();
         ABANDONED.store(true, Ordering::SeqCst);
-        for (staging, lock) in registry.drain(..) {
-            if let Some(staging) = staging {
-                remove_while_writers_finish(&staging);
+        left.extend(registry.committed.drain(..).map(LeftBehind::Finished));
+        for entry in registry.active.drain(..) {
+            match &entry.staging {
+                Some(staging) => {
+                    remove_while_writers_finish(staging);
+                    left.push(LeftBehind::AsItWas(entry.target));
+                }
+                None => left.push(LeftBehind::WrittenSoFar(entry.target)),
             }
-            let _ = fs::remove_file(&lock);
+            let _ = fs::remove_file(&entry.lock);
         }
     }
     // A writer in flight removes its temporary file once its move is refused: wait for them
@@ -310,6 +396,7 @@ pub fn abandon_staged() {
     for tmp in temps().drain(..) {
         let _ = fs::remove_file(tmp);
     }
+    left
 }
 
 /// Removes `dir`, again while it reappears: a writer that opened its file before the
@@ -367,68 +454,96 @@ fn foreign_entry(dir: &Path, holds: Holds) -> Result<Option<String>, OutputError
     Ok(None)
 }
 
-/// Create `lock` holding our process id; a lock of a process that no longer runs is taken over.
-fn take_lock(target: &Path, lock: &Path) -> Result<(), OutputError> {
-    for _ in 0..2 {
-        match OpenOptions::new().write(true).create_new(true).open(lock) {
-            Ok(mut f) => {
-                return write!(f, "{}", std::process::id()).map_err(io_err(lock));
-            }
-            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => {
-                let holder = fs::read_to_string(lock)
-                    .ok()
-                    .and_then(|s| s.trim().parse::<u32>().ok());
-                match holder {
-                    Some(pid) if process_alive(pid) => {
-                        return Err(OutputError::Locked {
-                            path: target.to_path_buf(),
-                            lock: lock.to_path_buf(),
-                            pid,
-                        });
-                    }
-                    // Stale (its run was killed) or half-written: take it over.
-                    _ => {
-                        let _ = fs::remove_file(lock);
-                    }
-                }
-            }
-            Err(e) => {
-                return Err(OutputError::Folder {
+/// Takes `lock`: an advisory lock (`flock`) on the file, held as long as the returned file
+/// is open, with our process id written in it for the message of a refused run. The system
+/// releases it when its process ends however it ends, so a lock left by a killed run is free
+/// and one held by a live run is not, with no window between telling the two apart (a
+/// process id alone cannot tell a live owner that has not written it yet from a dead one).
+fn take_lock(target: &Path, lock: &Path) -> Result<File, OutputError> {
+    let folder_err = |reason: String| OutputError::Folder {
+        path: target.to_path_buf(),
+        reason,
+    };
+    // A holder that finishes removes the file: a file opened just before that is locked in
+    // vain, so the lock counts only while the path still names the locked file.
+    for _ in 0..100 {
+        let mut file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(lock)
+            .map_err(|e| {
+                folder_err(format!(
+                    "cannot write its lock file {} beside it: {e}",
+                    lock.display()
+                ))
+            })?;
+        match file.try_lock() {
+            Ok(()) => {}
+            Err(fs::TryLockError::WouldBlock) => {
+                return Err(OutputError::Locked {
                     path: target.to_path_buf(),
-                    reason: format!(
-                        "cannot write its lock file {} beside it: {e}",
-                        lock.display()
-                    ),
+                    lock: lock.to_path_buf(),
+                    pid: fs::read_to_string(lock)
+                        .ok()
+                        .and_then(|s| s.trim().parse::<u32>().ok()),
                 });
             }
+            Err(fs::TryLockError::Error(e)) => {
+                return Err(folder_err(format!(
+                    "cannot lock its lock file {}: {e}",
+                    lock.display()
+                )));
+            }
         }
+        if !names_file(lock, &file) {
+            continue;
+        }
+        file.set_len(0)
+            .and_then(|()| write!(file, "{}", std::process::id()))
+            .map_err(io_err(lock))?;
+        return Ok(file);
     }
-    Err(OutputError::Folder {
-        path: target.to_path_buf(),
-        reason: format!("cannot take the lock file {}", lock.display()),
-    })
+    Err(folder_err(format!(
+        "cannot take the lock file {}: it is replaced again and again",
+        lock.display()
+    )))
 }
 
-/// Staging folders `.<name>.staging-<pid>` of runs that were killed without cleaning up.
+/// Whether `path` names the open `file` (not a file created at the path since).
+fn names_file(path: &Path, file: &File) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (fs::metadata(path), file.metadata()) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = file;
+        path.exists()
+    }
+}
+
+/// Staging and replaced folders (`.<name>.staging-<pid>`, `.<name>.previous-<pid>`) that runs
+/// killed on the way left behind: the lock is ours, so no live run is writing them.
 fn remove_dead_staging(parent: &Path, name: &str) {
-    let prefix = format!(".{name}.staging-");
+    let ours = std::process::id().to_string();
+    let prefixes = [format!(".{name}.staging-"), format!(".{name}.previous-")];
     let Ok(entries) = fs::read_dir(parent) else {
         return;
     };
     for entry in entries.flatten() {
         let file = entry.file_name().to_string_lossy().into_owned();
-        if let Some(pid) = file
-            .strip_prefix(&prefix)
-            .and_then(|p| p.parse::<u32>().ok())
-            && !process_alive(pid)
-        {
+        let stale = prefixes.iter().any(|prefix| {
+            file.strip_prefix(prefix.as_str())
+                .is_some_and(|pid| pid.parse::<u32>().is_ok() && pid != ours)
+        });
+        if stale {
             let _ = fs::remove_dir_all(entry.path());
         }
     }
-}
-
-/// Whether process `pid` runs (Linux: `/proc/<pid>`; elsewhere assumed, to be safe).
-fn process_alive(pid: u32) -> bool {
-    let proc = Path::new("/proc");
-    !proc.is_dir() || proc.join(pid.to_string()).exists()
 }

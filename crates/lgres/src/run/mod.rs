@@ -258,10 +258,17 @@ pub struct AssemblyCheck {
     pub largest_move: f64,
 }
 
-/// Everything `run` checks before it simulates: validation, the drive period, the recorded
-/// body, the ideal mechanism's kinematic analysis at the output times, and the scene's system
-/// assembled at t = 0 from the file's initial poses. So `check` rejects what `run` would.
-pub fn check_assembly(scene: &Scene) -> Result<AssemblyCheck, RunError> {
+/// Everything `run` checks before it simulates, with the same `options`: the scene as run
+/// ([`scene_as_run`]: validation after `K` and the trajectories are set), the drive period,
+/// the recorded body, the ideal mechanism's kinematic analysis at the output times, and the
+/// scene's system assembled at t = 0 from the file's initial poses. So `check` rejects what
+/// `run` would. `name` names the scene in errors.
+pub fn check_assembly(
+    name: &str,
+    scene: &Scene,
+    options: &RunOptions,
+) -> Result<AssemblyCheck, RunError> {
+    let scene = &scene_as_run(name, scene, options)?;
     let (times, body) = run_plan(scene)?;
     ideal_motion(scene, &times, body, None)?;
     unworn_joints(scene)?;
@@ -288,22 +295,8 @@ pub fn run_scene(
     progress: &mut dyn Progress,
 ) -> Result<RunOutcome, RunError> {
     let started = Instant::now();
-    let mut scene = scene.clone();
     let scene_k = scene.run.cycles_per_stage;
-    if let Some(k) = options.cycles_per_stage.filter(|k| *k > 0) {
-        scene.run.amplification *= f64::from(scene_k) / f64::from(k);
-        scene.run.cycles_per_stage = k;
-    }
-    if let Some(m) = options.trajectories {
-        scene.run.trajectories = m;
-    }
-    let (k, m) = (scene.run.cycles_per_stage, scene.run.trajectories);
-    if scene.run.wear_stages > 0 && (m == 0 || !k.is_multiple_of(m)) {
-        return Err(RunError::Trajectories {
-            trajectories: m,
-            cycles_per_stage: k,
-        });
-    }
+    let scene = scene_as_run(name, scene, options)?;
     let (times, body) = run_plan(&scene)?;
     let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
     let cycles = scene.run.cycles.max(1);
@@ -433,9 +426,40 @@ pub fn run_scene(
     })
 }
 
-/// Validates `scene` and returns the response run's output times and recorded body.
+/// The scene a run simulates: `scene` with `options`' simulated cycles per wear stage `K`
+/// (the amplification rescaled so a stage still stands for as many cycles) and trajectories,
+/// validated again with them. [`check_assembly`] and [`run_scene`] both start here, so a scene
+/// and options one accepts the other does not refuse as bad input. `name` names the scene in
+/// errors.
+pub fn scene_as_run(name: &str, scene: &Scene, options: &RunOptions) -> Result<Scene, RunError> {
+    let mut scene = scene.clone();
+    let scene_k = scene.run.cycles_per_stage;
+    if let Some(k) = options.cycles_per_stage {
+        // K = 0 is left to the validation below, which names it.
+        if k > 0 {
+            scene.run.amplification *= f64::from(scene_k) / f64::from(k);
+        }
+        scene.run.cycles_per_stage = k;
+    }
+    if let Some(m) = options.trajectories {
+        scene.run.trajectories = m;
+    }
+    let (k, m) = (scene.run.cycles_per_stage, scene.run.trajectories);
+    if scene.run.wear_stages > 0 && (m == 0 || !k.is_multiple_of(m)) {
+        return Err(RunError::Trajectories {
+            trajectories: m,
+            cycles_per_stage: k,
+        });
+    }
+    scene.validate(&format!(
+        "{name} as run (K = {k} cycles per wear stage on {m} trajector{})",
+        if m == 1 { "y" } else { "ies" }
+    ))?;
+    Ok(scene)
+}
+
+/// The response run's output times and recorded body of a validated scene.
 fn run_plan(scene: &Scene) -> Result<(Vec<f64>, usize), RunError> {
-    scene.validate("the scene as run")?;
     let period = scene.cycle_period().ok_or(RunError::NoPeriod)?;
     let body = scene.response_body().ok_or(RunError::NoResponseBody)?;
     let t_end = period * f64::from(scene.run.cycles.max(1));

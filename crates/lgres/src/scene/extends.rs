@@ -147,8 +147,9 @@ fn resolve_extends(
 }
 
 /// Merge `patch` into `base`: tables key by key, arrays of named tables by `name`. An empty
-/// array replaces (so `drivers = []` removes the base's), and so does a table whose `law` or
-/// `kind` tag differs from the base's (a different law has different keys). `path` is the
+/// array replaces (so `drivers = []` removes the base's), and so does a table whose `law`,
+/// `kind` or `model` tag differs from the base's (a different law or contact model has
+/// different keys; [`TAGS`]). `path` is the
 /// field path of `base`, for errors.
 fn merge(
     base: &mut toml::Table,
@@ -193,11 +194,21 @@ fn merge(
 /// Keys of which a table may give only one: a patch's choice replaces the base's.
 const EXCLUSIVE_KEYS: &[&[&str]] = &[&["rpm", "omega"]];
 
-/// Whether `patch` keeps `base`'s `law`/`kind` tag (or gives none).
+/// Keys that choose what the rest of a table means, each with the value its absence stands
+/// for: a drive or friction `law`, a normal law's `kind`, a contact `model` (the foundation
+/// unless named). A patch naming another one replaces the table: the base's keys belong to
+/// the model it leaves (a line-of-centres contact takes none of the foundation's).
+const TAGS: &[(&str, Option<&str>)] =
+    &[("law", None), ("kind", None), ("model", Some("foundation"))];
+
+/// Whether `patch` keeps `base`'s tags ([`TAGS`]; a patch that gives none keeps them).
 fn same_tag(base: &toml::Table, patch: &toml::Table) -> bool {
-    ["law", "kind"]
-        .iter()
-        .all(|tag| patch.get(*tag).is_none_or(|t| base.get(*tag) == Some(t)))
+    TAGS.iter().all(|(tag, absent)| {
+        patch.get(*tag).is_none_or(|t| match base.get(*tag) {
+            Some(b) => b == t,
+            None => absent.is_some_and(|a| t.as_str() == Some(a)),
+        })
+    })
 }
 
 /// Merge a patch array of named tables into `base` by name (linear: names are indexed); a

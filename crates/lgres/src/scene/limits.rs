@@ -25,6 +25,22 @@ pub const MAX_STAGE_CYCLES: u32 = 10_000;
 pub const MAX_TRAJECTORIES: u32 = 64;
 /// Most wear stages.
 pub const MAX_WEAR_STAGES: u32 = 1000;
+/// Most extrapolation sub-steps per wear stage (`run.max_substeps`): each re-simulates the
+/// stage's `K` cycles (the shipped scenes take a few dozen; the default budget is 400).
+pub const MAX_SUBSTEPS: u32 = 10_000;
+/// Smallest step bound or tolerance of a wear sub-step, as a fraction
+/// (`run.max_clearance_change`, `run.max_slope_change`, `run.max_curvature_change`,
+/// `run.wear_tolerance`): finer, a stage needs more sub-steps than [`MAX_SUBSTEPS`] allows
+/// long before it ends (the defaults are 0.1, 0.25 and, for a tolerance, about 0.05).
+pub const MIN_SUBSTEP_FRACTION: f64 = 1e-4;
+/// Most drive cycles one wear stage may stand for (`run.cycles_per_stage ×
+/// run.amplification`; the shipped scenes: 2 million): a landing gear sees about 1e5 cycles in
+/// its life, and more than this only multiplies the sub-steps a stage needs.
+pub const MAX_CYCLES_PER_STAGE_REPRESENTED: f64 = 1e12;
+/// Stiffest foundation layer (`contact.layer_modulus`), Pa/m: the stiffest solid (diamond,
+/// ~1.2e12 Pa) over a layer of 10 µm. Stiffer layers only shorten the integrator's steps (a
+/// run of 1e20 Pa/m took minutes per cycle; 1e300 makes the mass matrix singular).
+pub const MAX_LAYER_MODULUS: f64 = 1e17;
 /// Longest drive period, s (an hour; the shipped scenes: 1 s and 12 ms).
 pub const MAX_PERIOD: f64 = 3600.0;
 /// Most output samples of one response run (`cycles × period / output_interval`).
@@ -122,6 +138,18 @@ impl Limits<'_> {
     }
 
     fn scene(&mut self, s: &Scene) {
+        // `check` and `run` print the description and the reports embed it: a control
+        // character (ESC, BEL) would reach the terminal of whoever runs the scene.
+        if s.description
+            .chars()
+            .any(|c| c.is_control() && !matches!(c, '\n' | '\t'))
+        {
+            self.0.push(
+                "description",
+                &s.description,
+                "must not contain control characters (line breaks and tabs aside)",
+            );
+        }
         let g = s.gravity;
         self.at_most("gravity", g[0].hypot(g[1]), MAX_GRAVITY, "m/s²");
         self.count("bodies", s.bodies.len(), MAX_BODIES);
@@ -205,6 +233,17 @@ impl Limits<'_> {
         }
         if let Some(w) = &c.wear {
             self.wear(&format!("{p}.wear"), w);
+        }
+        if let Some(width) = c.contact.width {
+            self.at_most(&format!("{p}.contact.width"), width, MAX_LENGTH, "m");
+        }
+        if let Some(k) = c.contact.layer_modulus {
+            self.at_most(
+                &format!("{p}.contact.layer_modulus"),
+                k,
+                MAX_LAYER_MODULUS,
+                "Pa/m (stiffer layers only shorten the integrator's steps)",
+            );
         }
     }
 
@@ -297,6 +336,43 @@ impl Limits<'_> {
                 "run.trajectories",
                 r.trajectories,
                 format!("at most {MAX_TRAJECTORIES}"),
+            );
+        }
+        if r.max_substeps > MAX_SUBSTEPS {
+            self.0.push(
+                "run.max_substeps",
+                r.max_substeps,
+                format!("at most {MAX_SUBSTEPS} (each sub-step re-simulates the stage's cycles)"),
+            );
+        }
+        for (path, fraction) in [
+            ("run.max_clearance_change", Some(r.max_clearance_change)),
+            ("run.max_slope_change", r.max_slope_change),
+            ("run.max_curvature_change", r.max_curvature_change),
+            ("run.wear_tolerance", r.wear_tolerance),
+        ] {
+            if let Some(f) = fraction.filter(|f| f.is_finite() && *f > 0.0)
+                && f < MIN_SUBSTEP_FRACTION
+            {
+                self.0.push(
+                    path,
+                    f,
+                    format!(
+                        "at least {MIN_SUBSTEP_FRACTION:e}: a finer bound needs more wear \
+                         sub-steps per stage than run.max_substeps allows"
+                    ),
+                );
+            }
+        }
+        let represented = f64::from(r.cycles_per_stage) * r.amplification;
+        if r.amplification.is_finite() && represented > MAX_CYCLES_PER_STAGE_REPRESENTED {
+            self.0.push(
+                "run.amplification",
+                r.amplification,
+                format!(
+                    "a stage would stand for {represented:.3e} drive cycles (cycles_per_stage × \
+                     amplification); at most {MAX_CYCLES_PER_STAGE_REPRESENTED:e}"
+                ),
             );
         }
         if r.wear_stages > MAX_WEAR_STAGES {

@@ -321,21 +321,21 @@ fn check_options(o: &PrecisionOptions) -> Result<(), PrecisionError> {
         );
     }
     if let Some(d) = o.duration.filter(|d| !(d.is_finite() && *d > 0.0)) {
-        return bad("duration", format!("{d} s must be positive"));
+        return bad("duration", format!("{d:?} s must be positive"));
     }
     if !(o.start_up.is_finite() && o.start_up > 0.0) {
-        return bad("start_up", format!("{} s must be positive", o.start_up));
+        return bad("start_up", format!("{:?} s must be positive", o.start_up));
     }
     if !(o.separation_fraction.is_finite() && o.separation_fraction > 0.0) {
         return bad(
             "separation_fraction",
-            format!("{} must be positive", o.separation_fraction),
+            format!("{:?} must be positive", o.separation_fraction),
         );
     }
     if !(o.output_interval.is_finite() && o.output_interval > 0.0) {
         return bad(
             "output_interval",
-            format!("{} s must be positive", o.output_interval),
+            format!("{:?} s must be positive", o.output_interval),
         );
     }
     if o.max_steps == 0 {
@@ -396,7 +396,10 @@ pub fn run_sweep(
     if options.start_up > t_end {
         return Err(PrecisionError::Options {
             field: "start_up",
-            reason: format!("{} s is longer than the run ({t_end} s)", options.start_up),
+            reason: format!(
+                "{:?} s is longer than the run ({t_end:?} s)",
+                options.start_up
+            ),
         });
     }
     let ideal_scene = scene.idealized();

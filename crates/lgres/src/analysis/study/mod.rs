@@ -287,10 +287,15 @@ fn check(options: &StudyOptions) -> Result<(), StudyError> {
     if options.response_cycles == 0 {
         return bad("cycles", "0".into(), "must be at least 1");
     }
+    let most = crate::scene::limits::MAX_CYCLES_PER_STAGE_REPRESENTED;
     if let Some(n) = options.cycles_represented
-        && !(n.is_finite() && n >= 1.0)
+        && !(n.is_finite() && (1.0..=most).contains(&n))
     {
-        return bad("stage-cycles", n.to_string(), "must be finite and >= 1");
+        return bad(
+            "stage-cycles",
+            format!("{n:e}"),
+            "must lie in [1, 1e12] drive cycles (run.amplification's bound)",
+        );
     }
     if options.jobs == 0 {
         return bad("jobs", "0".into(), "must be at least 1");
