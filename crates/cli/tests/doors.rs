@@ -388,7 +388,7 @@ fn extends_switches_a_joints_contact_model() {
         .iter()
         .find(|j| j.name == "B")
         .unwrap();
-    assert_eq!(b.contact.cells, Some(2000));
+    assert_eq!(b.contact.cells, Some(500));
     assert_eq!(b.contact.reference_speed, Some(0.1));
     std::fs::remove_dir_all(&dir).unwrap();
 }
