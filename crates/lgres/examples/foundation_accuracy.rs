@@ -1,6 +1,6 @@
 //! How many foundation nodes the contact force needs on worn surfaces: the elastic-foundation
 //! force and moment at random poses, with the pin's outline sampled at a range of node counts,
-//! against the same kernel on 10× the scene's nodes (the reference).
+//! against the same kernel on 20 nodes per wear cell (the reference).
 //!
 //! ```sh
 //! cargo run --release -p lgres --example foundation_accuracy -- SURFACES [POSES [SEED]]
@@ -31,9 +31,9 @@ use wear::{WornJoint, WornProfile};
 
 type WornContact = ClearanceJoint<WornProfile, WornProfile, NormalLawKind, FrictionLawKind>;
 
-/// Node counts tried, as multiples of the scene's own (the last, 10× with Simpson's
-/// quadrature, is the reference).
-const FACTORS: [f64; 6] = [0.125, 0.25, 0.5, 1.0, 2.0, 10.0];
+/// Node counts tried, as multiples of the joint's wear cells (the last, with Simpson's
+/// quadrature, is the reference: 10× the 2000 nodes joint B had until 2026-11-26).
+const FACTORS: [f64; 6] = [0.125, 0.25, 0.5, 1.0, 2.0, 20.0];
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -51,7 +51,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let ContactModel::Foundation(foundation) = spec.contact_model()? else {
             continue;
         };
-        let own = foundation.cells();
+        let own = surfaces.pin().cells();
         let contact = |cells: usize,
                        quadrature: Quadrature|
          -> Result<WornContact, Box<dyn std::error::Error>> {
