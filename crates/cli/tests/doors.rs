@@ -8,20 +8,9 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
 mod common;
-use common::{listing, scratch};
+use common::{listing, scratch, stderr, wearsim};
 mod lock_holder;
 use lock_holder::LockHolder;
-
-fn wearsim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wearsim"))
-        .args(args)
-        .output()
-        .expect("wearsim runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// `text` as a scene file `name` in `dir`.
 fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {

@@ -4,20 +4,9 @@ use std::path::PathBuf;
 use std::process::{Command, Output};
 
 mod common;
-use common::{listing, scratch};
+use common::{listing, scratch, stderr, wearsim};
 mod lock_holder;
 use lock_holder::LockHolder;
-
-fn wearsim(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wearsim"))
-        .args(args)
-        .output()
-        .expect("wearsim runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// A copy of the default scene with `from` replaced by `to`, in a temporary file.
 fn edited_scene(tag: &str, from: &str, to: &str) -> PathBuf {

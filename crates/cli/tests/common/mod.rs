@@ -1,6 +1,22 @@
 //! Helpers shared by the `wearsim` binary's test files.
 
 use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// `wearsim args`, run to the end. (Not every test file uses every helper.)
+#[allow(dead_code)]
+pub fn wearsim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wearsim"))
+        .args(args)
+        .output()
+        .expect("wearsim runs")
+}
+
+/// A command's standard error as text.
+#[allow(dead_code)]
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
 
 /// A fresh, empty temporary folder named after `tag` and this test process.
 pub fn scratch(tag: &str) -> PathBuf {

@@ -83,6 +83,15 @@ pub enum ContactModelName {
 }
 
 impl ClearanceJoint {
+    /// The foundation's node count: `contact.cells`, else `wear.cells` (a node per pin cell),
+    /// else [`contact::DEFAULT_FOUNDATION_CELLS`].
+    pub fn foundation_nodes(&self) -> usize {
+        self.contact
+            .cells
+            .or(self.wear.map(|w| w.cells))
+            .unwrap_or(contact::DEFAULT_FOUNDATION_CELLS)
+    }
+
     /// The contact model this joint's `contact` table names, with its defaults filled in
     /// (the calibrated layer, `wear.width`, `wear.cells`).
     pub fn contact_model(&self) -> Result<contact::ContactModel, contact::ContactError> {
@@ -110,13 +119,9 @@ impl ClearanceJoint {
                 contact::DEFAULT_REFERENCE_OVERLAP,
             )?,
         };
-        let cells = spec
-            .cells
-            .or(self.wear.map(|w| w.cells))
-            .unwrap_or(contact::DEFAULT_FOUNDATION_CELLS);
         let mut layer = layer
             .with_quadrature(spec.quadrature.unwrap_or_default())?
-            .with_cells(cells)?;
+            .with_cells(self.foundation_nodes())?;
         if let Some(speed) = spec.reference_speed {
             layer = layer.with_reference_speed(speed)?;
         }
@@ -172,9 +177,7 @@ impl ClearanceJoint {
             ),
             ContactModelName::Foundation => format!(
                 "elastic-foundation contact ({} nodes, {} layer), {}",
-                spec.cells
-                    .or(self.wear.map(|w| w.cells))
-                    .unwrap_or(contact::DEFAULT_FOUNDATION_CELLS),
+                self.foundation_nodes(),
                 match (spec.layer_modulus, spec.layer.unwrap_or_default()) {
                     (Some(_), _) => "given",
                     (None, LayerCalibration::Paper) => "paper-calibrated",

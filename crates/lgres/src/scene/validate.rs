@@ -378,10 +378,7 @@ impl Validator {
         }
         // Simpson's quadrature pairs the nodes: their count (contact.cells, else wear.cells,
         // else the default) must be even.
-        let nodes = spec
-            .cells
-            .or(c.wear.map(|w| w.cells))
-            .unwrap_or(contact::DEFAULT_FOUNDATION_CELLS);
+        let nodes = c.foundation_nodes();
         if spec.quadrature.unwrap_or_default() == contact::Quadrature::Simpson
             && !nodes.is_multiple_of(2)
         {
