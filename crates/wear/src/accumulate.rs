@@ -200,8 +200,9 @@ impl StageWear {
             finite("node bearing_angle", node.bearing_angle)?;
             non_negative("node stiffness", node.stiffness)?;
         }
-        // The nodes of a joint share one arc: its spread factors are computed once.
+        // The nodes of a joint share one arc: its spread factors and spans are computed once.
         let mut spread = (f64::NAN, 0.0, 0.0);
+        let mut spans = (0.0, 0.0);
         for node in start.iter().chain(end) {
             let speed = node.sliding(self.sliding).abs();
             let archard_rate = self.wear_coefficient * node.normal_force * speed;
@@ -214,31 +215,27 @@ impl StageWear {
                     spread_factor(node.arc, self.pin_radius, self.pin.len()),
                     spread_factor(node.arc, self.bearing_radius, self.bearing.len()),
                 );
+                // The node's angle in cells of each grid (the same angle on both surfaces).
+                spans = (
+                    spread_factor(node.arc, self.pin_radius, self.pin.len()),
+                    spread_factor(node.arc, self.pin_radius, self.bearing.len()),
+                );
             }
             let (_, pin_cells, bearing_cells) = spread;
-            // The node's angle in cells of each grid (the same angle on both surfaces).
-            let pin_span = spread_factor(node.arc, self.pin_radius, self.pin.len());
-            let bearing_span = spread_factor(node.arc, self.pin_radius, self.bearing.len());
-            deposit_over(&mut self.pin, node.pin_angle, depth * pin_cells, pin_span);
-            deposit_over(
-                &mut self.bearing,
-                node.bearing_angle,
-                depth * bearing_cells,
-                bearing_span,
-            );
-            // Spread like the depth, so a cell holds the mean over the nodes that reach it.
+            // The relaxation is spread like the depth, so a cell holds the mean over the nodes
+            // that reach it.
             let relaxation = self.node_relaxation(node, dt);
             deposit_over(
-                &mut self.pin_relaxation,
+                [&mut self.pin, &mut self.pin_relaxation],
                 node.pin_angle,
-                relaxation * pin_cells,
-                pin_span,
+                [depth * pin_cells, relaxation * pin_cells],
+                spans.0,
             );
             deposit_over(
-                &mut self.bearing_relaxation,
+                [&mut self.bearing, &mut self.bearing_relaxation],
                 node.bearing_angle,
-                relaxation * bearing_cells,
-                bearing_span,
+                [depth * bearing_cells, relaxation * bearing_cells],
+                spans.1,
             );
             self.archard_volume += archard_rate * 0.5 * dt;
         }
@@ -497,26 +494,44 @@ fn spread_factor(arc: f64, radius: f64, cells: usize) -> f64 {
     arc / (radius * TAU / cells as f64)
 }
 
-/// Adds `amount` (a depth times cells) for a node spanning `span` cells of angle around
+/// Adds `amounts[m]` (a depth times cells) to `grids[m]` (grids of one surface, of equal
+/// length, sharing the node's coverage) for a node spanning `span` cells of angle around
 /// body-frame angle `angle`: for a node no wider than a cell, split between the two nearest
 /// cell centres ([`deposit_linear`]); for a wider one (nodes coarser than the wear grid), over
 /// the cells its angle covers, in proportion to the part of each it covers, so that nodes side
 /// by side under an even load wear their cells evenly.
-fn deposit_over(cells: &mut [f64], angle: f64, amount: f64, span: f64) {
+fn deposit_over<const M: usize>(grids: [&mut [f64]; M], angle: f64, amounts: [f64; M], span: f64) {
     if span <= 1.0 {
-        deposit_linear(cells, angle, amount);
+        for (cells, amount) in grids.into_iter().zip(amounts) {
+            deposit_linear(cells, angle, amount);
+        }
         return;
     }
-    let depth = amount / span;
-    let n = cells.len() as i64;
+    let Some(n) = grids.first().map(|cells| cells.len()) else {
+        return;
+    };
+    debug_assert!(grids.iter().all(|cells| cells.len() == n));
+    if n == 0 {
+        return;
+    }
+    let depths = amounts.map(|amount| amount / span);
     // The arc from `start` to `end` in cell units (cell k spans [k, k + 1)).
     let centre = contact::wrap_angle(angle) * n as f64 / TAU;
     let (start, end) = (centre - 0.5 * span, centre + 0.5 * span);
     let first = contact::floor(start) as i64;
     let last = contact::floor(end) as i64;
+    // The grid's index of cell `first`, then stepped with a wrap (no division a cell).
+    let mut index = first.rem_euclid(n as i64) as usize;
+    let mut grids = grids;
     for k in first..=last {
         let covered = (end.min((k + 1) as f64) - start.max(k as f64)).max(0.0);
-        cells[k.rem_euclid(n) as usize] += depth * covered;
+        for (cells, depth) in grids.iter_mut().zip(depths) {
+            cells[index] += depth * covered;
+        }
+        index += 1;
+        if index == n {
+            index = 0;
+        }
     }
 }
 

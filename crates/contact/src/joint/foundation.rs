@@ -849,9 +849,12 @@ struct Pending<T> {
     coarse: T,
 }
 
-/// The nodes waiting to be closed, oldest first: at most three (`k − 2`, `k − 1`, `k`).
+/// The nodes waiting to be closed, oldest first: at most three (`k − 2`, `k − 1`, `k`), in a
+/// ring so that closing the oldest moves no node.
 struct NodeQueue<T> {
     items: [Option<Pending<T>>; 3],
+    /// The oldest node's slot.
+    head: usize,
     len: usize,
 }
 
@@ -859,32 +862,45 @@ impl<T: Copy> Default for NodeQueue<T> {
     fn default() -> Self {
         Self {
             items: [None; 3],
+            head: 0,
             len: 0,
         }
     }
 }
 
 impl<T: Copy> NodeQueue<T> {
+    fn slot(&self, position: usize) -> usize {
+        (self.head + position) % self.items.len()
+    }
+
     fn at(&mut self, index: i64) -> Option<&mut Pending<T>> {
-        self.items[..self.len]
-            .iter_mut()
-            .flatten()
-            .find(|p| p.index == index)
+        let slots = (0..self.len).map(|position| self.slot(position));
+        let slot = slots
+            .into_iter()
+            .find(|&slot| self.items[slot].as_ref().is_some_and(|p| p.index == index))?;
+        self.items[slot].as_mut()
     }
 
     fn push(&mut self, pending: Pending<T>) {
-        self.items[self.len] = Some(pending);
+        let slot = self.slot(self.len);
+        self.items[slot] = Some(pending);
         self.len += 1;
     }
 
     fn front(&self) -> Option<&Pending<T>> {
-        self.items[..self.len].first().and_then(Option::as_ref)
+        if self.len == 0 {
+            return None;
+        }
+        self.items[self.head].as_ref()
     }
 
     /// The oldest node.
     fn pop(&mut self) -> Option<Pending<T>> {
-        let first = self.items.first_mut()?.take()?;
-        self.items[..self.len].rotate_left(1);
+        if self.len == 0 {
+            return None;
+        }
+        let first = self.items[self.head].take()?;
+        self.head = self.slot(1);
         self.len -= 1;
         Some(first)
     }
