@@ -62,7 +62,9 @@
 //! the bearing it can land on ([`SurfaceProfile::radius_bounds_between`], exact for worn
 //! profiles). In free flight (`|e| + R_j⁺ ≤ R_i⁻`) no node is visited, and the deepest overlap
 //! (the event function) is then the skipped sectors' bound. The Jacobian runs the same code on
-//! dual numbers, only on the nodes next to an overlap.
+//! dual numbers, only on the nodes next to an overlap. A node's ray angle `ψ_k` is not an
+//! `atan2` but its own direction `θ_j + α_k` plus the small angle between the two (within
+//! `asin(|e|/r_k)`), summed from its series to rounding.
 //!
 //! Between evaluations the joint moves little (a step's Newton iterations, the next step), so
 //! plain evaluations also remember the overlaps they found and the pose they found them at
