@@ -47,12 +47,13 @@ use crate::surface::{RadiusSample, SurfaceProfile};
 mod dual;
 pub mod foundation;
 mod general;
+mod outline;
 
-use foundation::OutlineBounds;
 pub use foundation::{
     ContactModel, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, NodeLoad,
     Quadrature,
 };
+use outline::OutlineBounds;
 
 /// Which relative velocity of the contact counts as sliding (for friction, and for wear).
 ///
