@@ -39,7 +39,7 @@
 use nalgebra::{Matrix2, SMatrix, Vector2, Vector3};
 
 use crate::diagnostics::ContactDiagnostics;
-use crate::error::{ContactError, finite, in_range, positive};
+use crate::error::{ContactError, finite, positive};
 use crate::friction::{FrictionLaw, FrictionLawKind};
 use crate::normal::{NormalForce, NormalLaw, NormalLawKind};
 use crate::surface::{RadiusSample, SurfaceProfile};
@@ -47,41 +47,15 @@ use crate::surface::{RadiusSample, SurfaceProfile};
 mod dual;
 pub mod foundation;
 mod general;
+mod model;
 mod outline;
 
-pub use foundation::{
+pub use crate::material::{Material, MaterialParams};
+pub use model::{
     ContactModel, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, NodeLoad,
-    Quadrature,
+    Quadrature, SlidingVelocity,
 };
 use outline::OutlineBounds;
-
-/// Which relative velocity of the contact counts as sliding (for friction, and for wear).
-///
-/// The physical choice is the velocity of the pin's **material** point on the bearing's
-/// (docs/model.md §1): it includes the pin spinning in its bearing, so it is of the order of
-/// `ω_rel R`. The paper (Sec. 2.1) differentiates the **geometric** contact point
-/// `r^c + R n` instead, which gives `δ φ̇`: the spin drops out and the sliding speed shrinks by
-/// about `δ/|e|`. This is why the paper's wear depths are ~30× smaller than the material
-/// choice gives with the same wear coefficient; the option lets a scene reproduce the paper.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SlidingVelocity {
-    /// `(v_j^Q − v_i^Q)·t` of the material points (physical; the default).
-    #[default]
-    Material,
-    /// `δ φ̇`, the derivative of the geometric contact point (the paper's).
-    Paper,
-}
-
-impl SlidingVelocity {
-    /// The sliding velocity this choice reads from a contact's diagnostics (m/s).
-    pub fn of(self, diagnostics: &ContactDiagnostics) -> f64 {
-        match self {
-            Self::Material => diagnostics.tangential_velocity,
-            Self::Paper => diagnostics.geometric_sliding_velocity,
-        }
-    }
-}
 
 /// Partials of the six generalized forces with respect to the twelve body coordinates.
 ///
@@ -152,80 +126,6 @@ impl BodyState {
     fn rotate(&self, local: &Vector2<f64>) -> Vector2<f64> {
         let (s, c) = self.theta.sin_cos();
         Vector2::new(c * local.x - s * local.y, s * local.x + c * local.y)
-    }
-}
-
-/// Isotropic linear-elastic material of a contact surface.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(try_from = "MaterialParams", into = "MaterialParams")]
-pub struct Material {
-    params: MaterialParams,
-}
-
-/// Parameters of a [`Material`], as written in scene files ([`MaterialParams::new`]).
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(deny_unknown_fields)]
-#[non_exhaustive]
-pub struct MaterialParams {
-    /// Young's modulus `E > 0` (Pa).
-    pub youngs_modulus: f64,
-    /// Poisson's ratio `ν ∈ (−1, 0.5)`.
-    pub poisson_ratio: f64,
-}
-
-impl MaterialParams {
-    /// Young's modulus `E` (Pa) and Poisson's ratio `ν`, validated by [`Material::try_from`].
-    pub fn new(youngs_modulus: f64, poisson_ratio: f64) -> Self {
-        Self {
-            youngs_modulus,
-            poisson_ratio,
-        }
-    }
-}
-
-impl Material {
-    /// A material with Young's modulus `E > 0` (Pa) and Poisson's ratio `ν ∈ (−1, 0.5)`.
-    pub fn new(youngs_modulus: f64, poisson_ratio: f64) -> Result<Self, ContactError> {
-        positive("youngs_modulus", youngs_modulus)?;
-        in_range(
-            "poisson_ratio",
-            poisson_ratio,
-            |nu| nu > -1.0 && nu < 0.5,
-            "in (-1, 0.5)",
-        )?;
-        Ok(Self {
-            params: MaterialParams {
-                youngs_modulus,
-                poisson_ratio,
-            },
-        })
-    }
-
-    /// The parameters.
-    pub fn params(&self) -> MaterialParams {
-        self.params
-    }
-
-    /// Compliance `ε = (1 − ν²)/E` (1/Pa).
-    pub fn compliance(&self) -> f64 {
-        let MaterialParams {
-            youngs_modulus,
-            poisson_ratio,
-        } = self.params;
-        (1.0 - poisson_ratio * poisson_ratio) / youngs_modulus
-    }
-}
-
-impl TryFrom<MaterialParams> for Material {
-    type Error = ContactError;
-    fn try_from(params: MaterialParams) -> Result<Self, ContactError> {
-        Self::new(params.youngs_modulus, params.poisson_ratio)
-    }
-}
-
-impl From<Material> for MaterialParams {
-    fn from(material: Material) -> Self {
-        material.params
     }
 }
 

@@ -80,6 +80,7 @@ pub mod diagnostics;
 pub mod error;
 pub mod friction;
 pub mod joint;
+pub mod material;
 pub mod normal;
 pub mod surface;
 
