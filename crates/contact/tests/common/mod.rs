@@ -2,6 +2,8 @@
 //! fixed-step RK4 integrator of two free bodies coupled only by a joint.
 #![allow(dead_code)]
 
+pub mod foundation;
+
 use contact::{
     Ambrosio, BodyState, CircularProfile, ClearanceJoint, FrictionLaw, ImpactMemory, JointSurface,
     LankaraniNikravesh, Material, NormalLaw, RadiusSample, SurfaceProfile,
