@@ -95,6 +95,48 @@ use crate::friction::FrictionLaw;
 use crate::normal::NormalLaw;
 use crate::surface::{SurfaceProfile, wrap_angle};
 
+/// What one evaluation holds fixed while it streams the nodes.
+struct Pass<T> {
+    cells: usize,
+    /// Half the layer's stiffness per node, `k w · arc/2` (N/m).
+    weight: f64,
+    simpson: bool,
+    /// The impact's onset velocity as the law reads it (m/s): a node's rate counts within ±.
+    onset: f64,
+    /// The paper's sliding rate `φ̇ = t·ė/|e|`.
+    phi_rate: T,
+    zero: T,
+    theta_bearing: T,
+    theta_pin: f64,
+    pin_centre_arm: [T; 2],
+    line_modulus: f64,
+}
+
+/// The two bodies in the evaluation's arithmetic and in plain numbers (for the look-ahead).
+struct Bodies<T> {
+    bearing: Body<T>,
+    pin: Body<T>,
+    bearing_centre_arm: [T; 2],
+    plain: (Body<f64>, Body<f64>),
+    plain_arm: [f64; 2],
+}
+
+/// Where the loaded nodes go: the visitor of accepted steps, and Simpson's loads held until
+/// the evaluation's totals are known.
+struct Sink<'v> {
+    visit: Option<&'v mut dyn FnMut(&NodeLoad)>,
+    deposits: Vec<NodeLoad>,
+}
+
+/// The overlap memory as one evaluation uses it: what it rules out (`skip`), whether the
+/// evaluation renews it (`recording`), and how many nodes were computed in full.
+struct MemoryUse<'m> {
+    mem: Option<&'m mut Remembered>,
+    skip: Option<Skip>,
+    recording: bool,
+    computed: usize,
+}
+
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     ClearanceJoint<B, P, N, F>
 {
@@ -105,11 +147,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         bearing_state: [T; 6],
         pin_state: [T; 6],
         onset_velocity: Option<f64>,
-        mut visit: Option<&mut dyn FnMut(&NodeLoad)>,
+        visit: Option<&mut dyn FnMut(&NodeLoad)>,
     ) -> Output<T> {
-        // Simpson's node loads for wear, held until the evaluation's totals are known: only
-        // on evaluations that visit nodes (accepted steps).
-        let mut deposits: Vec<NodeLoad> = Vec::new();
         let cells = foundation.cells;
         let bearing = Body::new(bearing_state);
         let pin = Body::new(pin_state);
@@ -197,260 +236,57 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let recording = memory.is_some()
             && !(skip.is_some_and(|s| s.overlapping)
                 && memory.as_ref().is_some_and(|(m, _)| !m.stale));
-        let mut mem: Option<&mut Remembered> = memory.as_mut().map(|(m, pose)| {
+        let mem: Option<&mut Remembered> = memory.as_mut().map(|(m, pose)| {
             if recording && m.renew(*pose).is_none() {
                 skip = None;
             }
             &mut **m
         });
-        let mut computed = 0_usize;
-
-        let mut carry = |node: &Node<T>,
-                         load_gradient: T,
-                         deposit_gradient: f64,
-                         books: &mut Books,
-                         out: &mut Output<T>|
-         -> f64 {
-            let g_k = load_gradient * weight;
-            if g_k.value() < 0.0 {
-                // A negative Simpson weight next to a zone edge: the energy's own gradient,
-                // elastic only (no damping, no friction, no wear).
-                let force_on_pin = [-(g_k * node.m[0]), -(g_k * node.m[1])];
-                books.elastic_resultant[0] += g_k.value() * node.m[0].value();
-                books.elastic_resultant[1] += g_k.value() * node.m[1].value();
-                books.pull += g_k.value() * dot(&node.m, &node.m).sqrt().value();
-                apply(out, node, force_on_pin);
-                return 0.0;
-            }
-            if g_k.value() == 0.0 {
-                return 0.0;
-            }
-            books.elastic_resultant[0] += g_k.value() * node.m[0].value();
-            books.elastic_resultant[1] += g_k.value() * node.m[1].value();
-            let rate = node.g_rate.value();
-            let (factor, d_factor) = self.normal_law.hysteresis(rate.clamp(-onset, onset), onset);
-            // Beyond the impact's range the factor is held: no partial in the rate.
-            let d_factor = if rate.abs() > onset { 0.0 } else { d_factor };
-            if factor <= 0.0 {
-                // Clamped: the layer does not pull; its elastic load is released as damping.
-                books.damping_power -= g_k.value() * node.g_rate.value();
-                return 0.0;
-            }
-            let load = g_k * node.g_rate.chain(factor, d_factor);
-            let m_norm = dot(&node.m, &node.m).sqrt();
-            let t_hat = [-node.m[1] / m_norm, node.m[0] / m_norm];
-            let normal = load * m_norm;
-            let material = dot(&node.relative_velocity, &t_hat);
-            let paper = if node.g.value() > 0.0 {
-                node.g * phi_rate
-            } else {
-                zero
-            };
-            let sliding = match self.friction_sliding {
-                SlidingVelocity::Material => material,
-                SlidingVelocity::Paper => paper,
-            };
-            let friction = self.friction_law.evaluate(sliding.value(), normal.value());
-            let friction_force = sliding.chain2(
-                normal,
-                friction.force,
-                friction.d_velocity,
-                friction.d_normal_force,
-            );
-            let force_on_pin = [
-                -(load * node.m[0]) - friction_force * t_hat[0],
-                -(load * node.m[1]) - friction_force * t_hat[1],
-            ];
-            apply(out, node, force_on_pin);
-
-            let (load_v, normal_v, material_v) = (load.value(), normal.value(), material.value());
-            books.damping_power += (load_v - g_k.value()) * node.g_rate.value();
-            books.friction_power += friction.force * material_v;
-            books.friction_force += friction.force;
-            books.normal_resultant[0] += load_v * node.m[0].value();
-            books.normal_resultant[1] += load_v * node.m[1].value();
-            books.load += normal_v;
-            books.load_sliding += normal_v * material_v;
-            let Some(visit) = visit.as_mut() else {
-                return normal_v;
-            };
-            let node_load = |normal_force| NodeLoad {
-                cell: node.cell,
-                pin_angle: node.alpha,
-                bearing_angle: wrap_angle(node.bearing_angle.unwrap_or_else(|| {
-                    let w = [
-                        node.pin_arm[0].value() - pin_centre_arm[0].value(),
-                        node.pin_arm[1].value() - pin_centre_arm[1].value(),
-                    ];
-                    angle_near(node.ray, w, theta_pin + node.alpha) - theta_bearing.value()
-                })),
-                normal_force,
-                arc: self.bounds.node_arc,
-                material_sliding: material_v,
-                paper_sliding: paper.value(),
-                stiffness: foundation.line_modulus * self.bounds.node_arc * factor * m_norm.value(),
-            };
-            if simpson {
-                // Held until the evaluation's totals are known (the quadrature's docs).
-                let trapezoid = deposit_gradient * weight * factor * m_norm.value();
-                if trapezoid > 0.0 {
-                    books.trapezoid_load += trapezoid;
-                    deposits.push(node_load(trapezoid));
-                }
-            } else {
-                visit(&node_load(normal_v));
-            }
-            normal_v
+        let pass = Pass {
+            cells,
+            weight,
+            simpson,
+            onset,
+            phi_rate,
+            zero,
+            theta_bearing,
+            theta_pin,
+            pin_centre_arm,
+            line_modulus: foundation.line_modulus,
         };
-        // Every computed node passes here in order: its load, and the zone it belongs to.
-        let mut emit = |pending: &Pending<T>, books: &mut Books, out: &mut Output<T>| {
-            let (gradient, deposit) = if simpson {
-                (
-                    pending.fine * (4.0 / 3.0) - pending.coarse / 3.0,
-                    pending.fine.value(),
-                )
-            } else {
-                (pending.fine, pending.fine.value())
-            };
-            let normal = carry(&pending.node, gradient, deposit, books, out);
-            books.see_zone(pending.node.cell, pending.node.overlap, normal);
-        };
-
-        for &(first, last) in &candidates.runs[..candidates.count] {
-            let n = cells as i64;
-            let node_at = |k: i64| {
-                self.node(
-                    k.rem_euclid(n) as usize,
-                    &bearing,
-                    &pin,
-                    &bearing_centre_arm,
-                    theta_bearing,
-                )
-            };
-            let plain = (
+        let bodies = Bodies {
+            plain: (
                 Body::new(bearing_state.map(Real::value)),
                 Body::new(pin_state.map(Real::value)),
+            ),
+            plain_arm: [bearing_centre_arm[0].value(), bearing_centre_arm[1].value()],
+            bearing,
+            pin,
+            bearing_centre_arm,
+        };
+        let mut sink = Sink {
+            visit,
+            deposits: Vec::new(),
+        };
+        let mut memory_use = MemoryUse {
+            mem,
+            skip,
+            recording,
+            computed: 0,
+        };
+        for &run in &candidates.runs[..candidates.count] {
+            self.stream_run(
+                &pass,
+                run,
+                &bodies,
+                &mut books,
+                &mut out,
+                &mut sink,
+                &mut memory_use,
             );
-            let plain_arm = [bearing_centre_arm[0].value(), bearing_centre_arm[1].value()];
-            // Stream the nodes, closing each node's load once all its segments are seen: its
-            // neighbours' and, for Simpson, the even nodes' two neighbours two apart. A node none
-            // of whose segments can be loaded (its overlap and those of the nodes it joins ≤ 0)
-            // carries nothing: only its plain overlap is computed, not the node in `T`. (A
-            // whole-circle window starts opposite the contact, so no segment closes the circle.)
-            let mut queue = NodeQueue::<T>::default();
-            // Overlaps behind (`k − 1`, `k − 2`) and ahead (`k + 1`, `k + 2`; the second only for
-            // Simpson) of node `k`.
-            let mut behind = [f64::NEG_INFINITY; 2];
-            // Plain arithmetic would compute a node's overlap twice (here and in `node_at`), so
-            // it looks ahead with the node's distance from the bearing centre: below the
-            // bearing's smallest radius that is the overlap `node_at` gives, bit for bit, and
-            // above it the node may overlap (+∞) and is computed in full, unless the memory
-            // remembers it apart: then its gap alone, again bit for bit `node_at`'s.
-            // A node the memory rules out looks ahead as −∞: not computed unless a node it
-            // joins may overlap, exactly as a node below the bearing's smallest radius.
-            // (A method, not a closure: called from several places, a closure is not inlined.)
-            let theta = theta_bearing.value();
-            macro_rules! look {
-                ($k:expr) => {{
-                    let k: i64 = $k;
-                    if k > last {
-                        (f64::NEG_INFINITY, Noted::Nothing)
-                    } else {
-                        self.look_ahead(
-                            k.rem_euclid(n) as usize,
-                            T::PLAIN,
-                            &plain,
-                            &plain_arm,
-                            theta,
-                            skip.zip(mem.as_deref()),
-                        )
-                    }
-                }};
-            }
-            let nothing = (f64::NEG_INFINITY, Noted::Nothing);
-            let mut here = look!(first);
-            let mut ahead = [
-                look!(first + 1),
-                if simpson { look!(first + 2) } else { nothing },
-            ];
-            for k in first..=last {
-                let (overlap_here, noted_here) = here;
-                let coarse_node = simpson && k.rem_euclid(2) == 0;
-                let joins_overlap = overlap_here > 0.0
-                    || behind[0] > 0.0
-                    || ahead[0].0 > 0.0
-                    || (coarse_node && (behind[1] > 0.0 || ahead[1].0 > 0.0));
-                let early =
-                    (!T::PLAIN || overlap_here <= 0.0).then(|| books.see_overlap(overlap_here));
-                if joins_overlap {
-                    let node = node_at(k);
-                    computed += 1;
-                    if let Some(m) = mem.as_deref_mut().filter(|_| recording) {
-                        m.note(node.cell, node.overlap, node.beyond);
-                    }
-                    if early.unwrap_or_else(|| books.see_overlap(node.overlap)) {
-                        books.deepest_rate = node.g_rate.value();
-                    }
-                    let mut entry = Pending {
-                        index: k,
-                        node,
-                        fine: zero,
-                        coarse: zero,
-                    };
-                    if let Some(left) = queue.at(k - 1) {
-                        let (q, dq_a, dq_b) = segment(left.node.g, entry.node.g);
-                        books.energy += weight * q.value() * if simpson { 4.0 / 3.0 } else { 1.0 };
-                        left.fine = left.fine + dq_a;
-                        entry.fine = dq_b;
-                    }
-                    if coarse_node && let Some(left) = queue.at(k - 2) {
-                        // The every-other-node segment spans two arcs: twice the weight.
-                        let (q, dq_a, dq_b) = segment(left.node.g, entry.node.g);
-                        books.energy -= weight * q.value() * (2.0 / 3.0);
-                        left.coarse = left.coarse + dq_a * 2.0;
-                        entry.coarse = dq_b * 2.0;
-                    }
-                    queue.push(entry);
-                    // Close what has seen all its segments, in order.
-                    while queue.front().is_some_and(|front| {
-                        front.index < k
-                            && (!simpson || front.index.rem_euclid(2) == 1 || front.index + 2 <= k)
-                    }) && let Some(done) = queue.pop()
-                    {
-                        emit(&done, &mut books, &mut out);
-                    }
-                } else {
-                    if let Some(m) = mem.as_deref_mut().filter(|_| recording) {
-                        let cell = k.rem_euclid(n) as usize;
-                        match (noted_here, skip) {
-                            (Noted::Below, _) => m.note(cell, overlap_here, false),
-                            (Noted::Gap, _) => m.note(cell, overlap_here, true),
-                            (Noted::Carried, Some(skip)) => {
-                                m.note(cell, skip.gap_bound(m, cell), false);
-                            }
-                            _ => {}
-                        }
-                    }
-                    // Nothing left to join for the nodes waiting: their remaining segments meet
-                    // overlaps ≤ 0 (else this node would have been computed).
-                    while let Some(done) = queue.pop() {
-                        emit(&done, &mut books, &mut out);
-                    }
-                }
-                behind = [overlap_here, behind[0]];
-                here = ahead[0];
-                // The trapezoid looks one node ahead only.
-                ahead = if simpson {
-                    [ahead[1], look!(k + 3)]
-                } else {
-                    [look!(k + 2), nothing]
-                };
-            }
-            while let Some(done) = queue.pop() {
-                emit(&done, &mut books, &mut out);
-            }
         }
-        if let Some(visit) = visit.as_mut() {
+        let computed = memory_use.computed;
+        if let Some(visit) = sink.visit.as_mut() {
             // Simpson's weights alternate along a zone (4/3, 2/3 of a node's arc): the wear gets
             // the trapezoid's even loads, scaled to the force's total so that the Archard
             // volume follows the load the joint carries.
@@ -459,7 +295,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             } else {
                 0.0
             };
-            for load in &mut deposits {
+            for load in &mut sink.deposits {
                 load.normal_force *= scale;
                 visit(load);
             }
@@ -490,6 +326,288 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             centre_rate,
         );
         out
+    }
+
+    /// A closed node's share: its elastic load `G_k` (the energy's gradient over the node), the
+    /// damping and friction on it, their forces on both bodies, the books, and its wear load
+    /// (held in `sink` under Simpson's rule, else handed to the visitor). Returns the node's
+    /// normal load (N).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn carry<T: Real>(
+        &self,
+        pass: &Pass<T>,
+        node: &Node<T>,
+        load_gradient: T,
+        deposit_gradient: f64,
+        books: &mut Books,
+        out: &mut Output<T>,
+        sink: &mut Sink<'_>,
+    ) -> f64 {
+        let g_k = load_gradient * pass.weight;
+        if g_k.value() < 0.0 {
+            // A negative Simpson pass.weight next to a zone edge: the energy's own gradient,
+            // elastic only (no damping, no friction, no wear).
+            let force_on_pin = [-(g_k * node.m[0]), -(g_k * node.m[1])];
+            books.elastic_resultant[0] += g_k.value() * node.m[0].value();
+            books.elastic_resultant[1] += g_k.value() * node.m[1].value();
+            books.pull += g_k.value() * dot(&node.m, &node.m).sqrt().value();
+            apply(out, node, force_on_pin);
+            return 0.0;
+        }
+        if g_k.value() == 0.0 {
+            return 0.0;
+        }
+        books.elastic_resultant[0] += g_k.value() * node.m[0].value();
+        books.elastic_resultant[1] += g_k.value() * node.m[1].value();
+        let rate = node.g_rate.value();
+        let (factor, d_factor) = self
+            .normal_law
+            .hysteresis(rate.clamp(-pass.onset, pass.onset), pass.onset);
+        // Beyond the impact's range the factor is held: no partial in the rate.
+        let d_factor = if rate.abs() > pass.onset {
+            0.0
+        } else {
+            d_factor
+        };
+        if factor <= 0.0 {
+            // Clamped: the layer does not pull; its elastic load is released as damping.
+            books.damping_power -= g_k.value() * node.g_rate.value();
+            return 0.0;
+        }
+        let load = g_k * node.g_rate.chain(factor, d_factor);
+        let m_norm = dot(&node.m, &node.m).sqrt();
+        let t_hat = [-node.m[1] / m_norm, node.m[0] / m_norm];
+        let normal = load * m_norm;
+        let material = dot(&node.relative_velocity, &t_hat);
+        let paper = if node.g.value() > 0.0 {
+            node.g * pass.phi_rate
+        } else {
+            pass.zero
+        };
+        let sliding = match self.friction_sliding {
+            SlidingVelocity::Material => material,
+            SlidingVelocity::Paper => paper,
+        };
+        let friction = self.friction_law.evaluate(sliding.value(), normal.value());
+        let friction_force = sliding.chain2(
+            normal,
+            friction.force,
+            friction.d_velocity,
+            friction.d_normal_force,
+        );
+        let force_on_pin = [
+            -(load * node.m[0]) - friction_force * t_hat[0],
+            -(load * node.m[1]) - friction_force * t_hat[1],
+        ];
+        apply(out, node, force_on_pin);
+
+        let (load_v, normal_v, material_v) = (load.value(), normal.value(), material.value());
+        books.damping_power += (load_v - g_k.value()) * node.g_rate.value();
+        books.friction_power += friction.force * material_v;
+        books.friction_force += friction.force;
+        books.normal_resultant[0] += load_v * node.m[0].value();
+        books.normal_resultant[1] += load_v * node.m[1].value();
+        books.load += normal_v;
+        books.load_sliding += normal_v * material_v;
+        let Some(visit) = sink.visit.as_mut() else {
+            return normal_v;
+        };
+        let node_load = |normal_force| NodeLoad {
+            cell: node.cell,
+            pin_angle: node.alpha,
+            bearing_angle: wrap_angle(node.bearing_angle.unwrap_or_else(|| {
+                let w = [
+                    node.pin_arm[0].value() - pass.pin_centre_arm[0].value(),
+                    node.pin_arm[1].value() - pass.pin_centre_arm[1].value(),
+                ];
+                angle_near(node.ray, w, pass.theta_pin + node.alpha) - pass.theta_bearing.value()
+            })),
+            normal_force,
+            arc: self.bounds.node_arc,
+            material_sliding: material_v,
+            paper_sliding: paper.value(),
+            stiffness: pass.line_modulus * self.bounds.node_arc * factor * m_norm.value(),
+        };
+        if pass.simpson {
+            // Held until the evaluation's totals are known (the quadrature's docs).
+            let trapezoid = deposit_gradient * pass.weight * factor * m_norm.value();
+            if trapezoid > 0.0 {
+                books.trapezoid_load += trapezoid;
+                sink.deposits.push(node_load(trapezoid));
+            }
+        } else {
+            visit(&node_load(normal_v));
+        }
+        normal_v
+    }
+
+    /// Every computed node passes here in order, once all its segments are seen: its load, and
+    /// the zone it belongs to.
+    #[inline]
+    fn emit<T: Real>(
+        &self,
+        pass: &Pass<T>,
+        pending: &Pending<T>,
+        books: &mut Books,
+        out: &mut Output<T>,
+        sink: &mut Sink<'_>,
+    ) {
+        let (gradient, deposit) = if pass.simpson {
+            (
+                pending.fine * (4.0 / 3.0) - pending.coarse / 3.0,
+                pending.fine.value(),
+            )
+        } else {
+            (pending.fine, pending.fine.value())
+        };
+        let normal = self.carry(pass, &pending.node, gradient, deposit, books, out, sink);
+        books.see_zone(pending.node.cell, pending.node.overlap, normal);
+    }
+
+    /// Streams one run of candidate nodes, `first..=last` (signed, wrapping), closing each
+    /// node's load once all its segments are seen: its neighbours' and, for Simpson, the even
+    /// nodes' two neighbours two apart. A node none of whose segments can be loaded (its overlap
+    /// and those of the nodes it joins ≤ 0) carries nothing: only its plain overlap is
+    /// computed, not the node in `T`. (A whole-circle window starts opposite the contact, so no
+    /// segment closes the circle.)
+    #[allow(clippy::too_many_arguments)]
+    fn stream_run<T: Real>(
+        &self,
+        pass: &Pass<T>,
+        (first, last): (i64, i64),
+        bodies: &Bodies<T>,
+        books: &mut Books,
+        out: &mut Output<T>,
+        sink: &mut Sink<'_>,
+        memory: &mut MemoryUse<'_>,
+    ) {
+        let n = pass.cells as i64;
+        let node_at = |k: i64| {
+            self.node(
+                k.rem_euclid(n) as usize,
+                &bodies.bearing,
+                &bodies.pin,
+                &bodies.bearing_centre_arm,
+                pass.theta_bearing,
+            )
+        };
+        let mut queue = NodeQueue::<T>::default();
+        // Overlaps behind (`k − 1`, `k − 2`) and ahead (`k + 1`, `k + 2`; the second only for
+        // Simpson) of node `k`.
+        let mut behind = [f64::NEG_INFINITY; 2];
+        // Plain arithmetic would compute a node's overlap twice (here and in `node_at`), so
+        // it looks ahead with the node's distance from the bearing centre: below the
+        // bearing's smallest radius that is the overlap `node_at` gives, bit for bit, and
+        // above it the node may overlap (+∞) and is computed in full, unless the memory
+        // remembers it apart: then its gap alone, again bit for bit `node_at`'s.
+        // A node the memory rules out looks ahead as −∞: not computed unless a node it
+        // joins may overlap, exactly as a node below the bearing's smallest radius.
+        // (A method, not a closure: called from several places, a closure is not inlined.)
+        let theta = pass.theta_bearing.value();
+        macro_rules! look {
+            ($k:expr) => {{
+                let k: i64 = $k;
+                if k > last {
+                    (f64::NEG_INFINITY, Noted::Nothing)
+                } else {
+                    self.look_ahead(
+                        k.rem_euclid(n) as usize,
+                        T::PLAIN,
+                        &bodies.plain,
+                        &bodies.plain_arm,
+                        theta,
+                        memory.skip.zip(memory.mem.as_deref()),
+                    )
+                }
+            }};
+        }
+        let nothing = (f64::NEG_INFINITY, Noted::Nothing);
+        let mut here = look!(first);
+        let mut ahead = [
+            look!(first + 1),
+            if pass.simpson {
+                look!(first + 2)
+            } else {
+                nothing
+            },
+        ];
+        for k in first..=last {
+            let (overlap_here, noted_here) = here;
+            let coarse_node = pass.simpson && k.rem_euclid(2) == 0;
+            let joins_overlap = overlap_here > 0.0
+                || behind[0] > 0.0
+                || ahead[0].0 > 0.0
+                || (coarse_node && (behind[1] > 0.0 || ahead[1].0 > 0.0));
+            let early = (!T::PLAIN || overlap_here <= 0.0).then(|| books.see_overlap(overlap_here));
+            if joins_overlap {
+                let node = node_at(k);
+                memory.computed += 1;
+                if let Some(m) = memory.mem.as_deref_mut().filter(|_| memory.recording) {
+                    m.note(node.cell, node.overlap, node.beyond);
+                }
+                if early.unwrap_or_else(|| books.see_overlap(node.overlap)) {
+                    books.deepest_rate = node.g_rate.value();
+                }
+                let mut entry = Pending {
+                    index: k,
+                    node,
+                    fine: pass.zero,
+                    coarse: pass.zero,
+                };
+                if let Some(left) = queue.at(k - 1) {
+                    let (q, dq_a, dq_b) = segment(left.node.g, entry.node.g);
+                    books.energy +=
+                        pass.weight * q.value() * if pass.simpson { 4.0 / 3.0 } else { 1.0 };
+                    left.fine = left.fine + dq_a;
+                    entry.fine = dq_b;
+                }
+                if coarse_node && let Some(left) = queue.at(k - 2) {
+                    // The every-other-node segment spans two arcs: twice the pass.weight.
+                    let (q, dq_a, dq_b) = segment(left.node.g, entry.node.g);
+                    books.energy -= pass.weight * q.value() * (2.0 / 3.0);
+                    left.coarse = left.coarse + dq_a * 2.0;
+                    entry.coarse = dq_b * 2.0;
+                }
+                queue.push(entry);
+                // Close what has seen all its segments, in order.
+                while queue.front().is_some_and(|front| {
+                    front.index < k
+                        && (!pass.simpson || front.index.rem_euclid(2) == 1 || front.index + 2 <= k)
+                }) && let Some(done) = queue.pop()
+                {
+                    self.emit(pass, &done, books, out, sink);
+                }
+            } else {
+                if let Some(m) = memory.mem.as_deref_mut().filter(|_| memory.recording) {
+                    let cell = k.rem_euclid(n) as usize;
+                    match (noted_here, memory.skip) {
+                        (Noted::Below, _) => m.note(cell, overlap_here, false),
+                        (Noted::Gap, _) => m.note(cell, overlap_here, true),
+                        (Noted::Carried, Some(skip)) => {
+                            m.note(cell, skip.gap_bound(m, cell), false);
+                        }
+                        _ => {}
+                    }
+                }
+                // Nothing left to join for the nodes waiting: their remaining segments meet
+                // overlaps ≤ 0 (else this node would have been computed).
+                while let Some(done) = queue.pop() {
+                    self.emit(pass, &done, books, out, sink);
+                }
+            }
+            behind = [overlap_here, behind[0]];
+            here = ahead[0];
+            // The trapezoid looks one node ahead only.
+            ahead = if pass.simpson {
+                [ahead[1], look!(k + 3)]
+            } else {
+                [look!(k + 2), nothing]
+            };
+        }
+        while let Some(done) = queue.pop() {
+            self.emit(pass, &done, books, out, sink);
+        }
     }
 
     #[allow(clippy::too_many_arguments)]
