@@ -35,6 +35,16 @@
 //!
 //! Which sliding velocity drives friction is a choice ([`SlidingVelocity`]): the material
 //! points' (physical, default) or the paper's `δ φ̇`.
+//!
+//! # Layout
+//! This module holds [`ClearanceJoint`], its construction and the line-of-centres model.
+//! Beside it, each importing only downwards: `types` (the values an evaluation takes and
+//! gives: [`BodyState`], [`JointSurface`], [`JointKinematics`], [`ContactForces`]), `model`
+//! (which model a joint uses, [`ContactModel`], and the elastic foundation's parameters,
+//! [`Foundation`]), `outline` (the outlines' radius bounds and the overlap memory),
+//! `general` (the line-of-centres force on worn surfaces), `dual` (the dual numbers of the
+//! Jacobians) and [`foundation`] (the elastic foundation's kernel, itself in `geometry`,
+//! `nodes`, `stream` and `books`).
 
 use nalgebra::{Matrix2, SMatrix, Vector2, Vector3};
 
