@@ -16,12 +16,12 @@
 use nalgebra::DMatrix;
 
 use crate::constraints::LocalDerivatives;
-use crate::dynamics::AbsoluteTolerances;
-use crate::error::EvaluationError;
+use crate::error::{EvaluationError, check_len};
 use crate::force::{ForceElement, ForcePartials};
-use crate::formulation::{ForwardDifferences, check_len};
+use crate::formulation::{Equations, ForwardDifferences, first_order};
 use crate::linalg::{DenseCholesky, dependent_rows};
-use crate::system::{Baumgarte, State, System};
+use crate::state::{AbsoluteTolerances, State};
+use crate::system::{Baumgarte, System};
 
 use super::scalar::{Dual, V2};
 use super::tree::{Motion, Placement, Tree};
@@ -471,7 +471,7 @@ impl<'s> JointEvaluator<'s> {
         check_len("x", x, 2 * nf)?;
         check_len("ẋ", dx, 2 * nf)?;
         let result = self.solve(elements, t, x);
-        crate::system::first_order(dx, &x[nf..], &result, &self.solution[..nf]);
+        first_order(dx, &x[nf..], &result, &self.solution[..nf]);
         result
     }
 
@@ -629,5 +629,71 @@ impl<'s> JointEvaluator<'s> {
         let result = differences.jacobian(|v, dv| self.rhs(elements, t, v, dv), x, jacobian);
         self.forward_differences = differences;
         result
+    }
+}
+
+impl Equations for JointEvaluator<'_> {
+    fn size(&self) -> usize {
+        JointEvaluator::size(self)
+    }
+    fn initial_state(&mut self, state: &State) -> Vec<f64> {
+        JointEvaluator::initial_state(self, state)
+    }
+    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64> {
+        JointEvaluator::tolerances(self, atol)
+    }
+    fn cartesian<'a>(&mut self, t: f64, x: &'a [f64], scratch: &'a mut [f64]) -> &'a [f64] {
+        JointEvaluator::cartesian(self, t, x, scratch);
+        scratch
+    }
+    fn rhs(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        dx: &mut [f64],
+    ) -> Result<(), EvaluationError> {
+        JointEvaluator::rhs(self, elements, t, x, dx)
+    }
+    fn jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), EvaluationError> {
+        JointEvaluator::jacobian(self, elements, t, x, jacobian)
+    }
+    fn finite_difference_jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), EvaluationError> {
+        JointEvaluator::finite_difference_jacobian(self, elements, t, x, jacobian)
+    }
+    fn evaluations(&self) -> (usize, usize) {
+        (self.rhs_evaluations, self.jacobian_evaluations)
+    }
+    fn drifting(&self) -> Option<&[usize]> {
+        Some(self.drifting())
+    }
+    fn powers(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        element_powers: &mut [f64],
+        driver_powers: &mut [f64],
+    ) -> Option<Result<(), EvaluationError>> {
+        Some(JointEvaluator::powers(
+            self,
+            elements,
+            t,
+            x,
+            element_powers,
+            driver_powers,
+        ))
     }
 }
