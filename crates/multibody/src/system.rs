@@ -1,11 +1,13 @@
 //! A compiled mechanism with its force elements: the equations of motion, their exact
 //! Jacobian, assembly and kinematic analysis.
+//!
+//! [`Evaluator`] implements the Cartesian formulation's [`Equations`] (the joint-coordinate one
+//! is in [`crate::joint_coordinates`]); [`State`] and the tolerances are in `state`, below both.
 
 use nalgebra::DMatrix;
 
 use crate::constraints::{ConstraintOwner, Constraints, LocalDerivatives};
-use crate::error::check_len;
-use crate::error::{AssemblyError, EvaluationError, KinematicsError, ModelError};
+use crate::error::{AssemblyError, EvaluationError, KinematicsError, ModelError, check_len};
 use crate::force::{ElementId, ForceElement, ForcePartials, Gravity};
 use crate::formulation::{Equations, ForwardDifferences, first_order};
 use crate::linalg::{DenseCholesky, DenseLu, dependent_rows, weakest_row};
@@ -910,6 +912,8 @@ impl<'s> Evaluator<'s> {
     }
 }
 
+/// The Cartesian formulation's equations, as the integration loop drives them. `rhs` and the
+/// Jacobians are [`Evaluator`]'s public methods, which callers outside the crate use directly.
 impl Equations for Evaluator<'_> {
     fn size(&self) -> usize {
         2 * self.accelerations().len()
