@@ -25,7 +25,8 @@ use crate::iteration::SecondOrderLu;
 use crate::joint_coordinates::{JointEvaluator, Tree};
 use crate::radau::{Radau5, RadauError, RadauLimits, RadauStop, VectorFunction};
 use crate::sparse_iteration::SparseSecondOrderLu;
-use crate::system::{Baumgarte, Evaluator, State, System};
+use crate::state::{AbsoluteTolerances, State};
+use crate::system::{Baumgarte, Evaluator, System};
 use crate::trajectory::Trajectory;
 
 /// Time integrator (diffsol's, and Radau IIA of this crate); named in kebab case in scene
@@ -68,45 +69,6 @@ pub enum LinearSolverKind {
     /// [`crate::SparseSecondOrderLu`]: faer's sparse LU with its symbolic analysis reused, for
     /// long mechanisms cut into loosely coupled parts (docs/performance.md, scaling).
     SparseFaer,
-}
-
-/// Absolute tolerances per kind of state variable. Positions should be scaled to the
-/// smallest length that matters (e.g. a joint clearance, docs/model.md §8), not to the coordinates.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AbsoluteTolerances {
-    /// m
-    pub position: f64,
-    /// rad
-    pub angle: f64,
-    /// m/s
-    pub velocity: f64,
-    /// rad/s
-    pub angular_velocity: f64,
-}
-
-impl Default for AbsoluteTolerances {
-    /// 1e-8 m, 1e-8 rad, 1e-6 m/s, 1e-6 rad/s: well below the micrometre scale of clearance
-    /// penetrations for mechanisms about a metre in size.
-    fn default() -> Self {
-        Self {
-            position: 1e-8,
-            angle: 1e-8,
-            velocity: 1e-6,
-            angular_velocity: 1e-6,
-        }
-    }
-}
-
-impl AbsoluteTolerances {
-    /// The same tolerance for every variable.
-    pub fn uniform(value: f64) -> Self {
-        Self {
-            position: value,
-            angle: value,
-            velocity: value,
-            angular_velocity: value,
-        }
-    }
 }
 
 /// When to report the state.

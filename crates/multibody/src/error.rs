@@ -255,3 +255,20 @@ pub enum SimulationError {
         seconds: f64,
     },
 }
+
+/// `Ok` when `values` has `expected` entries, else the error naming `what`.
+pub(crate) fn check_len(
+    what: &'static str,
+    values: &[f64],
+    expected: usize,
+) -> Result<(), EvaluationError> {
+    if values.len() == expected {
+        Ok(())
+    } else {
+        Err(EvaluationError::WrongLength {
+            what,
+            expected,
+            actual: values.len(),
+        })
+    }
+}

@@ -5,7 +5,7 @@ use std::any::Any;
 
 use nalgebra::DMatrix;
 
-use crate::model::{BodyId, Model};
+use crate::model::{Body, BodyId, Model};
 
 /// Index of a force element in the order it was added to a [`crate::System`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -119,17 +119,14 @@ impl Gravity {
     /// Gravity of acceleration `g = (g_x, g_y)` on every body of `model` (e.g. `[0.0, -9.81]`).
     /// Build it after the last body is added.
     pub fn new(model: &Model, acceleration: [f64; 2]) -> Self {
-        Self {
-            acceleration,
-            masses: model.bodies().iter().map(|b| b.mass).collect(),
-        }
+        Self::of_bodies(model.bodies(), acceleration)
     }
 
-    /// The same, for the bodies of a compiled system.
-    pub fn for_system(system: &crate::System, acceleration: [f64; 2]) -> Self {
+    /// Gravity on `bodies` ([`Gravity::new`], and [`Gravity::for_system`] with a system's).
+    pub(crate) fn of_bodies(bodies: &[Body], acceleration: [f64; 2]) -> Self {
         Self {
             acceleration,
-            masses: system.bodies().iter().map(|b| b.mass).collect(),
+            masses: bodies.iter().map(|b| b.mass).collect(),
         }
     }
 }

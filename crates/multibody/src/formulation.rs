@@ -1,13 +1,17 @@
 //! The choice of coordinates the equations of motion are integrated in, and the interface the
 //! integration loop drives either formulation through.
+//!
+//! Each formulation implements [`Equations`] next to its evaluator: the Cartesian one in
+//! `system` ([`crate::Evaluator`]), the joint-coordinate one in `joint_coordinates::evaluator`.
+//! What they share is here too (the forward-difference Jacobian, the first-order form
+//! `ẋ = (v, a)`). This module builds only on `error`, `force` and `state`, so both evaluators
+//! and the integration loop (`dynamics`) sit above it.
 
 use nalgebra::DMatrix;
 
-use crate::dynamics::AbsoluteTolerances;
 use crate::error::EvaluationError;
 use crate::force::ForceElement;
-use crate::joint_coordinates::JointEvaluator;
-use crate::system::{Evaluator, State};
+use crate::state::{AbsoluteTolerances, State};
 
 /// Which coordinates [`crate::System::simulate`] integrates. Either way the trajectory,
 /// observers, force elements and the energy audit see Cartesian body coordinates `q, q̇, q̈`
@@ -91,125 +95,6 @@ pub(crate) trait Equations {
     }
 }
 
-impl Equations for Evaluator<'_> {
-    fn size(&self) -> usize {
-        2 * self.accelerations().len()
-    }
-    fn initial_state(&mut self, state: &State) -> Vec<f64> {
-        state.q.iter().chain(&state.qd).copied().collect()
-    }
-    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64> {
-        let n = self.accelerations().len();
-        (0..2 * n)
-            .map(|i| match (i >= n, i % 3 == 2) {
-                (false, false) => atol.position,
-                (false, true) => atol.angle,
-                (true, false) => atol.velocity,
-                (true, true) => atol.angular_velocity,
-            })
-            .collect()
-    }
-    fn cartesian<'a>(&mut self, _t: f64, x: &'a [f64], _scratch: &'a mut [f64]) -> &'a [f64] {
-        x
-    }
-    fn rhs(
-        &mut self,
-        elements: &[Box<dyn ForceElement>],
-        t: f64,
-        x: &[f64],
-        dx: &mut [f64],
-    ) -> Result<(), EvaluationError> {
-        Evaluator::rhs(self, elements, t, x, dx)
-    }
-    fn jacobian(
-        &mut self,
-        elements: &[Box<dyn ForceElement>],
-        t: f64,
-        x: &[f64],
-        jacobian: &mut DMatrix<f64>,
-    ) -> Result<(), EvaluationError> {
-        Evaluator::jacobian(self, elements, t, x, jacobian)
-    }
-    fn finite_difference_jacobian(
-        &mut self,
-        elements: &[Box<dyn ForceElement>],
-        t: f64,
-        x: &[f64],
-        jacobian: &mut DMatrix<f64>,
-    ) -> Result<(), EvaluationError> {
-        Evaluator::finite_difference_jacobian(self, elements, t, x, jacobian)
-    }
-    fn evaluations(&self) -> (usize, usize) {
-        (self.rhs_evaluations, self.jacobian_evaluations)
-    }
-}
-
-impl Equations for JointEvaluator<'_> {
-    fn size(&self) -> usize {
-        JointEvaluator::size(self)
-    }
-    fn initial_state(&mut self, state: &State) -> Vec<f64> {
-        JointEvaluator::initial_state(self, state)
-    }
-    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64> {
-        JointEvaluator::tolerances(self, atol)
-    }
-    fn cartesian<'a>(&mut self, t: f64, x: &'a [f64], scratch: &'a mut [f64]) -> &'a [f64] {
-        JointEvaluator::cartesian(self, t, x, scratch);
-        scratch
-    }
-    fn rhs(
-        &mut self,
-        elements: &[Box<dyn ForceElement>],
-        t: f64,
-        x: &[f64],
-        dx: &mut [f64],
-    ) -> Result<(), EvaluationError> {
-        JointEvaluator::rhs(self, elements, t, x, dx)
-    }
-    fn jacobian(
-        &mut self,
-        elements: &[Box<dyn ForceElement>],
-        t: f64,
-        x: &[f64],
-        jacobian: &mut DMatrix<f64>,
-    ) -> Result<(), EvaluationError> {
-        JointEvaluator::jacobian(self, elements, t, x, jacobian)
-    }
-    fn finite_difference_jacobian(
-        &mut self,
-        elements: &[Box<dyn ForceElement>],
-        t: f64,
-        x: &[f64],
-        jacobian: &mut DMatrix<f64>,
-    ) -> Result<(), EvaluationError> {
-        JointEvaluator::finite_difference_jacobian(self, elements, t, x, jacobian)
-    }
-    fn evaluations(&self) -> (usize, usize) {
-        (self.rhs_evaluations, self.jacobian_evaluations)
-    }
-    fn drifting(&self) -> Option<&[usize]> {
-        Some(self.drifting())
-    }
-    fn powers(
-        &mut self,
-        elements: &[Box<dyn ForceElement>],
-        t: f64,
-        x: &[f64],
-        element_powers: &mut [f64],
-        driver_powers: &mut [f64],
-    ) -> Option<Result<(), EvaluationError>> {
-        Some(JointEvaluator::powers(
-            self,
-            elements,
-            t,
-            x,
-            element_powers,
-            driver_powers,
-        ))
-    }
-}
-
 /// Scratch of a forward-difference Jacobian ([`ForwardDifferences::jacobian`]), kept by each
 /// evaluator so the fallback Jacobian does not allocate.
 #[derive(Clone, Debug, Default)]
@@ -260,19 +145,18 @@ impl ForwardDifferences {
     }
 }
 
-/// `Ok` when `values` has `expected` entries, else the error naming `what`.
-pub(crate) fn check_len(
-    what: &'static str,
-    values: &[f64],
-    expected: usize,
-) -> Result<(), EvaluationError> {
-    if values.len() == expected {
-        Ok(())
-    } else {
-        Err(EvaluationError::WrongLength {
-            what,
-            expected,
-            actual: values.len(),
-        })
+/// `ẏ = (v, a)` of a second-order system from its velocities and the accelerations of a
+/// solve; a failed solve gives NaN accelerations, which the integrator rejects.
+pub(crate) fn first_order<E>(
+    derivative: &mut [f64],
+    velocities: &[f64],
+    solve: &Result<(), E>,
+    accelerations: &[f64],
+) {
+    let (dq, dv) = derivative.split_at_mut(velocities.len());
+    dq.copy_from_slice(velocities);
+    match solve {
+        Ok(()) => dv.copy_from_slice(accelerations),
+        Err(_) => dv.fill(f64::NAN),
     }
 }

@@ -15,15 +15,24 @@
 //! work, with the same solution up to round-off (`det = aⁿ det S`, so both are singular
 //! together). The block structure is checked on every factorization, entry by entry; a matrix
 //! without it (another equation set, a mass matrix) gets the full `2n × 2n` LU.
+//!
+//! Both solvers, [`SecondOrderLu`] (dense) and [`crate::SparseSecondOrderLu`] (module
+//! `sparse_iteration`), are this module's [`BlockLu`]: the check of the block form, the full
+//! LU of a matrix without it, the back substitution `x₁` and diffsol's `LinearSolver` plumbing
+//! are written once here; they differ only in how `S` is stored, factored and multiplied
+//! ([`ReducedLu`]).
 
 use diffsol::{LaError, LaLinearOp, Matrix, MatrixCommon, NalgebraMat, NalgebraVec, Vector};
 use nalgebra::DMatrix;
 
 use crate::linalg::DenseLu;
 
+/// Only exact zero (or NaN) pivots count as singular, as in diffsol's own dense LU.
+const PIVOT_TOLERANCE: f64 = 0.0;
+
 /// How the last matrix was factored.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Factored {
+pub(crate) enum Factored {
     /// Nothing factored yet, or the last factorization met a zero (or NaN) pivot.
     No,
     /// `[[a I, b I], [P, Q]]`: `S = Q − (b/a) P` is factored and `P` kept for the solves.
@@ -32,43 +41,44 @@ enum Factored {
     Full,
 }
 
-/// diffsol linear solver (dense, `nalgebra` storage) for iteration matrices of `(q, q̇)`
-/// systems: see the module docs. Only unbatched matrices (`nbatch = 1`) are supported, which
-/// is what this crate's integrators build.
+/// The reduced matrix's side of a block-eliminating solver: how `S = Q − (b/a) P` is formed
+/// and factored, and how a solve eliminates `P`.
+pub(crate) trait ReducedLu {
+    /// Keeps `P` and factors `S = Q − ratio·P` of the block matrix `matrix` (`2n × 2n`, with
+    /// the block form); `false` when `S` is singular or cannot be analysed.
+    fn factor(&mut self, matrix: &DMatrix<f64>, ratio: f64) -> bool;
+    /// `x₂` from `S x₂ = r₂ − P r₁ / a`, in place of `r₂` in `rhs = [r₁; r₂]`; returns `n`.
+    fn eliminate(&self, rhs: &mut [f64], a: f64) -> Result<usize, LaError>;
+    /// Checks the whole solution `[x₁; x₂]` (default: nothing to check).
+    fn check(&self, _solution: &[f64]) -> Result<(), LaError> {
+        Ok(())
+    }
+}
+
+/// The core both diffsol linear solvers delegate to: the iteration matrix as diffsol last gave
+/// it, its factors (`R` for the reduced form, a dense LU for the full one) and which of them
+/// hold.
 #[derive(Debug, Clone)]
-pub struct SecondOrderLu {
-    /// The iteration matrix as diffsol last gave it.
+pub(crate) struct BlockLu<R> {
     matrix: Option<NalgebraMat<f64>>,
-    /// `P`, the lower-left block (reduced form only).
-    lower_left: DMatrix<f64>,
-    /// `S`, before factoring.
-    schur: DMatrix<f64>,
-    reduced: DenseLu,
+    reduced: R,
     full: DenseLu,
-    /// Scratch for `P r₁` (length `n`).
-    product: std::cell::RefCell<Vec<f64>>,
     factored: Factored,
 }
 
-impl Default for SecondOrderLu {
+impl<R: Default> Default for BlockLu<R> {
     fn default() -> Self {
         Self {
             matrix: None,
-            lower_left: DMatrix::zeros(0, 0),
-            schur: DMatrix::zeros(0, 0),
-            reduced: DenseLu::new(0),
+            reduced: R::default(),
             full: DenseLu::new(0),
-            product: std::cell::RefCell::new(Vec::new()),
             factored: Factored::No,
         }
     }
 }
 
-/// `b`'s entries, checked to fit a `size × size` iteration matrix (both solvers' check).
-pub(crate) fn right_hand_side(
-    b: &mut NalgebraVec<f64>,
-    size: usize,
-) -> Result<&mut [f64], LaError> {
+/// `b`'s entries, checked to fit a `size × size` iteration matrix.
+fn right_hand_side(b: &mut NalgebraVec<f64>, size: usize) -> Result<&mut [f64], LaError> {
     let data = b.inner_mut().as_mut_slice();
     if data.len() != size {
         return Err(LaError::Other(format!(
@@ -109,35 +119,27 @@ pub(crate) fn block_identity_top(matrix: &DMatrix<f64>) -> Option<(f64, f64)> {
     Some((a, b))
 }
 
-impl SecondOrderLu {
+impl<R: ReducedLu> BlockLu<R> {
+    /// The reduced matrix's side.
+    pub(crate) fn reduced(&self) -> &R {
+        &self.reduced
+    }
+
+    /// How the last matrix was factored.
+    #[cfg(test)]
+    pub(crate) fn factored(&self) -> Factored {
+        self.factored
+    }
+
     /// Factors `matrix`, reduced when it has the block form.
-    fn factor(&mut self, matrix: &DMatrix<f64>) {
-        // Only exact zero (or NaN) pivots count as singular, as in diffsol's own dense LU.
-        const PIVOT_TOLERANCE: f64 = 0.0;
+    pub(crate) fn factor(&mut self, matrix: &DMatrix<f64>) {
         let size = matrix.nrows();
         self.factored = match block_identity_top(matrix) {
             Some((a, b)) => {
-                let n = size / 2;
-                let ratio = b / a;
-                if self.schur.nrows() != n {
-                    self.schur = DMatrix::zeros(n, n);
-                    self.lower_left = DMatrix::zeros(n, n);
-                    self.reduced = DenseLu::new(n);
-                    self.product.replace(vec![0.0; n]);
-                }
-                self.lower_left.copy_from(&matrix.view((n, 0), (n, n)));
-                self.schur.copy_from(&matrix.view((n, n), (n, n)));
-                for (s, p) in self
-                    .schur
-                    .as_mut_slice()
-                    .iter_mut()
-                    .zip(self.lower_left.as_slice())
-                {
-                    *s -= ratio * p;
-                }
-                match self.reduced.factor(&self.schur, PIVOT_TOLERANCE) {
-                    Ok(()) => Factored::Reduced { a, b },
-                    Err(_) => Factored::No,
+                if self.reduced.factor(matrix, b / a) {
+                    Factored::Reduced { a, b }
+                } else {
+                    Factored::No
                 }
             }
             None => {
@@ -153,7 +155,7 @@ impl SecondOrderLu {
     }
 
     /// Solves with the last factorization, in place on `rhs` (length `2n`).
-    fn solve_slice(&self, rhs: &mut [f64]) -> Result<(), LaError> {
+    pub(crate) fn solve_slice(&self, rhs: &mut [f64]) -> Result<(), LaError> {
         match self.factored {
             Factored::No => Err(LaError::Other(
                 "iteration matrix not factored, or singular".into(),
@@ -163,34 +165,19 @@ impl SecondOrderLu {
                 Ok(())
             }
             Factored::Reduced { a, b } => {
-                let n = self.schur.nrows();
+                let n = self.reduced.eliminate(rhs, a)?;
                 let (top, bottom) = rhs.split_at_mut(n);
-                let mut product = self.product.borrow_mut();
-                // x₂ from S x₂ = r₂ − P r₁ / a.
-                product.fill(0.0);
-                for (column, &r) in self.lower_left.as_slice().chunks_exact(n).zip(top.iter()) {
-                    if r != 0.0 {
-                        for (p, &entry) in product.iter_mut().zip(column) {
-                            *p += entry * r;
-                        }
-                    }
-                }
-                for (x, p) in bottom.iter_mut().zip(product.iter()) {
-                    *x -= p / a;
-                }
-                self.reduced.solve_in_place(bottom);
                 // x₁ = (r₁ − b x₂) / a.
                 for (x, &x2) in top.iter_mut().zip(bottom.iter()) {
                     *x = (*x - b * x2) / a;
                 }
-                Ok(())
+                self.reduced.check(rhs)
             }
         }
     }
-}
 
-impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SecondOrderLu {
-    fn set_linearisation<C>(&mut self, op: &C)
+    /// [`diffsol_la::LinearSolver::set_linearisation`].
+    pub(crate) fn set_linearisation<C>(&mut self, op: &C)
     where
         C: LaLinearOp<
                 T = f64,
@@ -208,7 +195,8 @@ impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SecondOrderLu {
         self.matrix = Some(matrix);
     }
 
-    fn set_sparsity<C>(&mut self, op: &C)
+    /// [`diffsol_la::LinearSolver::set_sparsity`].
+    pub(crate) fn set_sparsity<C>(&mut self, op: &C)
     where
         C: LaLinearOp<
                 T = f64,
@@ -226,9 +214,114 @@ impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SecondOrderLu {
         self.factored = Factored::No;
     }
 
-    fn solve_in_place(&self, b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
+    /// [`diffsol_la::LinearSolver::solve_in_place`].
+    pub(crate) fn solve_in_place(&self, b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
         let size = self.matrix.as_ref().map_or(0, |m| m.nrows());
         self.solve_slice(right_hand_side(b, size)?)
+    }
+}
+
+/// The dense reduced matrix: `S` factored by LU, `P` kept dense.
+#[derive(Debug, Clone)]
+pub(crate) struct DenseReduced {
+    /// `P`, the lower-left block.
+    lower_left: DMatrix<f64>,
+    /// `S`, before factoring.
+    schur: DMatrix<f64>,
+    lu: DenseLu,
+    /// Scratch for `P r₁` (length `n`).
+    product: std::cell::RefCell<Vec<f64>>,
+}
+
+impl Default for DenseReduced {
+    fn default() -> Self {
+        Self {
+            lower_left: DMatrix::zeros(0, 0),
+            schur: DMatrix::zeros(0, 0),
+            lu: DenseLu::new(0),
+            product: std::cell::RefCell::new(Vec::new()),
+        }
+    }
+}
+
+impl ReducedLu for DenseReduced {
+    fn factor(&mut self, matrix: &DMatrix<f64>, ratio: f64) -> bool {
+        let n = matrix.nrows() / 2;
+        if self.schur.nrows() != n {
+            self.schur = DMatrix::zeros(n, n);
+            self.lower_left = DMatrix::zeros(n, n);
+            self.lu = DenseLu::new(n);
+            self.product.replace(vec![0.0; n]);
+        }
+        self.lower_left.copy_from(&matrix.view((n, 0), (n, n)));
+        self.schur.copy_from(&matrix.view((n, n), (n, n)));
+        for (s, p) in self
+            .schur
+            .as_mut_slice()
+            .iter_mut()
+            .zip(self.lower_left.as_slice())
+        {
+            *s -= ratio * p;
+        }
+        self.lu.factor(&self.schur, PIVOT_TOLERANCE).is_ok()
+    }
+
+    fn eliminate(&self, rhs: &mut [f64], a: f64) -> Result<usize, LaError> {
+        let n = self.schur.nrows();
+        let (top, bottom) = rhs.split_at_mut(n);
+        let mut product = self.product.borrow_mut();
+        // x₂ from S x₂ = r₂ − P r₁ / a.
+        product.fill(0.0);
+        for (column, &r) in self.lower_left.as_slice().chunks_exact(n).zip(top.iter()) {
+            if r != 0.0 {
+                for (p, &entry) in product.iter_mut().zip(column) {
+                    *p += entry * r;
+                }
+            }
+        }
+        for (x, p) in bottom.iter_mut().zip(product.iter()) {
+            *x -= p / a;
+        }
+        self.lu.solve_in_place(bottom);
+        Ok(n)
+    }
+}
+
+/// diffsol linear solver (dense, `nalgebra` storage) for iteration matrices of `(q, q̇)`
+/// systems: see the module docs. Only unbatched matrices (`nbatch = 1`) are supported, which
+/// is what this crate's integrators build.
+#[derive(Debug, Clone, Default)]
+pub struct SecondOrderLu {
+    core: BlockLu<DenseReduced>,
+}
+
+impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SecondOrderLu {
+    fn set_linearisation<C>(&mut self, op: &C)
+    where
+        C: LaLinearOp<
+                T = f64,
+                V = NalgebraVec<f64>,
+                M = NalgebraMat<f64>,
+                C = diffsol::NalgebraContext,
+            >,
+    {
+        self.core.set_linearisation(op);
+    }
+
+    fn set_sparsity<C>(&mut self, op: &C)
+    where
+        C: LaLinearOp<
+                T = f64,
+                V = NalgebraVec<f64>,
+                M = NalgebraMat<f64>,
+                C = diffsol::NalgebraContext,
+            >,
+    {
+        self.core.set_sparsity(op);
+    }
+
+    fn solve_in_place(&self, b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
+        self.core.solve_in_place(b)
     }
 
     fn solve_transpose_in_place(&self, _b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
@@ -266,14 +359,14 @@ mod tests {
 
     fn solve_both(matrix: &DMatrix<f64>, rhs: &[f64]) -> (Vec<f64>, Vec<f64>, Factored) {
         let mut solver = SecondOrderLu::default();
-        solver.factor(matrix);
+        solver.core.factor(matrix);
         let mut reduced = rhs.to_vec();
-        solver.solve_slice(&mut reduced).expect("factored");
+        solver.core.solve_slice(&mut reduced).expect("factored");
         let mut full = DenseLu::new(matrix.nrows());
         full.factor(matrix, 0.0).expect("nonsingular");
         let mut reference = rhs.to_vec();
         full.solve_in_place(&mut reference);
-        (reduced, reference, solver.factored)
+        (reduced, reference, solver.core.factored())
     }
 
     #[test]
@@ -330,9 +423,9 @@ mod tests {
             matrix[(n, n + j)] = 0.0;
         }
         let mut solver = SecondOrderLu::default();
-        solver.factor(&matrix);
-        assert_eq!(solver.factored, Factored::No);
+        solver.core.factor(&matrix);
+        assert_eq!(solver.core.factored(), Factored::No);
         let mut rhs = vec![1.0; 2 * n];
-        assert!(solver.solve_slice(&mut rhs).is_err());
+        assert!(solver.core.solve_slice(&mut rhs).is_err());
     }
 }

@@ -147,15 +147,15 @@ mod linalg;
 mod model;
 mod radau;
 mod sparse_iteration;
+mod state;
 mod system;
 mod trajectory;
 
 pub use constraints::ConstraintOwner;
 pub use drive::{Constant, DriveFunction, Harmonic, Ramp};
 pub use dynamics::{
-    AbsoluteTolerances, ConstraintDrift, EnergyAudit, EventRecord, Frame, Integrator,
-    JacobianMethod, LinearSolverKind, Observer, OutputTimes, SimulationOptions, SimulationResult,
-    SolverStatistics,
+    ConstraintDrift, EnergyAudit, EventRecord, Frame, Integrator, JacobianMethod, LinearSolverKind,
+    Observer, OutputTimes, SimulationOptions, SimulationResult, SolverStatistics,
 };
 pub use error::{AssemblyError, EvaluationError, KinematicsError, ModelError, SimulationError};
 pub use force::{ElementId, ForceElement, ForcePartials, Gravity};
@@ -166,5 +166,6 @@ pub use model::{
     RotationLock,
 };
 pub use sparse_iteration::SparseSecondOrderLu;
-pub use system::{Baumgarte, Evaluator, PartialEntry, PartialsCheck, State, System};
+pub use state::{AbsoluteTolerances, State};
+pub use system::{Baumgarte, Evaluator, PartialEntry, PartialsCheck, System};
 pub use trajectory::Trajectory;

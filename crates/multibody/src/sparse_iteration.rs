@@ -11,16 +11,18 @@
 //! computed once and reused by every numeric factorization whose nonzeros lie in the stored
 //! pattern; a matrix with a nonzero outside it widens the pattern (union) and is analysed again.
 //! diffsol hands over the dense matrix, so each factorization still scans `4n²` entries.
+//!
+//! This module is the sparse [`ReducedLu`]; the block form's check, the full LU without it and
+//! diffsol's plumbing are `iteration`'s [`BlockLu`], shared with the dense solver.
 
-use diffsol::{LaError, LaLinearOp, Matrix, MatrixCommon, NalgebraMat, NalgebraVec};
+use diffsol::{LaError, LaLinearOp, NalgebraMat, NalgebraVec};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::lu::{LuRef, NumericLu, SymbolicLu, factorize_symbolic_lu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
 use faer::{Conj, MatMut, Par};
 use nalgebra::DMatrix;
 
-use crate::iteration::{block_identity_top, right_hand_side};
-use crate::linalg::DenseLu;
+use crate::iteration::{BlockLu, ReducedLu};
 
 /// A column-compressed sparsity pattern (rows sorted within each column).
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -148,82 +150,21 @@ impl SparseFactors {
     }
 }
 
-/// How the last matrix was factored.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Factored {
-    No,
-    Reduced { a: f64, b: f64 },
-    Full,
-}
-
-/// diffsol linear solver like [`crate::SecondOrderLu`], with the reduced `n × n` matrix
-/// factored by faer's sparse LU (sequential) and its symbolic analysis reused; see the module
-/// docs. Selected by [`crate::LinearSolverKind::SparseFaer`]. A matrix without the block form
-/// gets the dense LU.
+/// The sparse reduced matrix: `P` in compressed columns, `S` factored by faer with its
+/// symbolic analysis kept.
 #[derive(Debug, Default)]
-pub struct SparseSecondOrderLu {
-    matrix: Option<NalgebraMat<f64>>,
+pub(crate) struct SparseReduced {
     /// `P` in compressed columns: its pattern and values.
     lower_left: Pattern,
     lower_values: Vec<f64>,
     /// `S` before factoring (dense scratch, column-major).
     schur: Vec<f64>,
     sparse: Option<SparseFactors>,
-    full: Option<DenseLu>,
     /// Symbolic analyses done so far (one unless the pattern grew).
     analyses: usize,
-    factored: Option<Factored>,
 }
 
-impl SparseSecondOrderLu {
-    /// Symbolic analyses so far: 1 when every factorization reused the first one.
-    pub fn symbolic_analyses(&self) -> usize {
-        self.analyses
-    }
-
-    fn factor(&mut self, matrix: &DMatrix<f64>) {
-        let size = matrix.nrows();
-        self.factored = Some(match block_identity_top(matrix) {
-            Some((a, b)) => {
-                let n = size / 2;
-                let ratio = b / a;
-                let data = matrix.as_slice();
-                self.schur.clear();
-                self.lower_left.col_ptr.clear();
-                self.lower_left.row_idx.clear();
-                self.lower_values.clear();
-                self.lower_left.col_ptr.push(0);
-                for j in 0..n {
-                    let p = &data[j * size + n..(j + 1) * size];
-                    let q = &data[(n + j) * size + n..(n + j + 1) * size];
-                    for (i, (&p, &q)) in p.iter().zip(q).enumerate() {
-                        self.schur.push(q - ratio * p);
-                        if p != 0.0 {
-                            self.lower_left.row_idx.push(i);
-                            self.lower_values.push(p);
-                        }
-                    }
-                    self.lower_left.col_ptr.push(self.lower_left.row_idx.len());
-                }
-                if self.factor_reduced(n) {
-                    Factored::Reduced { a, b }
-                } else {
-                    Factored::No
-                }
-            }
-            None => {
-                let full = self.full.get_or_insert_with(|| DenseLu::new(size));
-                if full.size() != size {
-                    *full = DenseLu::new(size);
-                }
-                match full.factor(matrix, 0.0) {
-                    Ok(()) => Factored::Full,
-                    Err(_) => Factored::No,
-                }
-            }
-        });
-    }
-
+impl SparseReduced {
     /// Factors `S` (in `self.schur`), reusing the symbolic analysis when the pattern holds.
     fn factor_reduced(&mut self, n: usize) -> bool {
         let reusable = match &mut self.sparse {
@@ -254,47 +195,79 @@ impl SparseSecondOrderLu {
         }
         self.sparse.as_mut().is_some_and(SparseFactors::factor)
     }
+}
 
-    fn solve_slice(&self, rhs: &mut [f64]) -> Result<(), LaError> {
-        let unfactored = || LaError::Other("iteration matrix not factored, or singular".into());
-        match self.factored {
-            None | Some(Factored::No) => Err(unfactored()),
-            Some(Factored::Full) => {
-                self.full
-                    .as_ref()
-                    .ok_or_else(unfactored)?
-                    .solve_in_place(rhs);
-                Ok(())
+impl ReducedLu for SparseReduced {
+    fn factor(&mut self, matrix: &DMatrix<f64>, ratio: f64) -> bool {
+        let size = matrix.nrows();
+        let n = size / 2;
+        let data = matrix.as_slice();
+        self.schur.clear();
+        self.lower_left.col_ptr.clear();
+        self.lower_left.row_idx.clear();
+        self.lower_values.clear();
+        self.lower_left.col_ptr.push(0);
+        for j in 0..n {
+            let p = &data[j * size + n..(j + 1) * size];
+            let q = &data[(n + j) * size + n..(n + j + 1) * size];
+            for (i, (&p, &q)) in p.iter().zip(q).enumerate() {
+                self.schur.push(q - ratio * p);
+                if p != 0.0 {
+                    self.lower_left.row_idx.push(i);
+                    self.lower_values.push(p);
+                }
             }
-            Some(Factored::Reduced { a, b }) => {
-                let factors = self.sparse.as_ref().ok_or_else(unfactored)?;
-                let n = factors.size;
-                let (top, bottom) = rhs.split_at_mut(n);
-                // x₂ from S x₂ = r₂ − P r₁ / a.
-                for (j, &r) in top.iter().enumerate() {
-                    if r != 0.0 {
-                        let range = self.lower_left.col_ptr[j]..self.lower_left.col_ptr[j + 1];
-                        for (&i, &p) in self.lower_left.row_idx[range.clone()]
-                            .iter()
-                            .zip(&self.lower_values[range])
-                        {
-                            bottom[i] -= p * r / a;
-                        }
-                    }
-                }
-                factors.solve_in_place(bottom);
-                // x₁ = (r₁ − b x₂) / a.
-                for (x, &x2) in top.iter_mut().zip(bottom.iter()) {
-                    *x = (*x - b * x2) / a;
-                }
-                // faer does not stop at a zero pivot: a singular S shows up here.
-                if rhs.iter().all(|v| v.is_finite()) {
-                    Ok(())
-                } else {
-                    Err(LaError::Other("singular iteration matrix".into()))
+            self.lower_left.col_ptr.push(self.lower_left.row_idx.len());
+        }
+        self.factor_reduced(n)
+    }
+
+    fn eliminate(&self, rhs: &mut [f64], a: f64) -> Result<usize, LaError> {
+        let factors = self
+            .sparse
+            .as_ref()
+            .ok_or_else(|| LaError::Other("iteration matrix not factored, or singular".into()))?;
+        let n = factors.size;
+        let (top, bottom) = rhs.split_at_mut(n);
+        // x₂ from S x₂ = r₂ − P r₁ / a.
+        for (j, &r) in top.iter().enumerate() {
+            if r != 0.0 {
+                let range = self.lower_left.col_ptr[j]..self.lower_left.col_ptr[j + 1];
+                for (&i, &p) in self.lower_left.row_idx[range.clone()]
+                    .iter()
+                    .zip(&self.lower_values[range])
+                {
+                    bottom[i] -= p * r / a;
                 }
             }
         }
+        factors.solve_in_place(bottom);
+        Ok(n)
+    }
+
+    /// faer does not stop at a zero pivot: a singular `S` shows up in the solution.
+    fn check(&self, solution: &[f64]) -> Result<(), LaError> {
+        if solution.iter().all(|v| v.is_finite()) {
+            Ok(())
+        } else {
+            Err(LaError::Other("singular iteration matrix".into()))
+        }
+    }
+}
+
+/// diffsol linear solver like [`crate::SecondOrderLu`], with the reduced `n × n` matrix
+/// factored by faer's sparse LU (sequential) and its symbolic analysis reused; see the module
+/// docs. Selected by [`crate::LinearSolverKind::SparseFaer`]. A matrix without the block form
+/// gets the dense LU.
+#[derive(Debug, Default)]
+pub struct SparseSecondOrderLu {
+    core: BlockLu<SparseReduced>,
+}
+
+impl SparseSecondOrderLu {
+    /// Symbolic analyses so far: 1 when every factorization reused the first one.
+    pub fn symbolic_analyses(&self) -> usize {
+        self.core.reduced().analyses
     }
 }
 
@@ -308,13 +281,7 @@ impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SparseSecondOrderLu {
                 C = diffsol::NalgebraContext,
             >,
     {
-        let Some(mut matrix) = self.matrix.take() else {
-            self.factored = Some(Factored::No);
-            return;
-        };
-        op.matrix_inplace(&mut matrix);
-        self.factor(matrix.inner());
-        self.matrix = Some(matrix);
+        self.core.set_linearisation(op);
     }
 
     fn set_sparsity<C>(&mut self, op: &C)
@@ -326,18 +293,11 @@ impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SparseSecondOrderLu {
                 C = diffsol::NalgebraContext,
             >,
     {
-        self.matrix = Some(NalgebraMat::new_from_sparsity(
-            op.nrows(),
-            op.ncols(),
-            op.sparsity(),
-            *op.context(),
-        ));
-        self.factored = Some(Factored::No);
+        self.core.set_sparsity(op);
     }
 
     fn solve_in_place(&self, b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
-        let size = self.matrix.as_ref().map_or(0, |m| m.nrows());
-        self.solve_slice(right_hand_side(b, size)?)
+        self.core.solve_in_place(b)
     }
 
     fn solve_transpose_in_place(&self, _b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
@@ -350,6 +310,8 @@ impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SparseSecondOrderLu {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::iteration::Factored;
+    use crate::linalg::DenseLu;
 
     fn entry(i: usize, j: usize, seed: f64) -> f64 {
         ((i as f64 + 1.3) * (j as f64 + 0.7) * seed).sin()
@@ -375,11 +337,11 @@ mod tests {
         let mut solver = SparseSecondOrderLu::default();
         for c in [1e-6, 1e-4, 1e-2] {
             let matrix = banded_iteration_matrix(n, c);
-            solver.factor(&matrix);
-            assert_eq!(solver.factored, Some(Factored::Reduced { a: 1.0, b: -c }));
+            solver.core.factor(&matrix);
+            assert_eq!(solver.core.factored(), Factored::Reduced { a: 1.0, b: -c });
             let rhs: Vec<f64> = (0..2 * n).map(|i| entry(i, 3, 0.83)).collect();
             let mut x = rhs.clone();
-            solver.solve_slice(&mut x).expect("factored");
+            solver.core.solve_slice(&mut x).expect("factored");
             let mut dense = DenseLu::new(2 * n);
             dense.factor(&matrix, 0.0).expect("nonsingular");
             let mut reference = rhs.clone();
@@ -399,11 +361,11 @@ mod tests {
         // A nonzero outside the pattern widens it, and the result is still right.
         let mut matrix = banded_iteration_matrix(n, 1e-3);
         matrix[(n, 2 * n - 1)] = 0.5;
-        solver.factor(&matrix);
+        solver.core.factor(&matrix);
         assert_eq!(solver.symbolic_analyses(), 2);
         let rhs: Vec<f64> = (0..2 * n).map(|i| entry(i, 1, 0.5)).collect();
         let mut x = rhs.clone();
-        solver.solve_slice(&mut x).expect("factored");
+        solver.core.solve_slice(&mut x).expect("factored");
         let residual = &matrix * nalgebra::DVector::from_column_slice(&x)
             - nalgebra::DVector::from_column_slice(&rhs);
         assert!(residual.amax() < 1e-9, "residual {}", residual.amax());
@@ -418,9 +380,10 @@ mod tests {
             matrix[(n, n + j)] = 0.0;
         }
         let mut solver = SparseSecondOrderLu::default();
-        solver.factor(&matrix);
+        solver.core.factor(&matrix);
         let mut rhs = vec![1.0; 2 * n];
-        let failed = solver.factored == Some(Factored::No) || solver.solve_slice(&mut rhs).is_err();
+        let failed =
+            solver.core.factored() == Factored::No || solver.core.solve_slice(&mut rhs).is_err();
         assert!(failed);
     }
 }

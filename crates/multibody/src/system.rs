@@ -1,14 +1,18 @@
 //! A compiled mechanism with its force elements: the equations of motion, their exact
 //! Jacobian, assembly and kinematic analysis.
+//!
+//! [`Evaluator`] implements the Cartesian formulation's [`Equations`] (the joint-coordinate one
+//! is in [`crate::joint_coordinates`]); [`State`] and the tolerances are in `state`, below both.
 
 use nalgebra::DMatrix;
 
 use crate::constraints::{ConstraintOwner, Constraints, LocalDerivatives};
-use crate::error::{AssemblyError, EvaluationError, KinematicsError, ModelError};
-use crate::force::{ElementId, ForceElement, ForcePartials};
-use crate::formulation::{ForwardDifferences, check_len};
+use crate::error::{AssemblyError, EvaluationError, KinematicsError, ModelError, check_len};
+use crate::force::{ElementId, ForceElement, ForcePartials, Gravity};
+use crate::formulation::{Equations, ForwardDifferences, first_order};
 use crate::linalg::{DenseCholesky, DenseLu, dependent_rows, weakest_row};
 use crate::model::{Body, BodyId, Joint, Model};
+use crate::state::{AbsoluteTolerances, State};
 use crate::trajectory::Trajectory;
 
 /// Relative pivot size below which a matrix counts as singular.
@@ -18,17 +22,6 @@ const POSITION_TOLERANCE: f64 = 1e-12;
 /// Position analysis fails if after its iterations some `|Φ_k|` is still above this.
 const POSITION_ACCEPTANCE: f64 = 1e-9;
 const MAX_NEWTON_ITERATIONS: usize = 50;
-
-/// A configuration that satisfies the constraints: positions and velocities at time `t`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct State {
-    /// Time (s).
-    pub t: f64,
-    /// Coordinates `(x, y, θ)` per body (m, rad).
-    pub q: Vec<f64>,
-    /// Velocities (m/s, rad/s).
-    pub qd: Vec<f64>,
-}
 
 /// Baumgarte stabilisation of the acceleration constraint:
 /// `Φ_q q̈ = γ − 2αΦ̇ − β²Φ`.
@@ -535,6 +528,13 @@ impl System {
     }
 }
 
+impl Gravity {
+    /// The same, for the bodies of a compiled system.
+    pub fn for_system(system: &System, acceleration: [f64; 2]) -> Self {
+        Self::of_bodies(system.bodies(), acceleration)
+    }
+}
+
 /// `Φ_q q̇` of one equation, from its local gradient.
 pub(crate) fn local_dot(
     d: &LocalDerivatives,
@@ -912,6 +912,61 @@ impl<'s> Evaluator<'s> {
     }
 }
 
+/// The Cartesian formulation's equations, as the integration loop drives them. `rhs` and the
+/// Jacobians are [`Evaluator`]'s public methods, which callers outside the crate use directly.
+impl Equations for Evaluator<'_> {
+    fn size(&self) -> usize {
+        2 * self.accelerations().len()
+    }
+    fn initial_state(&mut self, state: &State) -> Vec<f64> {
+        state.q.iter().chain(&state.qd).copied().collect()
+    }
+    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64> {
+        let n = self.accelerations().len();
+        (0..2 * n)
+            .map(|i| match (i >= n, i % 3 == 2) {
+                (false, false) => atol.position,
+                (false, true) => atol.angle,
+                (true, false) => atol.velocity,
+                (true, true) => atol.angular_velocity,
+            })
+            .collect()
+    }
+    fn cartesian<'a>(&mut self, _t: f64, x: &'a [f64], _scratch: &'a mut [f64]) -> &'a [f64] {
+        x
+    }
+    fn rhs(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        dx: &mut [f64],
+    ) -> Result<(), EvaluationError> {
+        Evaluator::rhs(self, elements, t, x, dx)
+    }
+    fn jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), EvaluationError> {
+        Evaluator::jacobian(self, elements, t, x, jacobian)
+    }
+    fn finite_difference_jacobian(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        jacobian: &mut DMatrix<f64>,
+    ) -> Result<(), EvaluationError> {
+        Evaluator::finite_difference_jacobian(self, elements, t, x, jacobian)
+    }
+    fn evaluations(&self) -> (usize, usize) {
+        (self.rhs_evaluations, self.jacobian_evaluations)
+    }
+}
+
 /// How well one element's exact partials agree with finite differences
 /// ([`System::check_partials`]).
 #[derive(Debug, Clone, PartialEq)]
@@ -938,22 +993,6 @@ pub struct PartialEntry {
     pub exact: f64,
     /// The central difference.
     pub numeric: f64,
-}
-
-/// `ẏ = (v, a)` of a second-order system from its velocities and the accelerations of a
-/// solve; a failed solve gives NaN accelerations, which the integrator rejects.
-pub(crate) fn first_order<E>(
-    derivative: &mut [f64],
-    velocities: &[f64],
-    solve: &Result<(), E>,
-    accelerations: &[f64],
-) {
-    let (dq, dv) = derivative.split_at_mut(velocities.len());
-    dq.copy_from_slice(velocities);
-    match solve {
-        Ok(()) => dv.copy_from_slice(accelerations),
-        Err(_) => dv.fill(f64::NAN),
-    }
 }
 
 /// Systems move to worker threads (a wear stage simulates its ensemble of trajectories in

@@ -1,11 +1,14 @@
 //! A worn clearance joint: wear parameters, the bearing and pin surfaces, the contact arc.
+//!
+//! What a stage's wear does to a joint ([`WornJoint::start_stage`], [`WornJoint::apply`],
+//! [`WornJoint::check_apply`] and the change bounds) is in `accumulate`, next to the record
+//! ([`crate::StageWear`]) it reads.
 
 use contact::SlidingVelocity;
 use serde::{Deserialize, Serialize};
 
-use crate::accumulate::StageWear;
 use crate::error::{WearError, non_negative, positive};
-use crate::profile::{Side, WornProfile, check_increment};
+use crate::profile::{Side, WornProfile};
 
 /// Default number of cells per surface (the paper's grid).
 pub const DEFAULT_CELLS: usize = 1000;
@@ -262,6 +265,11 @@ impl WornJoint {
         &self.pin
     }
 
+    /// The bearing and pin surfaces, for a stage's update ([`WornJoint::apply`]).
+    pub(crate) fn surfaces_mut(&mut self) -> (&mut WornProfile, &mut WornProfile) {
+        (&mut self.bearing, &mut self.pin)
+    }
+
     /// Initial clearance `c0 = R_i − R_j` (m).
     pub fn nominal_clearance(&self) -> f64 {
         self.bearing.nominal_radius() - self.pin.nominal_radius()
@@ -286,98 +294,6 @@ impl WornJoint {
     /// Material removed from both surfaces so far (m³).
     pub fn worn_volume(&self) -> f64 {
         self.bearing.worn_volume(self.hinge_width) + self.pin.worn_volume(self.hinge_width)
-    }
-
-    /// An empty wear record for one stage on this joint (allocates its two depth buffers).
-    pub fn start_stage(&self) -> StageWear {
-        StageWear::new(self)
-    }
-
-    /// Upper bound on the relative change of the local clearance, in any contact direction,
-    /// that applying `wear` with amplification 1 would cause.
-    ///
-    /// A bearing cell with depth `h_i` meets the pin where the clearance is at least
-    /// `c0 + h_i/2`, so its share is `(Δh_i/2)/(c0 + h_i/2)`; likewise for the pin. The sum of
-    /// the two surfaces' largest shares bounds `Δc/c` for every pairing of cells, whatever
-    /// the bodies' relative rotation. It is linear in the amplification.
-    pub fn clearance_change_per_amplification(&self, wear: &StageWear) -> Result<f64, WearError> {
-        self.check(wear)?;
-        let c0 = self.nominal_clearance();
-        Ok(self.bearing.relative_opening(wear.bearing(), c0)
-            + self.pin.relative_opening(wear.pin(), c0))
-    }
-
-    /// How much applying `wear` with amplification 1 changes the shape of the local clearance
-    /// `c = R_i − R_j`, relative to the shape it has: the change of its slope, `|Δc'|`, over
-    /// `c0 + |c'|`, and of its curvature, `|Δc''|`, over `c0 + |c''|` (largest values over the
-    /// cells, the two surfaces' added; angles in radians). Like the clearance-change bound, a
-    /// limit on these lets a sub-step change the profile's shape by a bounded fraction, so the
-    /// linear extrapolation of the wear stays credible while the dents deepen. Linear in the
-    /// amplification.
-    pub fn shape_change_per_amplification(
-        &self,
-        wear: &StageWear,
-    ) -> Result<(f64, f64), WearError> {
-        // With both bounds relative to c0: |Δc'|/(c0 + |c'|) = rate/(1 + now).
-        let [now, rate] = self.shape_bounds(wear)?;
-        Ok((
-            rate.slope / (1.0 + now.slope),
-            rate.curvature / (1.0 + now.curvature),
-        ))
-    }
-
-    /// The worn clearance's shape now and its growth per unit amplification of `wear` (in that
-    /// order), as
-    /// bounds relative to the nominal clearance: `((max|R_i'| + max|R_j'|)/c0,
-    /// (max|R_i''| + max|R_j''|)/c0)` and the same for the increment (see
-    /// [`crate::GeometryLimits`]).
-    pub fn shape_bounds(&self, wear: &StageWear) -> Result<[ShapeBound; 2], WearError> {
-        self.check(wear)?;
-        let c0 = self.nominal_clearance();
-        let bound = |(bs, bc): (f64, f64), (ps, pc): (f64, f64)| ShapeBound {
-            slope: (bs + ps) / c0,
-            curvature: (bc + pc) / c0,
-        };
-        Ok([
-            bound(self.bearing.shape(), self.pin.shape()),
-            bound(
-                self.bearing.shape_change(wear.bearing()),
-                self.pin.shape_change(wear.pin()),
-            ),
-        ])
-    }
-
-    /// Ends a stage: adds `amplification ×` the stage's depths to the surfaces and returns
-    /// the clearance-change bound of this update (see
-    /// [`clearance_change_per_amplification`](Self::clearance_change_per_amplification)).
-    ///
-    /// Depths only grow, so the clearance only opens. Fails, leaving the joint untouched,
-    /// for a foreign wear record, `amplification ≤ 0`, or a pin that would be worn through.
-    pub fn apply(&mut self, wear: &StageWear, amplification: f64) -> Result<f64, WearError> {
-        let fraction = self.check_apply(wear, amplification)?;
-        self.bearing.add_scaled(wear.bearing(), amplification);
-        self.pin.add_scaled(wear.pin(), amplification);
-        Ok(fraction)
-    }
-
-    /// Everything [`apply`](Self::apply) checks, without changing the joint; returns the
-    /// same clearance-change bound. Lets several joints be checked before any is updated.
-    pub fn check_apply(&self, wear: &StageWear, amplification: f64) -> Result<f64, WearError> {
-        positive("amplification", amplification)?;
-        let fraction = amplification * self.clearance_change_per_amplification(wear)?;
-        let pin_depth = self.pin.max_half_depth_after(wear.pin(), amplification);
-        if pin_depth >= self.pin.nominal_radius() {
-            return Err(WearError::PinWornThrough {
-                radius: self.pin.nominal_radius(),
-                depth: pin_depth,
-            });
-        }
-        Ok(fraction)
-    }
-
-    fn check(&self, wear: &StageWear) -> Result<(), WearError> {
-        check_increment("bearing wear", &self.bearing, wear.bearing())?;
-        check_increment("pin wear", &self.pin, wear.pin())
     }
 }
 

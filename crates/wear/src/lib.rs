@@ -69,6 +69,7 @@ mod error;
 mod implicit;
 mod joint;
 mod profile;
+mod run;
 mod staging;
 
 pub use accumulate::StageWear;
@@ -76,7 +77,8 @@ pub use error::WearError;
 pub use implicit::ContactZone;
 pub use joint::{ContactArc, DEFAULT_CELLS, ShapeBound, WearParams, WornJoint};
 pub use profile::{AngularRange, Peak, Side, WornProfile};
+pub use run::{run_stage, run_stages};
 pub use staging::{
     Extrapolation, ExtrapolationWarning, GeometryLimits, JointSubstep, RunContext, StagePlan,
-    StageReport, StagingError, SubstepReport, WearSample, WearStepping, run_stage, run_stages,
+    StageReport, StagingError, SubstepReport, WearSample, WearStepping,
 };

@@ -16,13 +16,17 @@
 //! step grows while the rate changes slowly and shrinks where it changes fast. Since K chaotic
 //! cycles are a noisy sample of the rate, the estimate removes the sampling noise that the
 //! runner's two halves of the cycles measure ([`WearSample::halves`]).
+//!
+//! Layout: this module holds what both extrapolations share — the plan, what the runner is
+//! given and returns, the reports, the errors, and a sub-step's bounds and update; `run` runs
+//! the stages ([`crate::run_stages`], [`crate::run_stage`]) with the adaptive and single-jump
+//! sub-steps, and hands error-controlled stages to `controlled`.
 
 use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
 use crate::accumulate::StageWear;
-use crate::controlled::{self, Control};
 use crate::error::{WearError, positive, require};
 use crate::joint::WornJoint;
 
@@ -518,155 +522,6 @@ pub enum StagingError<E> {
     /// The caller's K-cycle simulation failed.
     #[error("stage runner failed: {0}")]
     Runner(E),
-}
-
-/// Runs all stages of `plan` on `joints` (all joints of the mechanism that wear, updated
-/// together so one sub-step bound covers them all).
-///
-/// `runner(context, joints)` must simulate the K cycles on the joints as given (frozen) and
-/// return one [`StageWear`] per joint, same order, as a `Vec` or a [`WearSample`] with the
-/// halves. On error the joints hold the surfaces of the sub-steps completed so far.
-pub fn run_stages<E, W, F>(
-    joints: &mut [WornJoint],
-    plan: &StagePlan,
-    mut runner: F,
-) -> Result<Vec<StageReport>, StagingError<E>>
-where
-    W: Into<WearSample>,
-    F: FnMut(RunContext, &[WornJoint]) -> Result<W, E>,
-{
-    plan.validate()?;
-    (0..plan.stages)
-        .map(|stage| run_stage(joints, stage, plan, &mut runner))
-        .collect()
-}
-
-/// Runs stage `stage` of `plan` (see [`run_stages`]).
-pub fn run_stage<E, W, F>(
-    joints: &mut [WornJoint],
-    stage: usize,
-    plan: &StagePlan,
-    runner: &mut F,
-) -> Result<StageReport, StagingError<E>>
-where
-    W: Into<WearSample>,
-    F: FnMut(RunContext, &[WornJoint]) -> Result<W, E>,
-{
-    plan.validate()?;
-    let mut report = StageReport {
-        stage,
-        substeps: Vec::new(),
-        warning: None,
-        ended_at_limits: None,
-        run_weights: Vec::new(),
-    };
-    if let Extrapolation::Controlled {
-        tolerance,
-        min_fraction,
-        max_fraction,
-        max_runs,
-    } = plan.extrapolation
-    {
-        let control = Control {
-            tolerance,
-            min_fraction,
-            max_fraction,
-            max_runs,
-        };
-        return controlled::run_stage(joints, plan, control, runner, report);
-    }
-    let mut used = 0.0;
-    loop {
-        let context = RunContext {
-            stage,
-            substep: report.substeps.len(),
-            applied: used / plan.amplification,
-        };
-        let wear = sample(runner, context, joints)?.wear;
-        let per_unit = largest_change_per_amplification(joints, &wear)?;
-        let (mut slope_per_unit, mut curvature_per_unit): (f64, f64) = (0.0, 0.0);
-        for (joint, w) in joints.iter().zip(&wear) {
-            let (slope, curvature) = joint.shape_change_per_amplification(w)?;
-            slope_per_unit = slope_per_unit.max(slope);
-            curvature_per_unit = curvature_per_unit.max(curvature);
-        }
-        let remaining = plan.amplification - used;
-        let mut at_limits = false;
-        let amplification = match plan.extrapolation {
-            Extrapolation::Adaptive {
-                max_fraction,
-                max_slope_change,
-                max_curvature_change,
-                ..
-            } => {
-                // The largest amplification every bound allows; the small slack avoids a
-                // needless re-run for a rounding-sized remainder.
-                let allowed = [
-                    (per_unit, max_fraction),
-                    (slope_per_unit, max_slope_change),
-                    (curvature_per_unit, max_curvature_change),
-                ]
-                .iter()
-                .filter(|(rate, _)| *rate > 0.0)
-                .map(|(rate, bound)| bound / rate)
-                .fold(f64::INFINITY, f64::min);
-                let limited = limited_amplification(plan, joints, &wear)?;
-                if limited < allowed.min(remaining) {
-                    at_limits = true;
-                    limited
-                } else if allowed * (1.0 + 1e-9) < remaining {
-                    allowed
-                } else {
-                    remaining
-                }
-            }
-            // Controlled stages return above, before this loop.
-            Extrapolation::SingleJump { .. } | Extrapolation::Controlled { .. } => remaining,
-        };
-        if at_limits && amplification <= 0.0 {
-            report.run_weights.push(0.0);
-            report.ended_at_limits = Some(used);
-            return Ok(report);
-        }
-        let substep = match plan.stepping {
-            WearStepping::Explicit => apply_all(joints, &wear, amplification, context)?,
-            WearStepping::LinearlyImplicit => {
-                let implicit: Vec<StageWear> =
-                    wear.iter().map(|w| w.implicit(amplification).0).collect();
-                apply_all(joints, &implicit, amplification, context)?
-            }
-        };
-        report.run_weights.push(amplification);
-        used += amplification;
-        if let Extrapolation::SingleJump { warn_fraction } = plan.extrapolation
-            && substep.max_change_fraction > warn_fraction
-        {
-            report.warning = Some(ExtrapolationWarning {
-                stage,
-                amplification,
-                change_fraction: substep.max_change_fraction,
-                limit: warn_fraction,
-            });
-        }
-        report.substeps.push(substep);
-        if at_limits {
-            report.ended_at_limits = Some(used);
-            return Ok(report);
-        }
-        if amplification == remaining {
-            return Ok(report);
-        }
-        if let Extrapolation::Adaptive { max_substeps, .. } = plan.extrapolation
-            && report.substeps.len() >= max_substeps
-        {
-            return Err(WearError::SubstepLimit {
-                stage,
-                limit: max_substeps,
-                remaining: plan.amplification - used,
-            }
-            .into());
-        }
-    }
 }
 
 /// One run of the runner, its joint count checked.

@@ -16,12 +16,12 @@
 use nalgebra::DMatrix;
 
 use crate::constraints::LocalDerivatives;
-use crate::dynamics::AbsoluteTolerances;
-use crate::error::EvaluationError;
+use crate::error::{EvaluationError, check_len};
 use crate::force::{ForceElement, ForcePartials};
-use crate::formulation::{ForwardDifferences, check_len};
+use crate::formulation::{Equations, ForwardDifferences, first_order};
 use crate::linalg::{DenseCholesky, dependent_rows};
-use crate::system::{Baumgarte, State, System};
+use crate::state::{AbsoluteTolerances, State};
+use crate::system::{Baumgarte, System};
 
 use super::scalar::{Dual, V2};
 use super::tree::{Motion, Placement, Tree};
@@ -151,42 +151,6 @@ impl<'s> JointEvaluator<'s> {
         }
     }
 
-    /// The equations that can drift: loop closures and unprescribed drivers.
-    pub fn drifting(&self) -> &'s [usize] {
-        &self.tree.kept
-    }
-
-    /// Length of the integrated state `(z_free, ż_free)`.
-    pub fn size(&self) -> usize {
-        2 * self.nf
-    }
-
-    /// The free coordinates and rates of an assembled Cartesian state.
-    pub fn initial_state(&mut self, state: &State) -> Vec<f64> {
-        self.tree
-            .read(&state.q, &state.qd, &mut self.z, &mut self.zd);
-        let free = &self.tree.free;
-        free.iter()
-            .map(|&c| self.z[c])
-            .chain(free.iter().map(|&c| self.zd[c]))
-            .collect()
-    }
-
-    /// Absolute tolerances of `(z, ż)`: angles for rotations, lengths for slides.
-    pub fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64> {
-        let pick = |c: &usize, velocity: bool| match (self.tree.motion(*c), velocity) {
-            (Motion::Rotation { .. }, false) => atol.angle,
-            (Motion::Rotation { .. }, true) => atol.angular_velocity,
-            (Motion::Translation, false) => atol.position,
-            (Motion::Translation, true) => atol.velocity,
-        };
-        let free = &self.tree.free;
-        free.iter()
-            .map(|c| pick(c, false))
-            .chain(free.iter().map(|c| pick(c, true)))
-            .collect()
-    }
-
     /// Fills all coordinates and rates at `t`, with zero free accelerations.
     fn coordinates(&mut self, t: f64, x: &[f64]) {
         let nf = self.nf;
@@ -207,24 +171,6 @@ impl<'s> JointEvaluator<'s> {
             self.zd[p.coordinate] = f.velocity(t) / p.scale;
             self.zdd[p.coordinate] = f.acceleration(t) / p.scale;
         }
-    }
-
-    /// The Cartesian `(q, q̇)` of the integrated state `x` at `t`, into `y` (length `2n`).
-    pub fn cartesian(&mut self, t: f64, x: &[f64], y: &mut [f64]) {
-        self.coordinates(t, x);
-        let (q, qd) = y.split_at_mut(self.n);
-        self.tree.place(
-            &self.z,
-            &self.zd,
-            &self.zdd,
-            &mut Placement {
-                q,
-                qd,
-                qdd: &mut self.qdd,
-                axes: &mut self.axes,
-                trig: &mut self.trig,
-            },
-        );
     }
 
     /// Kinematics, forces and the reduced solve at `(t, x)`: `z̈`, `λ`, `q̈` and the residual.
@@ -426,7 +372,7 @@ impl<'s> JointEvaluator<'s> {
     /// formulation. One reduced solve instead of the Cartesian one of `q̈` and all `λ`; the
     /// same pass writes each element's power `F·q̇` into `element_powers` (0 for elements
     /// with a potential energy), so the audit evaluates the forces once per node.
-    pub fn powers(
+    fn audit_powers(
         &mut self,
         elements: &[Box<dyn ForceElement>],
         t: f64,
@@ -457,9 +403,62 @@ impl<'s> JointEvaluator<'s> {
         }
         Ok(())
     }
+}
+
+/// The joint-coordinate formulation's equations, as the integration loop drives them.
+impl Equations for JointEvaluator<'_> {
+    /// Length of the integrated state `(z_free, ż_free)`.
+    fn size(&self) -> usize {
+        2 * self.nf
+    }
+
+    /// The free coordinates and rates of an assembled Cartesian state.
+    fn initial_state(&mut self, state: &State) -> Vec<f64> {
+        self.tree
+            .read(&state.q, &state.qd, &mut self.z, &mut self.zd);
+        let free = &self.tree.free;
+        free.iter()
+            .map(|&c| self.z[c])
+            .chain(free.iter().map(|&c| self.zd[c]))
+            .collect()
+    }
+
+    /// Absolute tolerances of `(z, ż)`: angles for rotations, lengths for slides.
+    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64> {
+        let pick = |c: &usize, velocity: bool| match (self.tree.motion(*c), velocity) {
+            (Motion::Rotation { .. }, false) => atol.angle,
+            (Motion::Rotation { .. }, true) => atol.angular_velocity,
+            (Motion::Translation, false) => atol.position,
+            (Motion::Translation, true) => atol.velocity,
+        };
+        let free = &self.tree.free;
+        free.iter()
+            .map(|c| pick(c, false))
+            .chain(free.iter().map(|c| pick(c, true)))
+            .collect()
+    }
+
+    /// The Cartesian `(q, q̇)` of the integrated state `x` at `t`, into `y` (length `2n`).
+    fn cartesian<'a>(&mut self, t: f64, x: &'a [f64], y: &'a mut [f64]) -> &'a [f64] {
+        self.coordinates(t, x);
+        let (q, qd) = y.split_at_mut(self.n);
+        self.tree.place(
+            &self.z,
+            &self.zd,
+            &self.zdd,
+            &mut Placement {
+                q,
+                qd,
+                qdd: &mut self.qdd,
+                axes: &mut self.axes,
+                trig: &mut self.trig,
+            },
+        );
+        y
+    }
 
     /// `ẋ = (ż, z̈)`; NaN and an error on a singular system.
-    pub fn rhs(
+    fn rhs(
         &mut self,
         elements: &[Box<dyn ForceElement>],
         t: f64,
@@ -471,14 +470,14 @@ impl<'s> JointEvaluator<'s> {
         check_len("x", x, 2 * nf)?;
         check_len("ẋ", dx, 2 * nf)?;
         let result = self.solve(elements, t, x);
-        crate::system::first_order(dx, &x[nf..], &result, &self.solution[..nf]);
+        first_order(dx, &x[nf..], &result, &self.solution[..nf]);
         result
     }
 
     /// Exact `∂ẋ/∂x` (`2nf × 2nf`): see the module docs.
     // Local slots index several arrays at once (Hessian, global map).
     #[allow(clippy::needless_range_loop)]
-    pub fn jacobian(
+    fn jacobian(
         &mut self,
         elements: &[Box<dyn ForceElement>],
         t: f64,
@@ -611,7 +610,7 @@ impl<'s> JointEvaluator<'s> {
     }
 
     /// Forward-difference Jacobian, the reference for the exact one.
-    pub fn finite_difference_jacobian(
+    fn finite_difference_jacobian(
         &mut self,
         elements: &[Box<dyn ForceElement>],
         t: f64,
@@ -629,5 +628,25 @@ impl<'s> JointEvaluator<'s> {
         let result = differences.jacobian(|v, dv| self.rhs(elements, t, v, dv), x, jacobian);
         self.forward_differences = differences;
         result
+    }
+
+    fn evaluations(&self) -> (usize, usize) {
+        (self.rhs_evaluations, self.jacobian_evaluations)
+    }
+
+    /// The equations that can drift: loop closures and unprescribed drivers.
+    fn drifting(&self) -> Option<&[usize]> {
+        Some(&self.tree.kept)
+    }
+
+    fn powers(
+        &mut self,
+        elements: &[Box<dyn ForceElement>],
+        t: f64,
+        x: &[f64],
+        element_powers: &mut [f64],
+        driver_powers: &mut [f64],
+    ) -> Option<Result<(), EvaluationError>> {
+        Some(self.audit_powers(elements, t, x, element_powers, driver_powers))
     }
 }
