@@ -7,6 +7,8 @@
 
 #[macro_use]
 mod console;
+mod error;
+mod overrides;
 mod progress;
 mod study;
 mod sweep;
@@ -15,10 +17,11 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use lgres::io::output::OutputError;
+use error::CliError;
 use lgres::scene;
 use lgres::scenes;
-use lgres::{RunError, RunOutcome, Scene, SceneError};
+use lgres::{RunError, RunOutcome, Scene};
+use overrides::Overrides;
 
 #[derive(Parser)]
 #[command(
@@ -31,128 +34,6 @@ struct Cli {
     command: Command,
     #[command(flatten)]
     overrides: Overrides,
-}
-
-/// Options that override the scene's settings.
-#[derive(clap::Args)]
-struct Overrides {
-    /// Output folder (default: out/<scene>).
-    #[arg(long, global = true, value_name = "DIR")]
-    out: Option<PathBuf>,
-    /// Drive cycles of the response run (scene: run.cycles, at least 1).
-    #[arg(long, global = true, allow_negative_numbers = true)]
-    cycles: Option<u32>,
-    /// Wear stages (scene: run.wear_stages).
-    #[arg(long, global = true, allow_negative_numbers = true)]
-    stages: Option<u32>,
-    /// Relative tolerance (scene: solver.rtol).
-    #[arg(long, global = true, allow_negative_numbers = true)]
-    rtol: Option<f64>,
-    /// Simulated cycles per wear stage K (scene: run.cycles_per_stage, the paper's 100). The
-    /// amplification is rescaled so a stage still stands for the scene's K × amplification
-    /// cycles. `run` defaults to 2 (even, so the stage's convergence in K is checked; the LGRES
-    /// stage is within 2.6 % of finer sub-steps, docs/convergence.md); give 100 for the paper's
-    /// staging.
-    #[arg(
-        long,
-        global = true,
-        value_name = "K",
-        allow_negative_numbers = true,
-        value_parser = clap::value_parser!(u32).range(1..)
-    )]
-    cycles_per_stage: Option<u32>,
-    /// Accepted-step budget of each simulation (scene: solver.max_steps).
-    #[arg(long, global = true, value_name = "N", allow_negative_numbers = true)]
-    max_steps: Option<usize>,
-    /// Wall-time budget of each simulation, s (scene: solver.max_wall_time).
-    #[arg(
-        long,
-        global = true,
-        value_name = "SECONDS",
-        allow_negative_numbers = true
-    )]
-    max_wall_time: Option<f64>,
-    /// Trajectories a wear sub-step's K cycles are spread over, run on threads, each
-    /// continuing from where it ended (scene: run.trajectories; a divisor of K). `run`
-    /// defaults to 2 with its default K = 2 (one cycle each), else to the scene's (1: one
-    /// trajectory, restarted at every sub-step).
-    #[arg(
-        long,
-        global = true,
-        value_name = "M",
-        allow_negative_numbers = true,
-        value_parser = clap::value_parser!(u32).range(1..)
-    )]
-    trajectories: Option<u32>,
-    /// Error-controlled wear sub-steps: accept a sub-step when its local error estimate is
-    /// within this fraction (scene: run.wear_tolerance, e.g. 0.05; `max_clearance_change`
-    /// becomes the smallest sub-step; docs/model.md §10.4).
-    #[arg(long, global = true, value_name = "TOL", allow_negative_numbers = true)]
-    wear_tolerance: Option<f64>,
-    /// `study`: scene runs at once; `run`: threads of the wear trajectories (default: the
-    /// machine's cores; results do not depend on it).
-    #[arg(long, global = true, value_name = "N", allow_negative_numbers = true)]
-    jobs: Option<std::num::NonZeroUsize>,
-    /// `run`: start from the worn surfaces an earlier run wrote into DIR (its last-stage
-    /// wear_<joint>_stage<k>.csv files, for the joints of the same names).
-    #[arg(long, global = true, value_name = "DIR")]
-    surfaces: Option<PathBuf>,
-}
-
-impl Overrides {
-    /// The flags given on the command line, by name.
-    fn given(&self) -> Vec<&'static str> {
-        [
-            ("--out", self.out.is_some()),
-            ("--cycles", self.cycles.is_some()),
-            ("--stages", self.stages.is_some()),
-            ("--rtol", self.rtol.is_some()),
-            ("--cycles-per-stage", self.cycles_per_stage.is_some()),
-            ("--trajectories", self.trajectories.is_some()),
-            ("--wear-tolerance", self.wear_tolerance.is_some()),
-            ("--max-steps", self.max_steps.is_some()),
-            ("--max-wall-time", self.max_wall_time.is_some()),
-            ("--jobs", self.jobs.is_some()),
-            ("--surfaces", self.surfaces.is_some()),
-        ]
-        .into_iter()
-        .filter_map(|(flag, given)| given.then_some(flag))
-        .collect()
-    }
-
-    /// Refuses, before any work, a flag `command` does not use (it would be silently ignored
-    /// while the command runs for minutes).
-    fn only(
-        &self,
-        command: &'static str,
-        allowed: &[&str],
-        hint: &'static str,
-    ) -> Result<(), CliError> {
-        match self.given().into_iter().find(|f| !allowed.contains(f)) {
-            Some(flag) => Err(CliError::FlagNotUsed {
-                flag,
-                command,
-                hint,
-            }),
-            None => Ok(()),
-        }
-    }
-
-    /// The run-setting overrides, as every front end applies them.
-    fn run_overrides(&self) -> lgres::overrides::RunOverrides {
-        lgres::overrides::RunOverrides {
-            cycles: self.cycles,
-            stages: self.stages,
-            rtol: self.rtol,
-            max_steps: self.max_steps,
-            max_wall_time: self.max_wall_time,
-            cycles_per_stage: self.cycles_per_stage,
-            trajectories: self.trajectories,
-            wear_tolerance: self.wear_tolerance,
-            threads: self.jobs.map(std::num::NonZeroUsize::get),
-            surfaces: self.surfaces.clone(),
-        }
-    }
 }
 
 #[derive(Subcommand)]
@@ -247,79 +128,6 @@ impl StudyName {
             StudyName::Speed => "speed",
             StudyName::Extrapolation => lgres::analysis::study::EXTRAPOLATION,
             StudyName::All => "all",
-        }
-    }
-}
-
-/// Why `wearsim` stopped.
-#[derive(Debug, thiserror::Error)]
-enum CliError {
-    /// The scene could not be loaded or is invalid.
-    #[error(transparent)]
-    Scene(#[from] SceneError),
-    /// Neither a built-in name nor an existing file.
-    #[error("no built-in scene and no file named {0:?} (see `wearsim scenes`)")]
-    NoSuchScene(String),
-    /// The run failed, or its scene does not assemble.
-    #[error(transparent)]
-    Run(#[from] RunError),
-    /// A scene the run cannot use (its drivers, joints, assembly), named as given.
-    #[error("in scene {spec}: {source}")]
-    InScene {
-        /// The scene as given on the command line (a built-in name or a file).
-        spec: String,
-        /// Why (boxed: a run error is large).
-        source: Box<RunError>,
-    },
-    /// An output could not be written.
-    #[error(transparent)]
-    Output(#[from] OutputError),
-    /// A study failed or was given bad settings.
-    #[error(transparent)]
-    Study(#[from] lgres::analysis::study::StudyError),
-    /// A sweep could not be set up or written (a failed sample is a row, not an error).
-    #[error(transparent)]
-    Sweep(#[from] ::sweep::SweepError),
-    /// A work–precision sweep could not run.
-    #[error(transparent)]
-    Precision(#[from] lgres::analysis::precision::PrecisionError),
-    /// A flag the command does not use.
-    #[error("{flag} does not apply to `wearsim {command}`{hint}")]
-    FlagNotUsed {
-        /// The flag.
-        flag: &'static str,
-        /// The command.
-        command: &'static str,
-        /// Where the setting goes instead, if anywhere (starts with "; ").
-        hint: &'static str,
-    },
-}
-
-impl CliError {
-    fn exit_code(&self) -> u8 {
-        match self {
-            CliError::Scene(_) | CliError::NoSuchScene(_) | CliError::FlagNotUsed { .. } => 2,
-            CliError::Run(e) if e.is_bad_input() => 2,
-            CliError::InScene { source, .. } if source.is_bad_input() => 2,
-            CliError::Study(e) if e.is_bad_input() => 2,
-            CliError::Precision(
-                lgres::analysis::precision::PrecisionError::Options { .. }
-                | lgres::analysis::precision::PrecisionError::Scene(_)
-                | lgres::analysis::precision::PrecisionError::Unsuitable(_),
-            ) => 2,
-            CliError::Sweep(e) if e.is_bad_input() => 2,
-            CliError::Output(e) if e.is_bad_input() => 2,
-            CliError::Precision(lgres::analysis::precision::PrecisionError::Output(e))
-                if e.is_bad_input() =>
-            {
-                2
-            }
-            CliError::Run(_)
-            | CliError::InScene { .. }
-            | CliError::Sweep(_)
-            | CliError::Output(_)
-            | CliError::Study(_)
-            | CliError::Precision(_) => 1,
         }
     }
 }

@@ -7,8 +7,9 @@ use std::path::PathBuf;
 use lgres::analysis::study::judge;
 use lgres::analysis::study::{self, StudyError, StudyOptions};
 
+use crate::error::CliError;
+use crate::overrides::Overrides;
 use crate::progress::StudyBars;
-use crate::{CliError, Overrides};
 
 /// Output folder when `--out` is not given.
 const DEFAULT_OUT: &str = "out/study";

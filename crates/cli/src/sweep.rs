@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use sweep::{LocalOptions, Status, Sweep};
 
-use crate::{CliError, Overrides};
+use crate::error::CliError;
+use crate::overrides::Overrides;
 
 /// Runs the sweep in `file`; `resume` keeps the rows already written.
 pub fn run(file: &Path, resume: bool, o: &Overrides) -> Result<(), CliError> {
