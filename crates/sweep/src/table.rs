@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use lgres::io::output::{AtomicFile, OutputError};
-use serde::{Deserialize, Serialize};
 
+pub use crate::row::{FIXED_COLUMNS, Row, Status, number};
 use crate::{Sweep, SweepError};
 
 /// The rows file's name in a sweep's output folder.
@@ -16,79 +16,6 @@ pub const ROWS_FILE: &str = "samples.csv";
 /// Largest rows file read back, bytes (a million samples' rows fit): a longer one is refused
 /// before it is read.
 pub const MAX_ROWS_FILE_BYTES: u64 = 1 << 30;
-
-/// Columns every rows file has besides the inputs and metrics.
-pub const FIXED_COLUMNS: [&str; 4] = ["sample", "status", "error", "wall_time_s"];
-
-/// Whether a sample ran.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Status {
-    /// Ran; the metrics are its summary's.
-    Ok,
-    /// Could not run; `error` says why.
-    Failed,
-}
-
-impl Status {
-    /// As written in the file.
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Status::Ok => "ok",
-            Status::Failed => "failed",
-        }
-    }
-}
-
-/// One sample's result.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Row {
-    /// Sample index.
-    pub sample: usize,
-    /// Input values, in input order.
-    pub inputs: Vec<f64>,
-    /// Metric values, in metric order (`None`: not a number in this sample's summary).
-    pub metrics: Vec<Option<f64>>,
-    /// Whether it ran.
-    pub status: Status,
-    /// Why it failed (empty when it ran).
-    pub error: String,
-    /// Wall time of the sample, s (the one cell that differs between engines).
-    pub wall_time_s: f64,
-}
-
-impl Row {
-    /// As JSON (how rows travel between processes; numbers come back bit-exact).
-    pub fn to_json(&self) -> String {
-        serde_json::to_string(self).unwrap_or_default()
-    }
-
-    /// From [`Row::to_json`].
-    pub fn from_json(text: &str) -> Result<Row, SweepError> {
-        Ok(serde_json::from_str(text)?)
-    }
-
-    /// The first metric that is NaN or infinite, as (metric index, value).
-    pub fn non_finite_metric(&self) -> Option<(usize, f64)> {
-        self.metrics
-            .iter()
-            .enumerate()
-            .find_map(|(k, m)| m.filter(|v| !v.is_finite()).map(|v| (k, v)))
-    }
-
-    /// Whether a resumed sweep keeps this row: a failed row, or an `ok` one, whose metrics are
-    /// all finite (or missing). A row with a NaN metric (an older version's, or an edited
-    /// file's: [`write_rows`] writes none) is not a result: its sample runs again.
-    pub fn is_done(&self) -> bool {
-        self.non_finite_metric().is_none()
-    }
-}
-
-/// A number in the shorter of `{}` and `{:e}` (both round-trip exactly).
-pub fn number(v: f64) -> String {
-    let (plain, sci) = (format!("{v}"), format!("{v:e}"));
-    if sci.len() < plain.len() { sci } else { plain }
-}
 
 /// The header of `sweep`'s rows file.
 pub fn header(sweep: &Sweep) -> Vec<String> {
