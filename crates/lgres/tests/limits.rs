@@ -294,8 +294,8 @@ fn penetration_beyond_half_the_clearance_fails_the_response_run() {
         penetration: vec![-1e-4, peak, 0.0],
         ..Default::default()
     };
-    lgres::scene::limits::check_penetration(&scene, "response", &[series(2.4e-4)]).unwrap();
-    match lgres::scene::limits::check_penetration(&scene, "response", &[series(2.6e-4)]) {
+    lgres::run::validity::check_penetration(&scene, "response", &[series(2.4e-4)]).unwrap();
+    match lgres::run::validity::check_penetration(&scene, "response", &[series(2.6e-4)]) {
         Err(e @ RunError::PenetrationBeyondLimit { .. }) => {
             let text = e.to_string();
             assert!(

@@ -173,7 +173,7 @@ fn every_plot_renders_a_png_of_the_right_size() {
         .map(|(b, p)| 5e-4 + (b + p) / 2.0)
         .collect();
     let path = dir.join("life.png");
-    let curve = plot::LifeCurve {
+    let curve = lgres::io::life_plot::LifeCurve {
         cycles: &cycles,
         bearing_depth: &bearing,
         pin_depth: &pin,
@@ -181,7 +181,8 @@ fn every_plot_renders_a_png_of_the_right_size() {
         stage_boundaries: &[1e6],
         limit: Some((5.2e-4, Some(1.7e6))),
     };
-    plot::life_curve(&path, "Wear of joint A over its life", (900, 700), &curve).unwrap();
+    lgres::io::life_plot::life_curve(&path, "Wear of joint A over its life", (900, 700), &curve)
+        .unwrap();
     assert_eq!(png_size(&path), (900, 700));
 
     // Empty data still gives a readable (empty) chart rather than an error or a panic.

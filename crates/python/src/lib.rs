@@ -254,7 +254,7 @@ impl Outcome {
     /// The run's report as an HTML fragment (what a notebook displays), figures embedded.
     /// Releases the GIL while it draws.
     fn report_html(&self, py: Python<'_>) -> PyResult<String> {
-        py.detach(|| lgres::io::report::notebook_html(&self.0))
+        py.detach(|| lgres::io::artifacts::notebook_html(&self.0))
             .map_err(|e| RunError::new_err(e.to_string()))
     }
 }

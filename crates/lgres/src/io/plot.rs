@@ -15,8 +15,6 @@ use plotters::style::{FontStyle, register_font};
 
 use crate::io::output::{OutputError, write_via_temp};
 
-pub use super::life_plot::{LifeCurve, life_curve};
-
 /// Default figure size, pixels.
 pub const DEFAULT_SIZE: (u32, u32) = (1000, 650);
 

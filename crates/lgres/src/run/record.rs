@@ -105,7 +105,7 @@ pub(super) fn assemble(built: &Built, what: &str) -> Result<multibody::State, Ru
             what: what.to_string(),
             source,
         })?;
-    crate::scene::limits::check_initial_penetration(built, &state, what)?;
+    crate::run::validity::check_initial_penetration(built, &state, what)?;
     Ok(state)
 }
 

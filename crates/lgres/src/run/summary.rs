@@ -237,10 +237,6 @@ fn quantile(values: &[f64], q: f64) -> f64 {
     values[lo] + (x - lo as f64) * (values[hi] - values[lo])
 }
 
-/// Median elastic share of the per-cycle force peaks below which a response's forces are
-/// mostly the damping term of the law, not loads the surfaces carry: flagged, not results.
-pub const MIN_ELASTIC_SHARE: f64 = 0.5;
-
 /// Bootstrap resamples behind [`median_bootstrap_noise`].
 const BOOTSTRAP_RESAMPLES: usize = 2000;
 

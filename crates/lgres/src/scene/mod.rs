@@ -27,8 +27,10 @@
 //! ranges, which validation reports under the parameter's field path.
 
 mod contact_spec;
+mod defaults;
 mod error;
 mod extends;
+pub mod file_names;
 pub mod limits;
 mod run_settings;
 mod types;
@@ -39,7 +41,6 @@ pub use error::{Issue, SceneError};
 pub use extends::{from_table, load_path, load_str, merged_table, merged_table_of_file};
 pub use run_settings::{DEFAULT_WEAR_SMOOTHING_DEG, RunSettings};
 pub use types::*;
-pub(crate) use validate::Validator;
 
 pub use contact::{FrictionLawParams, MaterialParams, NormalLawParams, SlidingVelocity};
 pub use multibody::{Coordinate, Formulation, Integrator};

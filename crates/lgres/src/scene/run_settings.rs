@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::types::yes;
+use super::defaults::yes;
 
 /// How long to run and how to stage wear.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -12,7 +12,7 @@ use std::fmt;
 
 use wear::{WornJoint, WornProfile};
 
-use super::{StudyKind, StudyResults};
+use super::results::{StudyKind, StudyResults};
 use crate::run::{ResponseSummary, RunOutcome};
 
 /// Fraction of a surface's peak depth that counts as worn, for the worn arc and irregularity.

@@ -12,7 +12,7 @@ use super::judge::{
     trends, wear_metrics,
 };
 use super::paper::{PaperStudy, PaperValue, Quantity, paper};
-use super::{EXTRAPOLATION, SINGLE_JUMP_RUN, SceneRun, StudyKind, StudyResults, relative};
+use super::results::{EXTRAPOLATION, SINGLE_JUMP_RUN, SceneRun, StudyKind, StudyResults, relative};
 use crate::io::output::OutputError;
 use crate::io::plot::{self, DEFAULT_SIZE};
 use crate::run::{ResponseSummary, RunOutcome};

@@ -6,9 +6,9 @@ use std::f64::consts::TAU;
 
 use plotters::prelude::*;
 
-use super::colours::{FORCE, GROUND, IDEAL, JOINT, LINK, TRAIL, WORN};
+use super::canvas::colours::{FORCE, GROUND, IDEAL, JOINT, LINK, TRAIL, WORN};
+use super::canvas::{ANIMATION_SIZE, Area, DrawResult, text};
 use super::layout::{FOOTER, INSETS, TITLE, View, global};
-use super::{ANIMATION_SIZE, Area, DrawResult, text};
 use crate::io::plot::cell_angle_deg;
 use crate::run::{JointWearHistory, MechanismFrames, Response};
 use crate::scene::{BodyRef, Scene};

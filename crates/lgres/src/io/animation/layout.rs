@@ -3,8 +3,8 @@
 
 use plotters::prelude::*;
 
-use super::colours::{GROUND, IDEAL, LINK};
-use super::{ANIMATION_SIZE, Area, DrawResult};
+use super::canvas::colours::{GROUND, IDEAL, LINK};
+use super::canvas::{ANIMATION_SIZE, Area, DrawResult};
 use crate::run::MechanismFrames;
 use crate::scene::{BodyRef, Scene};
 
