@@ -16,9 +16,9 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use lgres::io::output::OutputError;
-use lgres::scene;
 use lgres::scenes;
-use lgres::{RunError, RunOutcome, Scene, SceneError};
+use lgres::{RunError, RunOutcome};
+use scene::{Scene, SceneError};
 
 #[derive(Parser)]
 #[command(
@@ -354,7 +354,7 @@ fn load(spec: &str, o: &Overrides) -> Result<Loaded, CliError> {
         let stem = path
             .file_stem()
             .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned());
-        (stem, scene::load_path(path)?)
+        (stem, scene::load_path(path, lgres::scenes::BUILTINS)?)
     } else {
         return Err(CliError::NoSuchScene(spec.to_string()));
     };

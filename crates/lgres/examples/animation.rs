@@ -20,7 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = PathBuf::from(args.get(1).map_or("out/animation", String::as_str));
     let mut scene = match lgres::scenes::builtin(name) {
         Ok(scene) => scene,
-        Err(_) => lgres::scene::load_path(name.as_ref())?,
+        Err(_) => scene::load_path(name.as_ref(), lgres::scenes::BUILTINS)?,
     };
     scene.run.cycles = args.get(2).map_or(Ok(2), |s| s.parse())?;
     scene.run.wear_stages = args.get(3).map_or(Ok(0), |s| s.parse())?;

@@ -27,7 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scene = match args.get(2).map(String::as_str) {
         None => lgres::scenes::builtin("lgres")?,
         Some(name) if lgres::scenes::source(name).is_some() => lgres::scenes::builtin(name)?,
-        Some(path) => lgres::scene::load_path(Path::new(path))?,
+        Some(path) => scene::load_path(Path::new(path), lgres::scenes::BUILTINS)?,
     };
     let period = scene.cycle_period().ok_or("the scene is not driven")?;
     let unworn = unworn_joints(&scene)?;

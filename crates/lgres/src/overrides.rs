@@ -9,20 +9,20 @@
 //! o.apply(&mut scene, "lgres with command-line overrides")?;
 //! assert_eq!((scene.run.cycles, scene.run.wear_stages), (1, 0));
 //! assert_eq!(o.run_options().cycles_per_stage, Some(lgres::overrides::QUICK_CYCLES_PER_STAGE));
-//! # Ok::<(), lgres::scene::SceneError>(())
+//! # Ok::<(), scene::SceneError>(())
 //! ```
 
 use std::path::PathBuf;
 
 use crate::run::RunOptions;
-use crate::scene::{Scene, SceneError};
+use scene::{Scene, SceneError};
 
 /// Simulated cycles per wear stage `K` when none is given: quick (the amplification is
 /// rescaled so a stage still stands for as many cycles, see [`RunOptions::cycles_per_stage`]).
 pub const QUICK_CYCLES_PER_STAGE: u32 = 2;
 
 /// Trajectories of a wear sub-step when neither they nor `K` are given: the quick `K`'s cycles
-/// each on its own trajectory, in parallel ([`crate::scene::RunSettings::trajectories`]).
+/// each on its own trajectory, in parallel ([`scene::RunSettings::trajectories`]).
 pub const QUICK_TRAJECTORIES: u32 = 2;
 
 /// Overrides of a scene's run settings; `None` keeps the scene's value.

@@ -4,15 +4,12 @@
 use lgres::run::{RunError, RunOptions, RunOutcome, run_scene};
 
 /// The worn slider-crank, one stage in two sub-steps or more, `K = 2` on `trajectories`.
-fn scene(trajectories: u32) -> Result<lgres::scene::Scene, lgres::scene::SceneError> {
+fn scene(trajectories: u32) -> Result<scene::Scene, scene::SceneError> {
     scene_with(trajectories, "")
 }
 
 /// [`scene`] with more `[run]` settings.
-fn scene_with(
-    trajectories: u32,
-    extra: &str,
-) -> Result<lgres::scene::Scene, lgres::scene::SceneError> {
+fn scene_with(trajectories: u32, extra: &str) -> Result<scene::Scene, scene::SceneError> {
     let text = format!(
         r#"
 extends = "slider-crank"
@@ -29,12 +26,12 @@ animation = false
 {extra}
 "#
     );
-    lgres::scene::load_str(&text, "ensemble")
+    scene::load_str(&text, "ensemble", lgres::scenes::BUILTINS)
 }
 
 /// `scene` run on `threads` threads, and its surfaces after every stage, per wearing joint.
 fn on_threads(
-    scene: &lgres::scene::Scene,
+    scene: &scene::Scene,
     threads: usize,
 ) -> Result<(RunOutcome, Vec<Vec<wear::WornJoint>>), RunError> {
     let options = RunOptions {

@@ -2,12 +2,16 @@
 //! silently wrong run), and `check` rejects what `run` would.
 
 use lgres::run::{ContactSeries, RunError, RunOptions, check_assembly};
-use lgres::scene::{SceneError, load_str};
 use lgres::scenes;
+use scene::{SceneError, load_str};
 
 /// `extends = "lgres"` plus `patch`, parsed and validated.
-fn patched(patch: &str) -> Result<lgres::scene::Scene, SceneError> {
-    load_str(&format!("extends = \"lgres\"\n{patch}\n"), "patch")
+fn patched(patch: &str) -> Result<scene::Scene, SceneError> {
+    load_str(
+        &format!("extends = \"lgres\"\n{patch}\n"),
+        "patch",
+        lgres::scenes::BUILTINS,
+    )
 }
 
 /// The error text of a patch that must be rejected, checked to name `field`.
@@ -172,7 +176,9 @@ fn joint_names_unsafe_in_file_names_are_rejected() {
 #[test]
 fn extra_array_elements_are_rejected_with_and_without_extends() {
     let text = edited("point = [-0.500, 0.0]", "point = [-0.500, 0.0, 99.0]");
-    let e = load_str(&text, "plain").unwrap_err().to_string();
+    let e = load_str(&text, "plain", lgres::scenes::BUILTINS)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("exactly two numbers") && e.contains("line"),
         "{e}"
@@ -192,6 +198,7 @@ fn extends_empty_array_replaces_the_base_array() {
     let s = load_str(
         "extends = \"slider-crank\"\nclearance_joints = []\n",
         "patch",
+        lgres::scenes::BUILTINS,
     )
     .unwrap();
     assert!(s.clearance_joints.is_empty());
@@ -205,7 +212,7 @@ fn extends_can_change_a_law_kind() {
     .unwrap();
     assert!(matches!(
         s.clearance_joints[0].normal_law,
-        lgres::scene::NormalLawParams::Hertz(_)
+        scene::NormalLawParams::Hertz(_)
     ));
 }
 
@@ -221,7 +228,7 @@ fn extends_patch_choosing_omega_replaces_the_base_rpm() {
          amplitude = 0.09, rpm = 30.0, omega = 5.0 }",
         "drivers[0].law",
     );
-    let e = load_str("extends = \"nope\"\n", "patch")
+    let e = load_str("extends = \"nope\"\n", "patch", lgres::scenes::BUILTINS)
         .unwrap_err()
         .to_string();
     assert!(e.contains("extends = \"nope\": no built-in"), "{e}");
@@ -262,7 +269,12 @@ fn check_rejects_a_mechanism_missing_a_clearance_joint_like_run() {
     let text = scenes::source("lgres").unwrap();
     let cut = text.find("# Joint B").unwrap();
     let end = text[cut..].find("[solver]").unwrap() + cut;
-    let scene = load_str(&format!("{}{}", &text[..cut], &text[end..]), "no B").unwrap();
+    let scene = load_str(
+        &format!("{}{}", &text[..cut], &text[end..]),
+        "no B",
+        lgres::scenes::BUILTINS,
+    )
+    .unwrap();
     let e = check_assembly("t", &scene, &RunOptions::default()).unwrap_err();
     assert!(e.is_bad_input(), "{e}");
     assert!(e.to_string().contains("kinematic analysis"), "{e}");
@@ -272,7 +284,7 @@ fn check_rejects_a_mechanism_missing_a_clearance_joint_like_run() {
 fn check_rejects_an_unassemblable_mechanism_naming_the_joints() {
     // Rod 1's ground pin moved far away: the loop cannot close.
     let text = edited("other_point = [0.0, 1.518]", "other_point = [0.0, 5.0]");
-    let scene = load_str(&text, "unassemblable").unwrap();
+    let scene = load_str(&text, "unassemblable", lgres::scenes::BUILTINS).unwrap();
     let e = check_assembly("t", &scene, &RunOptions::default()).unwrap_err();
     assert!(e.is_bad_input(), "{e}");
     let message = e.to_string();
@@ -326,6 +338,7 @@ fn step_budget_ends_a_run_in_a_failure_naming_the_field() {
     let scene = load_str(
         "extends = \"slider-crank\"\n[solver]\nmax_steps = 10\n",
         "budget",
+        lgres::scenes::BUILTINS,
     )
     .unwrap();
     let e = lgres::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
@@ -334,6 +347,7 @@ fn step_budget_ends_a_run_in_a_failure_naming_the_field() {
     let scene = load_str(
         "extends = \"slider-crank\"\n[solver]\nmax_wall_time = 1e-12\n",
         "budget",
+        lgres::scenes::BUILTINS,
     )
     .unwrap();
     let e = lgres::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
@@ -352,10 +366,10 @@ fn run_scene_validates_a_scene_built_in_code() {
 
 /// Issue 35, item 4: every setting that sets how much work a run does, fuzzed over values on
 /// both sides of its bound (from the smallest subnormal to the largest finite number): the
-/// verdict is the bound's (computed from `lgres::scene::limits`), and a refusal names the field.
+/// verdict is the bound's (computed from `scene::limits`), and a refusal names the field.
 #[test]
 fn work_bounds_hold_over_fuzzed_values() {
-    use lgres::scene::limits::{
+    use scene::limits::{
         MAX_CYCLES_PER_STAGE_REPRESENTED, MAX_LAYER_MODULUS, MAX_LENGTH, MAX_SUBSTEPS,
         MIN_SUBSTEP_FRACTION,
     };

@@ -238,7 +238,7 @@ cycles_per_stage = 2
 amplification = 750.0
 clearance_limit = 0.000505
 "#;
-    let scene = lgres::scene::load_str(text, "life").unwrap();
+    let scene = scene::load_str(text, "life", lgres::scenes::BUILTINS).unwrap();
     let outcome = lgres::run_scene("life", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("life");
     let files = lgres::write_run(&outcome, &dir).unwrap();
@@ -368,7 +368,7 @@ clearance_limit = 0.000505
     // limits: the curve ends at exactly the cycles the stage applied.
     far.run.amplification = 20_000.0;
     for joint in &mut far.clearance_joints {
-        joint.contact = lgres::scene::ContactSpec::line_of_centres();
+        joint.contact = scene::ContactSpec::line_of_centres();
     }
     let outcome = lgres::run_scene("far", &far, &Default::default(), &mut ()).unwrap();
     let wear = outcome.summary.wear.as_ref().unwrap();

@@ -46,7 +46,7 @@ cycles_per_stage = 2
 amplification = 750.0
 clearance_limit = 0.000505
 "#;
-    let scene = lgres::scene::load_str(text, "report").unwrap();
+    let scene = scene::load_str(text, "report", lgres::scenes::BUILTINS).unwrap();
     let outcome = lgres::run_scene("report", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("run");
     let files = lgres::write_run(&outcome, &dir).unwrap();

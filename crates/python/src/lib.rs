@@ -1,7 +1,7 @@
 //! The native module `wornjoint._native`: scenes as dicts, runs, and sweep tasks for the
 //! `wornjoint` Python package (its `__init__.py` wraps these in a friendlier API).
 //!
-//! Every run goes through the same code as `wearsim run` ([`lgres::scene::from_table`],
+//! Every run goes through the same code as `wearsim run` ([`scene::from_table`],
 //! [`lgres::overrides::RunOverrides`], [`lgres::run::run_scene`]), so its numbers equal the
 //! command line's bit for bit; runs release the GIL. Bad input raises `SceneError` (a
 //! `ValueError`) naming the field, a failed run `RunError`, a bad sweep file `SweepError` (a
@@ -79,11 +79,11 @@ fn scenes() -> BTreeMap<&'static str, &'static str> {
 }
 
 /// A built-in name or a file path → (name outputs are filed under, merged table).
-fn load_table(spec: &str) -> Result<(String, toml::Table), lgres::scene::SceneError> {
+fn load_table(spec: &str) -> Result<(String, toml::Table), scene::SceneError> {
     if let Some(text) = lgres::scenes::source(spec) {
         return Ok((
             spec.to_string(),
-            lgres::scene::merged_table(text, spec, None)?,
+            scene::merged_table(text, spec, None, lgres::scenes::BUILTINS)?,
         ));
     }
     let path = Path::new(spec);
@@ -91,7 +91,7 @@ fn load_table(spec: &str) -> Result<(String, toml::Table), lgres::scene::SceneEr
         // The built-in error lists the known names.
         lgres::scenes::builtin(spec)?;
     }
-    lgres::scene::merged_table_of_file(path)
+    scene::merged_table_of_file(path, lgres::scenes::BUILTINS)
 }
 
 fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
@@ -193,7 +193,7 @@ fn dict_to_table(d: &Bound<'_, PyDict>, path: &str) -> PyResult<toml::Table> {
 fn load<'py>(py: Python<'py>, spec: &str) -> PyResult<(String, Bound<'py, PyDict>)> {
     let (name, table) = load_table(spec).map_err(scene_err)?;
     // Parse and validate now, so a bad file fails at load.
-    lgres::scene::from_table(table.clone(), &name).map_err(scene_err)?;
+    scene::from_table(table.clone(), &name).map_err(scene_err)?;
     Ok((name, table_to_py(py, &table)?))
 }
 
@@ -201,7 +201,7 @@ fn load<'py>(py: Python<'py>, spec: &str) -> PyResult<(String, Bound<'py, PyDict
 #[pyfunction]
 fn check(scene: &Bound<'_, PyDict>, name: &str) -> PyResult<()> {
     let table = dict_to_table(scene, "")?;
-    lgres::scene::from_table(table, name).map_err(scene_err)?;
+    scene::from_table(table, name).map_err(scene_err)?;
     Ok(())
 }
 
@@ -361,7 +361,7 @@ fn run<'py>(
     if threads == Some(0) {
         return Err(scene_err("threads = 0: must be at least 1"));
     }
-    let mut scene = lgres::scene::from_table(table, &name).map_err(scene_err)?;
+    let mut scene = scene::from_table(table, &name).map_err(scene_err)?;
     let overrides = RunOverrides {
         cycles,
         stages,

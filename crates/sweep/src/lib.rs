@@ -67,9 +67,9 @@ use std::time::{Duration, Instant};
 use lgres::io::output::OutputError;
 use lgres::overrides::RunOverrides;
 use lgres::run::RunError;
-use lgres::scene::SceneError;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha20Rng;
+use scene::SceneError;
 use serde::{Deserialize, Serialize};
 
 pub use spec::MAX_SAMPLES;
@@ -307,9 +307,7 @@ impl Whole {
 fn accepts(base: &toml::Table, path: &str, value: toml::Value) -> bool {
     let mut table = base.clone();
     path::set(&mut table, path, value).is_ok()
-        && toml::Value::Table(table)
-            .try_into::<lgres::scene::Scene>()
-            .is_ok()
+        && toml::Value::Table(table).try_into::<scene::Scene>().is_ok()
 }
 
 /// The range of the integer scene field at `path`; `None` for a float (or not a number) field.
@@ -481,7 +479,7 @@ fn check_run_table(
     base: &toml::Table,
     scene_name: &str,
 ) -> Result<(), SweepError> {
-    let mut scene = lgres::scene::from_table(base.clone(), scene_name)?;
+    let mut scene = scene::from_table(base.clone(), scene_name)?;
     let origin = format!("{scene_name} with the sweep file's [run] table");
     let refused = match overrides.apply(&mut scene, &origin) {
         Ok(()) => match lgres::run::scene_as_run(scene_name, &scene, &overrides.run_options()) {
@@ -661,7 +659,7 @@ impl Sweep {
                     value: format!("{:?}", input.paths),
                     reason: e.to_string(),
                 })?;
-            let checked: Result<lgres::scene::Scene, _> =
+            let checked: Result<scene::Scene, _> =
                 serde_path_to_error::deserialize(toml::Value::Table(table));
             if let Err(e) = checked {
                 let at = e.path().to_string();
@@ -742,13 +740,13 @@ impl Sweep {
     }
 
     /// The scene of sample `index`, with the run settings applied and validated.
-    pub fn scene(&self, index: usize) -> Result<lgres::scene::Scene, SampleError> {
+    pub fn scene(&self, index: usize) -> Result<scene::Scene, SampleError> {
         let mut table = self.base.clone();
         for (input, v) in self.inputs.iter().zip(self.input_values(index)) {
             self.edit(&mut table, input, v)?;
         }
         let origin = format!("{} sample {index}", self.name);
-        let mut scene = lgres::scene::from_table(table, &origin)?;
+        let mut scene = scene::from_table(table, &origin)?;
         self.overrides.apply(
             &mut scene,
             &format!("{origin} with the sweep file's [run] table"),

@@ -4,8 +4,8 @@
 
 use lgres::build::{JointHandle, Surfaces, build};
 use lgres::run::simulation_options;
-use lgres::scene::{Formulation, Scene};
 use multibody::{Frame, Observer, OutputTimes};
+use scene::{Formulation, Scene};
 
 /// Journal-centre paths (eccentricity vectors) and normal forces at every output frame.
 #[derive(Default)]

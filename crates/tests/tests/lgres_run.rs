@@ -4,8 +4,8 @@
 
 use lgres::build::{Surfaces, build, unworn_joints};
 use lgres::run::{RunOptions, run_scene, simulation_options};
-use lgres::scene::Scene;
 use multibody::{OutputTimes, SimulationResult};
+use scene::Scene;
 
 fn scene(name: &str) -> Scene {
     lgres::scenes::builtin(name).expect("built-in scene")

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 
 use lgres::io::surfaces::SurfacesError;
 use lgres::run::{RunError, RunOptions, run_scene};
-use lgres::scene::{ContactModelName, ContactSpec};
+use scene::{ContactModelName, ContactSpec};
 
 /// A Gaussian dent `depth · exp(−((θ − centre)/width)²)` on `cells` cells (wrapped).
 fn dent(cells: usize, centre_deg: f64, depth: f64) -> Vec<f64> {
@@ -107,7 +107,7 @@ fn elastic_contact_conserves_energy(model: ContactModelName) {
     std::fs::remove_dir_all(dir).ok();
 }
 
-fn set_model(scene: &mut lgres::scene::Scene, model: ContactModelName) {
+fn set_model(scene: &mut scene::Scene, model: ContactModelName) {
     for joint in &mut scene.clearance_joints {
         joint.contact = match model {
             ContactModelName::LineOfCentres => ContactSpec::line_of_centres(),

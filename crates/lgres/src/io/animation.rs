@@ -33,7 +33,7 @@ use plotters::prelude::*;
 use crate::io::output::{OutputError, write_via_temp};
 use crate::io::plot::register_fonts;
 use crate::run::{JointWearHistory, MechanismFrames, Response};
-use crate::scene::Scene;
+use scene::Scene;
 
 pub use crate::run::MAX_ANIMATION_FRAMES;
 

@@ -13,7 +13,7 @@ use crate::io::output::{
 use crate::io::plot::{self, DEFAULT_SIZE, Figure, Series};
 use crate::io::report::{Captioned, FILES_MARK, REPORT_FILE};
 use crate::run::{LifePoint, Response, RunOutcome};
-use crate::scene::file_names::{JointFile, is_file_name_safe};
+use scene::file_names::{JointFile, is_file_name_safe};
 
 const QUANTITIES: [(&str, &str, &str); 6] = [
     ("x", "m", "x displacement"),

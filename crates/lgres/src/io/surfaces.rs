@@ -12,8 +12,8 @@ use std::path::{Path, PathBuf};
 use wear::{Side, WearError, WornJoint, WornProfile};
 
 use crate::io::plot::cell_angle_deg;
-use crate::scene::file_names::JointFile;
-use crate::scene::{MAX_WEAR_CELLS, Scene};
+use scene::file_names::JointFile;
+use scene::{MAX_WEAR_CELLS, Scene};
 
 /// How far a row's angle may sit from its cell's centre, as a fraction of a cell: room for a
 /// file re-saved with fewer digits, none for a row out of place.

@@ -4,7 +4,6 @@
 use multibody::{AssemblyError, KinematicsError, SimulationError};
 
 use crate::build::BuildError;
-use crate::scene;
 
 /// Why a run failed.
 #[derive(Debug, thiserror::Error)]
@@ -109,7 +108,7 @@ pub enum RunError {
         /// Nominal clearance, m.
         clearance: f64,
     },
-    /// A contact penetrated beyond [`MAX_PENETRATION_FRACTION`](crate::scene::limits::MAX_PENETRATION_FRACTION) of its
+    /// A contact penetrated beyond [`MAX_PENETRATION_FRACTION`](scene::limits::MAX_PENETRATION_FRACTION) of its
     /// clearance (or pin radius): the contact law is outside its validity.
     #[error(
         "{what}: clearance joint {joint}: peak penetration {penetration:.3e} m exceeds {limit:.3e} m \

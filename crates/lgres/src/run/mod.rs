@@ -43,7 +43,7 @@ use serde::Serialize;
 use wear::WornJoint;
 
 use crate::build::{Surfaces, build, unworn_joints};
-use crate::scene::Scene;
+use scene::Scene;
 
 pub use error::RunError;
 pub use life::cycles_to_reach;

@@ -3,7 +3,7 @@
 
 use multibody::{AbsoluteTolerances, Baumgarte, OutputTimes, SimulationOptions};
 
-use crate::scene::{self, Scene};
+use scene::Scene;
 
 /// Overrides of the scene's run settings.
 #[derive(Debug, Clone, Default)]

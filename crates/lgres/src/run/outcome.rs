@@ -5,7 +5,7 @@ use serde::Serialize;
 use wear::WornJoint;
 
 use crate::run::validity::Validity;
-use crate::scene::Scene;
+use scene::Scene;
 
 /// Centroid motion of one body at the output times.
 #[derive(Debug, Clone, Default, Serialize)]

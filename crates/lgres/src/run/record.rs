@@ -12,7 +12,7 @@ use super::{
 };
 use crate::build::{Built, JointHandle, Surfaces, build};
 use crate::run::validity::{Limits, Tally};
-use crate::scene::Scene;
+use scene::Scene;
 
 /// The ideal mechanism at the output times: the recorded body's motion, and every body's pose
 /// at the animation's frames (`None`: no animation).

@@ -5,7 +5,7 @@ use multibody::SimulationResult;
 
 use super::{Deviation, JointSummary, Numerics, PeakStats, Response, ResponseSummary};
 use crate::build::{Built, JointHandle};
-use crate::scene::Scene;
+use scene::Scene;
 
 /// What a dynamic run leaves for its energy books.
 pub(super) struct Audit<'a> {

@@ -10,8 +10,8 @@ use super::{
 };
 use crate::build::{Built, Surfaces, build, unworn_joints};
 use crate::run::simulation_options;
-use crate::scene::{Integrator, Scene};
 use clearance::WornClearanceForce;
+use scene::{Integrator, Scene};
 
 /// Records the rod position and journal-centre paths at output frames.
 struct PathRecorder<'a> {

@@ -27,8 +27,8 @@ use std::time::Instant;
 use crate::io::artifacts::write_run;
 use crate::io::output::OutputError;
 use crate::run::{Progress, RunError, RunOptions, run_scene};
-use crate::scene::{Scene, SceneError};
 use crate::scenes::{self, STUDIES};
+use scene::{Scene, SceneError};
 
 pub use results::{
     DEFAULT_CYCLES_PER_STAGE, DEFAULT_RESPONSE_CYCLES, EXTRAPOLATION, SINGLE_JUMP_RUN, SceneRun,
@@ -192,7 +192,7 @@ fn check(options: &StudyOptions) -> Result<(), StudyError> {
     if options.response_cycles == 0 {
         return bad("cycles", "0".into(), "must be at least 1");
     }
-    let most = crate::scene::limits::MAX_CYCLES_PER_STAGE_REPRESENTED;
+    let most = scene::limits::MAX_CYCLES_PER_STAGE_REPRESENTED;
     if let Some(n) = options.cycles_represented
         && !(n.is_finite() && (1.0..=most).contains(&n))
     {

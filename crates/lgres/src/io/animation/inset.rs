@@ -11,7 +11,7 @@ use super::canvas::{ANIMATION_SIZE, Area, DrawResult, text};
 use super::layout::{FOOTER, INSETS, TITLE, View, global};
 use crate::io::plot::cell_angle_deg;
 use crate::run::{JointWearHistory, MechanismFrames, Response};
-use crate::scene::{BodyRef, Scene};
+use scene::{BodyRef, Scene};
 
 /// Most points of the orbit drawn over a cycle.
 const TRAIL_POINTS: usize = 1500;

@@ -6,7 +6,7 @@ use plotters::prelude::*;
 use super::canvas::colours::{GROUND, IDEAL, LINK};
 use super::canvas::{ANIMATION_SIZE, Area, DrawResult};
 use crate::run::MechanismFrames;
-use crate::scene::{BodyRef, Scene};
+use scene::{BodyRef, Scene};
 
 /// Height of the title band, pixels.
 pub(super) const TITLE: i32 = 36;

@@ -44,9 +44,9 @@ pub use measures::{Limits, MIN_ELASTIC_SHARE, Tally, Validity};
 
 use super::{ContactSeries, RunError};
 use crate::build::Built;
-use crate::scene::ClearanceJoint;
-use crate::scene::Scene;
-use crate::scene::limits::MAX_PENETRATION_FRACTION;
+use scene::ClearanceJoint;
+use scene::Scene;
+use scene::limits::MAX_PENETRATION_FRACTION;
 
 /// The response run's peak penetration against [`MAX_PENETRATION_FRACTION`] of the smaller of
 /// clearance and pin radius, per joint: `Err` names the first joint beyond it. `what` labels

@@ -1,9 +1,9 @@
 //! What a run may ask for: the ranges that make physical sense, what a run may allocate, the
 //! tolerances that still resolve a penetration, and the penetration beyond which a contact
-//! result is not trusted (checked on the run's results by [`crate::run::validity`]). Names are
+//! result is not trusted (checked on a run's results by `lgres::run::validity`). Names are
 //! checked against the file-name rules of [`super::file_names`].
 //!
-//! [`crate::scene::Scene::validate`] runs these checks, so `check` and `run` reject the same
+//! [`crate::Scene::validate`] runs these checks, so `check` and `run` reject the same
 //! scenes, each problem naming its field. Every bound is far outside the shipped scenes (a
 //! landing gear at 60 rpm, a slider-crank at 5000 rpm) and far inside what makes a run hang,
 //! panic or exhaust memory.
