@@ -17,6 +17,10 @@
 //!
 //! // A crank turning about a ground pivot, shipped under a name...
 //! const CRANK: &str = r#"
+//! description = "A driven crank"
+//! inertia_convention = "centroidal"
+//! gravity = [0.0, -9.81]
+//!
 //! [[bodies]]
 //! name = "crank"
 //! mass = 0.3
