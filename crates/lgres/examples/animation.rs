@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use lgres::io::animation::write_animation;
-use lgres::run::RunOptions;
+use sim::RunOptions;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -29,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..RunOptions::default()
     };
     let started = Instant::now();
-    let outcome = lgres::run_scene(name, &scene, &options, &mut ())?;
+    let outcome = sim::run_scene(name, &scene, &options, &mut ())?;
     println!("run: {:.1} s", started.elapsed().as_secs_f64());
     let mut responses = vec![("mechanism.gif", &outcome.response, &[][..], "")];
     if let Some(worn) = &outcome.worn_response {

@@ -17,10 +17,10 @@
 
 use std::path::Path;
 
-use lgres::build::{Built, Surfaces, build, unworn_joints};
-use lgres::io::surfaces::load_last_stage;
-use lgres::run::simulation_options;
 use multibody::{Formulation, OutputTimes, SimulationOptions, SimulationResult, State};
+use sim::build::{Built, Surfaces, build, unworn_joints};
+use sim::simulation_options;
+use sim::surfaces::load_last_stage;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

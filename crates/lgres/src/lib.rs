@@ -8,16 +8,15 @@
 //!   serde types), validation with field-named issues, `extends` variants, the numeric limits
 //!   ([`scene::limits`]) and the file-name rules ([`scene::file_names`]). [`scenes`] holds the
 //!   shipped scenes (the list `extends` resolves names against) and the paper's studies.
-//! - [`build`]: a validated scene → a `multibody` system whose clearance joints are
-//!   [`clearance::ClearanceForce`] elements (the `contact` kernel, `wear` accumulation when a
-//!   joint wears).
-//! - [`run`]: one run ([`run_scene`]): the response against the ideal mechanism, the wear
-//!   stages, the validity of the worn geometry ([`run::validity`]), every summary number in
-//!   memory ([`RunOutcome`]); nothing is written.
+//! - the `sim` crate below: a validated scene → a `multibody` system whose clearance joints
+//!   are [`clearance::ClearanceForce`] elements ([`sim::build`]), one run ([`sim::run_scene`]):
+//!   the response against the ideal mechanism, the wear stages, the validity of the worn
+//!   geometry ([`sim::validity`]), every summary number in memory ([`sim::RunOutcome`]);
+//!   nothing is written.
 //! - [`analysis`]: the paper's studies and their report, the work–precision sweep and the
 //!   stress battery, each engine apart from its rendering.
-//! - [`io`]: atomic output writers, a run's files ([`write_run`]: CSV, JSON, PNG), figures and
-//!   worn surfaces read back from an earlier run.
+//! - [`io`]: atomic output writers, a run's files ([`write_run`]: CSV, JSON, PNG), figures
+//!   and reports.
 //!
 //! The paper's reported numbers are data (`data/paper.toml`), not code.
 //!
@@ -40,12 +39,8 @@
 #![warn(missing_docs)]
 
 pub mod analysis;
-pub mod build;
 pub mod family;
 pub mod io;
-pub mod overrides;
-pub mod run;
 pub mod scenes;
 
 pub use io::artifacts::write_run;
-pub use run::{RunError, RunOptions, RunOutcome, run_scene};

@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use lgres::io::animation::{AnimationInfo, MAX_ANIMATION_FRAMES, write_animation};
-use lgres::run::{MechanismFrames, RunOutcome};
 use scene::{BodyRef, Scene, load_str};
+use sim::{MechanismFrames, RunOutcome};
 
 /// The slider-crank over two drive cycles (0.024 s), no wear.
 const SLIDER_CRANK: &str = "extends = \"slider-crank\"\n[run]\ncycles = 2\nwear_stages = 0\n";
@@ -20,7 +20,7 @@ fn temp_dir(tag: &str) -> PathBuf {
 
 fn run(text: &str) -> RunOutcome {
     let scene = load_str(text, "test", lgres::scenes::BUILTINS).unwrap();
-    lgres::run_scene("test", &scene, &Default::default(), &mut ()).unwrap()
+    sim::run_scene("test", &scene, &Default::default(), &mut ()).unwrap()
 }
 
 /// What the GIF's block structure says: screen size, and per image its rectangle and delay.

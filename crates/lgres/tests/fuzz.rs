@@ -10,8 +10,8 @@
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
-use lgres::run::{RunOptions, check_assembly, run_scene};
 use scene::load_str;
+use sim::{RunOptions, check_assembly, run_scene};
 
 /// One step of a path into a TOML value.
 #[derive(Debug, Clone)]

@@ -1,9 +1,9 @@
 //! Regression tests of issue 13: bad input ends in a named error (never a panic, hang or a
 //! silently wrong run), and `check` rejects what `run` would.
 
-use lgres::run::{ContactSeries, RunError, RunOptions, check_assembly};
 use lgres::scenes;
 use scene::{SceneError, load_str};
+use sim::{ContactSeries, RunError, RunOptions, check_assembly};
 
 /// `extends = "lgres"` plus `patch`, parsed and validated.
 fn patched(patch: &str) -> Result<scene::Scene, SceneError> {
@@ -118,7 +118,7 @@ fn pin_outside_its_bearing_is_rejected_naming_the_field() {
         text.contains("clearance_joints[0] (A)") && text.contains("outside its bearing"),
         "{text}"
     );
-    let e = lgres::run_scene("outside", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = sim::run_scene("outside", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(
         matches!(e, RunError::PinOutsideBearing { index: 0, .. }),
         "{e}"
@@ -306,8 +306,8 @@ fn penetration_beyond_half_the_clearance_fails_the_response_run() {
         penetration: vec![-1e-4, peak, 0.0],
         ..Default::default()
     };
-    lgres::run::validity::check_penetration(&scene, "response", &[series(2.4e-4)]).unwrap();
-    match lgres::run::validity::check_penetration(&scene, "response", &[series(2.6e-4)]) {
+    sim::validity::check_penetration(&scene, "response", &[series(2.4e-4)]).unwrap();
+    match sim::validity::check_penetration(&scene, "response", &[series(2.6e-4)]) {
         Err(e @ RunError::PenetrationBeyondLimit { .. }) => {
             let text = e.to_string();
             assert!(
@@ -326,8 +326,8 @@ fn soft_contact_run_fails_with_penetration_beyond_limit() {
         "[[clearance_joints]]\nname = \"A\"\nbearing_material = { youngs_modulus = 1e6, poisson_ratio = 0.3 }\npin_material = { youngs_modulus = 1e6, poisson_ratio = 0.3 }\n[run]\ncycles = 1\nperiod = 0.2\nwear_stages = 0",
     )
     .unwrap();
-    let options = lgres::run::RunOptions::default();
-    match lgres::run_scene("soft", &scene, &options, &mut ()) {
+    let options = sim::RunOptions::default();
+    match sim::run_scene("soft", &scene, &options, &mut ()) {
         Err(RunError::PenetrationBeyondLimit { joint, .. }) => assert_eq!(joint, "A"),
         other => panic!("expected PenetrationBeyondLimit, got {:?}", other.err()),
     }
@@ -341,7 +341,7 @@ fn step_budget_ends_a_run_in_a_failure_naming_the_field() {
         lgres::scenes::BUILTINS,
     )
     .unwrap();
-    let e = lgres::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = sim::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(!e.is_bad_input());
     assert!(e.to_string().contains("solver.max_steps"), "{e}");
     let scene = load_str(
@@ -350,7 +350,7 @@ fn step_budget_ends_a_run_in_a_failure_naming_the_field() {
         lgres::scenes::BUILTINS,
     )
     .unwrap();
-    let e = lgres::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = sim::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(e.to_string().contains("solver.max_wall_time"), "{e}");
 }
 
@@ -359,7 +359,7 @@ fn run_scene_validates_a_scene_built_in_code() {
     // A library caller can skip `load_str`; `run_scene` still refuses the allocation.
     let mut scene = scenes::builtin("lgres").unwrap();
     scene.solver.output_interval = 1e-300;
-    let e = lgres::run_scene("code", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = sim::run_scene("code", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(e.is_bad_input());
     assert!(e.to_string().contains("solver.output_interval"), "{e}");
 }

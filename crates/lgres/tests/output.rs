@@ -127,7 +127,7 @@ fn every_plot_renders_a_png_of_the_right_size() {
     let n = 1000;
     let bearing: Vec<f64> = (0..n)
         .map(|k| {
-            let a = plot::cell_angle_deg(k, n).to_radians();
+            let a = sim::surfaces::cell_angle_deg(k, n).to_radians();
             1e-4 * (-(a - 2.3).powi(2) / 0.1).exp()
         })
         .collect();
@@ -239,7 +239,7 @@ amplification = 750.0
 clearance_limit = 0.000505
 "#;
     let scene = scene::load_str(text, "life", lgres::scenes::BUILTINS).unwrap();
-    let outcome = lgres::run_scene("life", &scene, &Default::default(), &mut ()).unwrap();
+    let outcome = sim::run_scene("life", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("life");
     let files = lgres::write_run(&outcome, &dir).unwrap();
     // Every file the run lists exists, and the folder holds nothing it does not list.
@@ -370,7 +370,7 @@ clearance_limit = 0.000505
     for joint in &mut far.clearance_joints {
         joint.contact = scene::ContactSpec::line_of_centres();
     }
-    let outcome = lgres::run_scene("far", &far, &Default::default(), &mut ()).unwrap();
+    let outcome = sim::run_scene("far", &far, &Default::default(), &mut ()).unwrap();
     let wear = outcome.summary.wear.as_ref().unwrap();
     let applied = wear.cycles_applied_at_limits[0].expect("ends at the validity limits");
     let life = &outcome.wear[0].life;
@@ -385,7 +385,7 @@ clearance_limit = 0.000505
     let mut none = far;
     none.run.clearance_limit = None;
     none.run.wear_stages = 0;
-    let outcome = lgres::run_scene("none", &none, &Default::default(), &mut ()).unwrap();
+    let outcome = sim::run_scene("none", &none, &Default::default(), &mut ()).unwrap();
     let files = lgres::write_run(&outcome, &dir.join("none")).unwrap();
     assert!(
         files

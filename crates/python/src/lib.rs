@@ -2,7 +2,7 @@
 //! `wornjoint` Python package (its `__init__.py` wraps these in a friendlier API).
 //!
 //! Every run goes through the same code as `wearsim run` ([`scene::from_table`],
-//! [`lgres::overrides::RunOverrides`], [`lgres::run::run_scene`]), so its numbers equal the
+//! [`sim::overrides::RunOverrides`], [`sim::run_scene`]), so its numbers equal the
 //! command line's bit for bit; runs release the GIL. Bad input raises `SceneError` (a
 //! `ValueError`) naming the field, a failed run `RunError`, a bad sweep file `SweepError` (a
 //! `ValueError`); an internal panic is caught and raised as `RunError`, never a crash.
@@ -21,13 +21,13 @@ use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 
-use lgres::overrides::RunOverrides;
-use lgres::run::{Response, RunOutcome};
 use numpy::{PyArray1, PyArray2};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use sim::overrides::RunOverrides;
+use sim::{Response, RunOutcome};
 use sweep::{LocalOptions, Row, Sweep};
 
 create_exception!(
@@ -287,7 +287,7 @@ fn fill_outcome(d: &Bound<'_, PyDict>, py: Python<'_>, o: &RunOutcome) -> PyResu
             .first()
             .map_or(0, |s| s.bearing().depth().len());
         let angle: Vec<f64> = (0..cells)
-            .map(|c| lgres::io::plot::cell_angle_deg(c, cells))
+            .map(|c| sim::surfaces::cell_angle_deg(c, cells))
             .collect();
         j.set_item("angle_deg", column(py, &angle))?;
         let bearing: Vec<Vec<f64>> = joint
@@ -380,7 +380,7 @@ fn run<'py>(
     let options = overrides.run_options();
     let result = py.detach(|| {
         catch_unwind(AssertUnwindSafe(|| -> Result<RunOutcome, PyErrText> {
-            let outcome = lgres::run::run_scene(&name, &scene, &options, &mut ()).map_err(|e| {
+            let outcome = sim::run_scene(&name, &scene, &options, &mut ()).map_err(|e| {
                 if e.is_bad_input() {
                     PyErrText::Scene(e.to_string())
                 } else {

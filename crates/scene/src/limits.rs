@@ -1,6 +1,6 @@
 //! What a run may ask for: the ranges that make physical sense, what a run may allocate, the
 //! tolerances that still resolve a penetration, and the penetration beyond which a contact
-//! result is not trusted (checked on a run's results by `lgres::run::validity`). Names are
+//! result is not trusted (checked on a run's results by `sim::validity`). Names are
 //! checked against the file-name rules of [`super::file_names`].
 //!
 //! [`crate::Scene::validate`] runs these checks, so `check` and `run` reject the same

@@ -65,12 +65,12 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use lgres::io::output::OutputError;
-use lgres::overrides::RunOverrides;
-use lgres::run::RunError;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha20Rng;
 use scene::SceneError;
 use serde::{Deserialize, Serialize};
+use sim::RunError;
+use sim::overrides::RunOverrides;
 
 pub use spec::MAX_SAMPLES;
 pub use table::MAX_ROWS_FILE_BYTES;
@@ -472,7 +472,7 @@ pub struct Sweep {
 }
 
 /// The `[run]` table against the base scene, with the scene's rules and the run's
-/// ([`lgres::run::scene_as_run`]), before any sample: a bad setting would fail every row. The
+/// ([`sim::scene_as_run`]), before any sample: a bad setting would fail every row. The
 /// error names the table's field (`run.max_wall_time`) and the scene field it sets.
 fn check_run_table(
     overrides: &RunOverrides,
@@ -482,7 +482,7 @@ fn check_run_table(
     let mut scene = scene::from_table(base.clone(), scene_name)?;
     let origin = format!("{scene_name} with the sweep file's [run] table");
     let refused = match overrides.apply(&mut scene, &origin) {
-        Ok(()) => match lgres::run::scene_as_run(scene_name, &scene, &overrides.run_options()) {
+        Ok(()) => match sim::scene_as_run(scene_name, &scene, &overrides.run_options()) {
             Ok(_) => return Ok(()),
             Err(RunError::Scene(e)) => e,
             Err(RunError::Trajectories { trajectories, .. }) => {
@@ -792,7 +792,7 @@ impl Sweep {
 
     fn metrics_of(&self, index: usize) -> Result<Vec<Option<f64>>, SampleError> {
         let scene = self.scene(index)?;
-        let outcome = lgres::run::run_scene(
+        let outcome = sim::run_scene(
             &self.scene_name,
             &scene,
             &self.overrides.run_options(),

@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
-use lgres::overrides::RunOverrides;
 use serde::Deserialize;
+use sim::overrides::RunOverrides;
 
 use crate::{Input, Mode, Sampler, SweepError};
 

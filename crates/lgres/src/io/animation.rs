@@ -1,5 +1,5 @@
 //! The animated mechanism, `mechanism.gif`: one drive cycle after the start-up window, from
-//! the poses a run records ([`crate::run::MechanismFrames`]).
+//! the poses a run records ([`sim::MechanismFrames`]).
 //!
 //! Each frame shows the bodies as links through their joint points (a bar for two points, a
 //! polygon for more, a block for a slider), the ideal mechanism as a wide light-grey band
@@ -32,10 +32,10 @@ use plotters::prelude::*;
 
 use crate::io::output::{OutputError, write_via_temp};
 use crate::io::plot::register_fonts;
-use crate::run::{JointWearHistory, MechanismFrames, Response};
 use scene::Scene;
+use sim::{JointWearHistory, MechanismFrames, Response};
 
-pub use crate::run::MAX_ANIMATION_FRAMES;
+pub use sim::MAX_ANIMATION_FRAMES;
 
 pub use canvas::ANIMATION_SIZE;
 use canvas::{Area, DrawResult, colours, text};

@@ -12,8 +12,8 @@ use crate::io::output::{
 };
 use crate::io::plot::{self, DEFAULT_SIZE, Figure, Series};
 use crate::io::report::{Captioned, FILES_MARK, REPORT_FILE};
-use crate::run::{LifePoint, Response, RunOutcome};
 use scene::file_names::{JointFile, is_file_name_safe};
+use sim::{LifePoint, Response, RunOutcome};
 
 const QUANTITIES: [(&str, &str, &str); 6] = [
     ("x", "m", "x displacement"),
@@ -83,7 +83,7 @@ fn data_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
         for (k, stage) in joint.stages.iter().enumerate() {
             let (bearing, pin) = (stage.bearing().depth(), stage.pin().depth());
             let angle: Vec<f64> = (0..bearing.len())
-                .map(|c| plot::cell_angle_deg(c, bearing.len()))
+                .map(|c| sim::surfaces::cell_angle_deg(c, bearing.len()))
                 .collect();
             let path = dir.join(JointFile::StageWear(k + 1).name(&joint.name));
             files.push(write_csv(

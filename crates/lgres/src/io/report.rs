@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::io::html::{Html, Td};
 use crate::io::output::OutputError;
-use crate::run::{
+use sim::{
     ENERGY_BOOKS_TOLERANCE_J, JointSummary, PeakStats, ResponseSummary, RunOutcome, Summary,
 };
 
@@ -199,7 +199,7 @@ fn share_cell(after: Option<&PeakStats>) -> Td {
                 100.0 * p.elastic_share_median,
                 100.0 * p.elastic_share_min
             ),
-            p.elastic_share_median >= crate::run::MIN_ELASTIC_SHARE,
+            p.elastic_share_median >= sim::MIN_ELASTIC_SHARE,
         ),
     }
 }
@@ -221,7 +221,7 @@ fn deviations(html: &mut Html, s: &Summary) {
             ("after window", r.deviation_after_transient.as_ref()),
             ("whole run", Some(&r.deviation)),
         ] {
-            let cell = |f: fn(&crate::run::Deviation) -> f64, unit: &str| {
+            let cell = |f: fn(&sim::Deviation) -> f64, unit: &str| {
                 Td::num(d.map_or_else(|| "n/a".into(), |d| with_unit(f(d), unit)))
             };
             rows.push(vec![

@@ -10,10 +10,10 @@ use wear::{Side, WornJoint, WornProfile};
 use super::{
     CaseResult, Expect, Outcome, StressCase, StressError, StressOptions, SurfaceSetup, cases,
 };
-use crate::build::{Surfaces, build, unworn_joints};
-use crate::run::simulation_options;
 use crate::scenes;
 use scene::Scene;
+use sim::build::{Surfaces, build, unworn_joints};
+use sim::simulation_options;
 
 /// Tracks the first non-finite sampled state.
 struct Watch {

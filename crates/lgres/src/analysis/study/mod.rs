@@ -26,9 +26,9 @@ use std::time::Instant;
 
 use crate::io::artifacts::write_run;
 use crate::io::output::OutputError;
-use crate::run::{Progress, RunError, RunOptions, run_scene};
 use crate::scenes::{self, STUDIES};
 use scene::{Scene, SceneError};
+use sim::{Progress, RunError, RunOptions, run_scene};
 
 pub use results::{
     DEFAULT_CYCLES_PER_STAGE, DEFAULT_RESPONSE_CYCLES, EXTRAPOLATION, SINGLE_JUMP_RUN, SceneRun,

@@ -4,8 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::run::RunOutcome;
 use crate::scenes::{self, Study};
+use sim::RunOutcome;
 
 /// Default simulated cycles per wear stage in a study (the paper's K is 100).
 pub const DEFAULT_CYCLES_PER_STAGE: u32 = 2;

@@ -5,8 +5,8 @@ use plotters::prelude::*;
 
 use super::canvas::colours::{GROUND, IDEAL, LINK};
 use super::canvas::{ANIMATION_SIZE, Area, DrawResult};
-use crate::run::MechanismFrames;
 use scene::{BodyRef, Scene};
+use sim::MechanismFrames;
 
 /// Height of the title band, pixels.
 pub(super) const TITLE: i32 = 36;

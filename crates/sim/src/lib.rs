@@ -1,8 +1,49 @@
+//! Building and running a scene, between the scene format (the `scene` crate) and what is made
+//! of a run (`lgres`'s files, figures, reports and analyses): a validated scene → a
+//! `multibody` system ([`build`]), one run of it ([`run_scene`]), the validity of its worn
+//! geometry ([`validity`]), the run settings given outside the scene file ([`overrides`]) and
+//! the worn surfaces an earlier run left, to start from ([`surfaces`]).
+//!
 //! One run of a scene: the response over `cycles` drive periods against the ideal mechanism,
 //! then the wear stages, with every summary number kept in memory ([`RunOutcome`]).
 //!
 //! [`run_scene`] is what the CLI's `run` calls and what a study loop can call repeatedly; it
-//! writes nothing (see [`crate::io::artifacts`]) and reports progress through [`Progress`].
+//! writes nothing (`lgres::io::artifacts` does) and reports progress through [`Progress`].
+//!
+//! ```
+//! const CRANK: &str = r#"
+//! description = "A driven crank"
+//! inertia_convention = "centroidal"
+//! gravity = [0.0, -9.81]
+//!
+//! [[bodies]]
+//! name = "crank"
+//! mass = 0.3
+//! inertia = 1e-4
+//! x = 0.025
+//! y = 0.0
+//! theta_deg = 0.0
+//!
+//! [[revolute_joints]]
+//! name = "O"
+//! body = "crank"
+//! point = [-0.025, 0.0]
+//! other = "ground"
+//! other_point = [0.0, 0.0]
+//!
+//! [[drivers]]
+//! name = "speed"
+//! target = { kind = "body-coordinate", body = "crank", coordinate = "theta" }
+//! law = { kind = "ramp", value = 0.0, rate = 6.283 }
+//! "#;
+//! let crank = scene::load_str(CRANK, "crank", &[])?;
+//! let options = sim::RunOptions::default();
+//! let outcome = sim::run_scene("crank", &crank, &options, &mut ())?;
+//! // No clearance joint: the response is the ideal mechanism's, nothing wears.
+//! assert!(!outcome.response.times.is_empty());
+//! assert!(outcome.response.contact.is_empty());
+//! # Ok::<(), sim::RunError>(())
+//! ```
 //!
 //! - **Response run**: assembled from the scene's initial poses (pins concentric), integrated
 //!   over `run.cycles` periods on unworn surfaces, sampled every `solver.output_interval`.
@@ -26,14 +67,19 @@
 //! `stages` the wear stages, `life` the joints' life curves over the stages' drive cycles
 //! and [`validity`] the worn geometry's validity measures.
 
+#![warn(missing_docs)]
+
+pub mod build;
 mod error;
 mod life;
 mod options;
 mod outcome;
+pub mod overrides;
 mod progress;
 mod record;
 mod stages;
 mod summary;
+pub mod surfaces;
 pub mod validity;
 
 use std::time::Instant;
@@ -63,7 +109,7 @@ pub use summary::{
 pub use validity::MIN_ELASTIC_SHARE;
 
 /// Most frames an animation shows: one drive cycle in at most this many poses
-/// ([`MechanismFrames`], [`crate::io::animation`]).
+/// ([`MechanismFrames`], `lgres::io::animation`).
 pub const MAX_ANIMATION_FRAMES: usize = 72;
 
 /// What [`check_assembly`] found.
@@ -126,7 +172,7 @@ pub fn run_scene(
     let active = scene.active_clearance_joints().count() > 0;
     let unworn = unworn_joints(&scene)?;
     let initial = match &options.surfaces {
-        Some(dir) => crate::io::surfaces::load_last_stage(dir, &scene, &unworn)?,
+        Some(dir) => crate::surfaces::load_last_stage(dir, &scene, &unworn)?,
         None => unworn,
     };
     let frames = scene.run.animation.then(|| {

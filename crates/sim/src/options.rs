@@ -9,7 +9,7 @@ use scene::Scene;
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
     /// Start from the worn surfaces of an earlier run: the folder holding its last-stage
-    /// `wear_<joint>_stage<k>.csv` files (see [`crate::io::surfaces`]). The response run and the
+    /// `wear_<joint>_stage<k>.csv` files (see [`crate::surfaces`]). The response run and the
     /// stages then begin from those surfaces.
     pub surfaces: Option<std::path::PathBuf>,
     /// Simulated cycles per wear stage `K` instead of `run.cycles_per_stage`; the

@@ -79,7 +79,7 @@ pub enum RunError {
     },
     /// The worn surfaces to start from could not be loaded (file and joint named).
     #[error(transparent)]
-    Surfaces(#[from] crate::io::surfaces::SurfacesError),
+    Surfaces(#[from] crate::surfaces::SurfacesError),
     /// The scene has no drive period (validation normally catches this).
     #[error("run.period: no drive period; give run.period")]
     NoPeriod,
