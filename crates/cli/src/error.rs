@@ -1,7 +1,8 @@
 //! Why `wearsim` stopped, and the exit code each reason gives (2 bad input, 1 could not run).
 
 use lgres::io::output::OutputError;
-use lgres::{RunError, SceneError};
+use scene::SceneError;
+use sim::RunError;
 
 /// Why `wearsim` stopped.
 #[derive(Debug, thiserror::Error)]

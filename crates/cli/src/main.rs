@@ -1,7 +1,7 @@
 //! `wearsim`: the command line of the worn-clearance-joint toolkit.
 //!
 //! Thin by design: it parses arguments, loads and validates scenes through `lgres`, runs them
-//! with [`lgres::run_scene`], writes the outputs with [`lgres::write_run`], shows progress
+//! with [`sim::run_scene`], writes the outputs with [`lgres::write_run`], shows progress
 //! bars and maps errors to exit codes (0 success, 1 could not run, 2 bad input). `study` runs
 //! [`lgres::analysis::study`] (see the `study` module).
 
@@ -18,10 +18,10 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use error::CliError;
-use lgres::scene;
 use lgres::scenes;
-use lgres::{RunError, RunOutcome, Scene};
 use overrides::Overrides;
+use scene::Scene;
+use sim::{RunError, RunOutcome};
 
 #[derive(Parser)]
 #[command(
@@ -162,12 +162,12 @@ fn load(spec: &str, o: &Overrides) -> Result<Loaded, CliError> {
         let stem = path
             .file_stem()
             .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned());
-        (stem, scene::load_path(path)?)
+        (stem, scene::load_path(path, lgres::scenes::BUILTINS)?)
     } else {
         return Err(CliError::NoSuchScene(spec.to_string()));
     };
     let overrides = o.run_overrides();
-    let origin = if overrides == lgres::overrides::RunOverrides::default() {
+    let origin = if overrides == sim::overrides::RunOverrides::default() {
         spec.to_string()
     } else {
         format!("{spec} with command-line overrides")
@@ -184,7 +184,7 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
     let Loaded { name, scene: s } = load(spec, o)?;
     // Every check `run` makes before simulating, before anything is called valid.
     let options = o.run_overrides().run_options();
-    let check = lgres::run::check_assembly(&name, &s, &options).map_err(|e| in_scene(spec, e))?;
+    let check = sim::check_assembly(&name, &s, &options).map_err(|e| in_scene(spec, e))?;
     outln!("scene {name}: valid");
     outln!("  {}", s.description);
     outln!("  inertia: {}", s.inertia_convention);
@@ -282,7 +282,7 @@ fn run(spec: &str, no_animation: bool, o: &Overrides) -> Result<(), CliError> {
     let staged = lgres::io::output::StagedDir::begin(&out)?;
     let mut bars = progress::Bars::new();
     let outcome =
-        lgres::run_scene(&name, &scene, &options, &mut bars).map_err(|e| in_scene(spec, e))?;
+        sim::run_scene(&name, &scene, &options, &mut bars).map_err(|e| in_scene(spec, e))?;
     drop(bars);
     let files = lgres::write_run(&outcome, staged.path())?;
     staged.commit()?;
@@ -292,7 +292,7 @@ fn run(spec: &str, no_animation: bool, o: &Overrides) -> Result<(), CliError> {
 
 /// Peak statistics after the start-up window, or "n/a" when the window covers the run (no
 /// cycle has a sample after it, so there is no peak to report).
-fn peak_after(b: Option<&lgres::run::PeakStats>, window: f64) -> String {
+fn peak_after(b: Option<&sim::PeakStats>, window: f64) -> String {
     let Some(b) = b else {
         return format!("n/a after {window} s (the start-up window covers the whole run)");
     };
@@ -311,11 +311,11 @@ fn peak_after(b: Option<&lgres::run::PeakStats>, window: f64) -> String {
 
 /// The elastic share of the per-cycle peaks in words: median and smallest, and a warning when
 /// the median peak is mostly damping.
-fn elastic_share(b: &lgres::run::PeakStats) -> String {
+fn elastic_share(b: &sim::PeakStats) -> String {
     if !b.elastic_share_median.is_finite() {
         return "n/a".to_string();
     }
-    let warning = if b.elastic_share_median < lgres::run::MIN_ELASTIC_SHARE {
+    let warning = if b.elastic_share_median < sim::MIN_ELASTIC_SHARE {
         " — MOSTLY DAMPING: not a load the surfaces carry"
     } else {
         ""
@@ -433,7 +433,7 @@ fn print_summary(outcome: &RunOutcome, out: &Path, files: usize) {
 /// When joint `name`'s largest local clearance reaches the maintenance limit, in a line.
 fn clearance_limit_line(
     name: &str,
-    limit: &lgres::run::ClearanceLimitReport,
+    limit: &sim::ClearanceLimitReport,
     cycles_applied: f64,
 ) -> String {
     // Two decimals as in "1.00 mm", more when the limit needs them (0.501 mm).
@@ -460,7 +460,7 @@ fn clearance_limit_line(
 }
 
 /// Per-joint peaks and energy books of one response, and what the books flag.
-fn print_joints(r: &lgres::run::ResponseSummary, window: f64) {
+fn print_joints(r: &sim::ResponseSummary, window: f64) {
     for j in &r.joints {
         let (a, b) = (&j.normal_force_all, j.normal_force_after_transient.as_ref());
         if let Some(v) = j.validity.as_ref().filter(|v| !v.inside) {

@@ -110,8 +110,8 @@ impl Overrides {
     }
 
     /// The run-setting overrides, as every front end applies them.
-    pub(crate) fn run_overrides(&self) -> lgres::overrides::RunOverrides {
-        lgres::overrides::RunOverrides {
+    pub(crate) fn run_overrides(&self) -> sim::overrides::RunOverrides {
+        sim::overrides::RunOverrides {
             cycles: self.cycles,
             stages: self.stages,
             rtol: self.rtol,

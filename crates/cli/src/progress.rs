@@ -1,4 +1,4 @@
-//! Progress for `lgres::run::Progress`: on a terminal one bar per phase (response run, each
+//! Progress for `sim::Progress`: on a terminal one bar per phase (response run, each
 //! wear-stage simulation), a study's parallel runs each on their own line ([`StudyBars`]); in a
 //! log (standard error not a terminal) plain lines instead, each its own line and at most about
 //! one a second ([`Throttle`]), so a long run is never silent and a log never runs updates
@@ -97,12 +97,7 @@ impl StudyBars {
 }
 
 impl lgres::analysis::study::StudyProgress for StudyBars {
-    fn run(
-        &self,
-        key: &str,
-        index: usize,
-        total: usize,
-    ) -> Box<dyn lgres::run::Progress + Send + '_> {
+    fn run(&self, key: &str, index: usize, total: usize) -> Box<dyn sim::Progress + Send + '_> {
         let mut bars = Bars {
             visible: self.visible,
             bar: None,
@@ -111,7 +106,7 @@ impl lgres::analysis::study::StudyProgress for StudyBars {
             line: None,
             throttle: Throttle::default(),
         };
-        lgres::run::Progress::note(&mut bars, &format!("[{}/{total}] {key} starts", index + 1));
+        sim::Progress::note(&mut bars, &format!("[{}/{total}] {key} starts", index + 1));
         Box::new(bars)
     }
 }
@@ -122,7 +117,7 @@ fn rounded(cycles: f64) -> f64 {
     (cycles * 1e6).round() / 1e6
 }
 
-impl lgres::run::Progress for Bars {
+impl sim::Progress for Bars {
     fn phase(&mut self, label: &str, cycles: f64) {
         self.finish();
         if !self.visible {
@@ -199,6 +194,6 @@ impl lgres::run::Progress for Bars {
 
 impl Drop for Bars {
     fn drop(&mut self) {
-        lgres::run::Progress::finish(self);
+        sim::Progress::finish(self);
     }
 }

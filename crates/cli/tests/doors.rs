@@ -371,7 +371,7 @@ fn extends_switches_a_joints_contact_model() {
         "extends = \"lgres\"\n[[clearance_joints]]\nname = \"B\"\n\
          contact = { model = \"foundation\", reference_speed = 0.1 }\n",
     );
-    let merged = lgres::scene::load_path(&scene).unwrap();
+    let merged = scene::load_path(&scene, lgres::scenes::BUILTINS).unwrap();
     let b = merged
         .clearance_joints
         .iter()

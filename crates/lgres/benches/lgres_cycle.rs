@@ -17,9 +17,9 @@ mod common;
 
 use common::bench_median;
 use criterion::{Criterion, criterion_group, criterion_main};
-use lgres::build::{Built, Surfaces, build, unworn_joints};
-use lgres::run::simulation_options;
 use multibody::{Formulation, OutputTimes, SimulationOptions, SolverStatistics, State};
+use sim::build::{Built, Surfaces, build, unworn_joints};
+use sim::simulation_options;
 
 fn cycle(c: &mut Criterion) {
     let scene = lgres::scenes::builtin("lgres").expect("built-in scene");

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use lgres::io::animation::write_animation;
-use lgres::run::RunOptions;
+use sim::RunOptions;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -20,7 +20,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let out = PathBuf::from(args.get(1).map_or("out/animation", String::as_str));
     let mut scene = match lgres::scenes::builtin(name) {
         Ok(scene) => scene,
-        Err(_) => lgres::scene::load_path(name.as_ref())?,
+        Err(_) => scene::load_path(name.as_ref(), lgres::scenes::BUILTINS)?,
     };
     scene.run.cycles = args.get(2).map_or(Ok(2), |s| s.parse())?;
     scene.run.wear_stages = args.get(3).map_or(Ok(0), |s| s.parse())?;
@@ -29,7 +29,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..RunOptions::default()
     };
     let started = Instant::now();
-    let outcome = lgres::run_scene(name, &scene, &options, &mut ())?;
+    let outcome = sim::run_scene(name, &scene, &options, &mut ())?;
     println!("run: {:.1} s", started.elapsed().as_secs_f64());
     let mut responses = vec![("mechanism.gif", &outcome.response, &[][..], "")];
     if let Some(worn) = &outcome.worn_response {

@@ -17,17 +17,17 @@
 
 use std::path::Path;
 
-use lgres::build::{Built, Surfaces, build, unworn_joints};
-use lgres::io::surfaces::load_last_stage;
-use lgres::run::simulation_options;
 use multibody::{Formulation, OutputTimes, SimulationOptions, SimulationResult, State};
+use sim::build::{Built, Surfaces, build, unworn_joints};
+use sim::simulation_options;
+use sim::surfaces::load_last_stage;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let scene = match args.get(2).map(String::as_str) {
         None => lgres::scenes::builtin("lgres")?,
         Some(name) if lgres::scenes::source(name).is_some() => lgres::scenes::builtin(name)?,
-        Some(path) => lgres::scene::load_path(Path::new(path))?,
+        Some(path) => scene::load_path(Path::new(path), lgres::scenes::BUILTINS)?,
     };
     let period = scene.cycle_period().ok_or("the scene is not driven")?;
     let unworn = unworn_joints(&scene)?;

@@ -3,25 +3,25 @@
 //! slider-crank, as data, and everything around simulating them.
 //!
 //! The layout follows the data flow of a run:
-//! - [`scene`]: the TOML scene format — its types ([`scene::Scene`]; laws, materials, the
-//!   integrator and driven coordinates are `contact`'s and `multibody`'s own serde types),
-//!   validation with field-named issues, `extends` variants, and the numeric limits
-//!   ([`scene::limits`]). [`scenes`] holds the shipped scenes and the paper's studies.
-//! - [`build`]: a validated scene → a `multibody` system whose clearance joints are
-//!   [`clearance::ClearanceForce`] elements (the `contact` kernel, `wear` accumulation when a
-//!   joint wears).
-//! - [`run`]: one run ([`run_scene`]): the response against the ideal mechanism, the wear
-//!   stages, the validity of the worn geometry ([`run::validity`]), every summary number in
-//!   memory ([`RunOutcome`]); nothing is written.
+//! - the `scene` crate below: the TOML scene format — its types ([`scene::Scene`]; laws,
+//!   materials, the integrator and driven coordinates are `contact`'s and `multibody`'s own
+//!   serde types), validation with field-named issues, `extends` variants, the numeric limits
+//!   ([`scene::limits`]) and the file-name rules ([`scene::file_names`]). [`scenes`] holds the
+//!   shipped scenes (the list `extends` resolves names against) and the paper's studies.
+//! - the `sim` crate below: a validated scene → a `multibody` system whose clearance joints
+//!   are [`clearance::ClearanceForce`] elements ([`sim::build`]), one run ([`sim::run_scene`]):
+//!   the response against the ideal mechanism, the wear stages, the validity of the worn
+//!   geometry ([`sim::validity`]), every summary number in memory ([`sim::RunOutcome`]);
+//!   nothing is written.
 //! - [`analysis`]: the paper's studies and their report, the work–precision sweep and the
 //!   stress battery, each engine apart from its rendering.
-//! - [`io`]: atomic output writers, a run's files ([`write_run`]: CSV, JSON, PNG), figures and
-//!   worn surfaces read back from an earlier run.
+//! - [`io`]: atomic output writers, a run's files ([`write_run`]: CSV, JSON, PNG), figures
+//!   and reports.
 //!
 //! The paper's reported numbers are data (`data/paper.toml`), not code.
 //!
 //! ```
-//! use lgres::scene::BodyRef;
+//! use scene::BodyRef;
 //!
 //! let scene = lgres::scenes::builtin("lgres")?; // parsed and validated
 //! assert_eq!(scene.bodies.len(), 5);
@@ -33,20 +33,14 @@
 //! assert!((a.pin_radius() - 0.0495).abs() < 1e-12);
 //! // 15 coordinates, 11 constraint equations: A and B are force elements.
 //! assert_eq!(scene.degrees_of_freedom(), 4);
-//! # Ok::<(), lgres::scene::SceneError>(())
+//! # Ok::<(), scene::SceneError>(())
 //! ```
 
 #![warn(missing_docs)]
 
 pub mod analysis;
-pub mod build;
 pub mod family;
 pub mod io;
-pub mod overrides;
-pub mod run;
-pub mod scene;
 pub mod scenes;
 
 pub use io::artifacts::write_run;
-pub use run::{RunError, RunOptions, RunOutcome, run_scene};
-pub use scene::{Scene, SceneError};

@@ -1,20 +1,10 @@
 //! The shipped scenes, embedded in the binary, and the paper's studies as lists of them.
 //!
 //! Variants are small TOML files that `extends = "lgres"` and override a few values (see
-//! [`crate::scene`]), so the reconstructed geometry lives in `scenes/lgres.toml` only.
+//! the `scene` crate), so the reconstructed geometry lives in `scenes/lgres.toml` only. The
+//! scene loaders resolve names against [`BUILTINS`]: `scene::load_path(path, BUILTINS)`.
 
-use crate::scene::{self, Scene, SceneError};
-
-/// A shipped scene.
-#[derive(Debug, Clone, Copy)]
-pub struct Builtin {
-    /// Name used on the command line and in `extends`.
-    pub name: &'static str,
-    /// One-line summary.
-    pub summary: &'static str,
-    /// The TOML text.
-    pub source: &'static str,
-}
+use scene::{Builtin, Scene, SceneError};
 
 macro_rules! builtin {
     ($name:literal, $summary:literal) => {
@@ -79,20 +69,12 @@ pub const DEFAULT: &str = "lgres";
 
 /// The TOML text of a built-in scene.
 pub fn source(name: &str) -> Option<&'static str> {
-    BUILTINS.iter().find(|b| b.name == name).map(|b| b.source)
+    scene::source(BUILTINS, name)
 }
 
 /// A built-in scene, parsed and validated.
 pub fn builtin(name: &str) -> Result<Scene, SceneError> {
-    let text = source(name).ok_or_else(|| SceneError::UnknownBuiltin {
-        name: name.to_string(),
-        known: BUILTINS
-            .iter()
-            .map(|b| b.name)
-            .collect::<Vec<_>>()
-            .join(", "),
-    })?;
-    scene::load_str(text, name)
+    scene::builtin(BUILTINS, name)
 }
 
 /// One of the paper's studies (Sec. 4.2): the scenes it runs, each compared with its

@@ -5,8 +5,8 @@
 use std::path::{Path, PathBuf};
 
 use lgres::io::animation::{AnimationInfo, MAX_ANIMATION_FRAMES, write_animation};
-use lgres::run::{MechanismFrames, RunOutcome};
-use lgres::scene::{BodyRef, Scene, load_str};
+use scene::{BodyRef, Scene, load_str};
+use sim::{MechanismFrames, RunOutcome};
 
 /// The slider-crank over two drive cycles (0.024 s), no wear.
 const SLIDER_CRANK: &str = "extends = \"slider-crank\"\n[run]\ncycles = 2\nwear_stages = 0\n";
@@ -19,8 +19,8 @@ fn temp_dir(tag: &str) -> PathBuf {
 }
 
 fn run(text: &str) -> RunOutcome {
-    let scene = load_str(text, "test").unwrap();
-    lgres::run_scene("test", &scene, &Default::default(), &mut ()).unwrap()
+    let scene = load_str(text, "test", lgres::scenes::BUILTINS).unwrap();
+    sim::run_scene("test", &scene, &Default::default(), &mut ()).unwrap()
 }
 
 /// What the GIF's block structure says: screen size, and per image its rectangle and delay.
@@ -286,13 +286,21 @@ fn a_scene_without_active_clearance_animates_its_ideal_mechanism() {
 
 #[test]
 fn the_animation_field_round_trips_and_defaults_to_true() {
-    let scene = load_str("extends = \"slider-crank\"\n", "default").unwrap();
+    let scene = load_str(
+        "extends = \"slider-crank\"\n",
+        "default",
+        lgres::scenes::BUILTINS,
+    )
+    .unwrap();
     assert!(scene.run.animation);
     let mut off = scene.clone();
     off.run.animation = false;
     let text = off.to_toml();
     assert!(text.contains("animation = false"), "{text}");
-    let back = load_str(&text, "round trip").unwrap();
+    let back = load_str(&text, "round trip", lgres::scenes::BUILTINS).unwrap();
     assert_eq!(back, off);
-    assert_eq!(load_str(&scene.to_toml(), "round trip").unwrap(), scene);
+    assert_eq!(
+        load_str(&scene.to_toml(), "round trip", lgres::scenes::BUILTINS).unwrap(),
+        scene
+    );
 }

@@ -1,18 +1,15 @@
 //! A wear sub-step's cycles spread over trajectories on threads (`run.trajectories`): the
 //! same surfaces whatever the thread count, and refused when they do not divide `K`.
 
-use lgres::run::{RunError, RunOptions, RunOutcome, run_scene};
+use sim::{RunError, RunOptions, RunOutcome, run_scene};
 
 /// The worn slider-crank, one stage in two sub-steps or more, `K = 2` on `trajectories`.
-fn scene(trajectories: u32) -> Result<lgres::scene::Scene, lgres::scene::SceneError> {
+fn scene(trajectories: u32) -> Result<scene::Scene, scene::SceneError> {
     scene_with(trajectories, "")
 }
 
 /// [`scene`] with more `[run]` settings.
-fn scene_with(
-    trajectories: u32,
-    extra: &str,
-) -> Result<lgres::scene::Scene, lgres::scene::SceneError> {
+fn scene_with(trajectories: u32, extra: &str) -> Result<scene::Scene, scene::SceneError> {
     let text = format!(
         r#"
 extends = "slider-crank"
@@ -29,12 +26,12 @@ animation = false
 {extra}
 "#
     );
-    lgres::scene::load_str(&text, "ensemble")
+    scene::load_str(&text, "ensemble", lgres::scenes::BUILTINS)
 }
 
 /// `scene` run on `threads` threads, and its surfaces after every stage, per wearing joint.
 fn on_threads(
-    scene: &lgres::scene::Scene,
+    scene: &scene::Scene,
     threads: usize,
 ) -> Result<(RunOutcome, Vec<Vec<wear::WornJoint>>), RunError> {
     let options = RunOptions {
@@ -75,7 +72,7 @@ fn the_threads_change_no_bit_of_the_worn_surfaces() -> Result<(), Box<dyn std::e
 /// The phases a run began (the response, the stages' runs).
 struct Phases(Vec<String>);
 
-impl lgres::run::Progress for Phases {
+impl sim::Progress for Phases {
     fn phase(&mut self, label: &str, _cycles: f64) {
         self.0.push(label.to_string());
     }
@@ -96,7 +93,7 @@ fn trajectories_must_divide_the_cycles_of_a_sub_step() -> Result<(), Box<dyn std
         ),
         (
             scene(1)?,
-            lgres::overrides::RunOverrides {
+            sim::overrides::RunOverrides {
                 cycles_per_stage: Some(3),
                 trajectories: Some(2),
                 ..Default::default()
@@ -124,7 +121,7 @@ fn trajectories_must_divide_the_cycles_of_a_sub_step() -> Result<(), Box<dyn std
         }
     }
     // The quick default (K = 2 on 2 trajectories) whatever the scene's own K.
-    let options = lgres::overrides::RunOverrides::default().run_options();
+    let options = sim::overrides::RunOverrides::default().run_options();
     assert_eq!(
         (options.cycles_per_stage, options.trajectories),
         (Some(2), Some(2))

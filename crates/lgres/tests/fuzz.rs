@@ -10,8 +10,8 @@
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
-use lgres::run::{RunOptions, check_assembly, run_scene};
-use lgres::scene::load_str;
+use scene::load_str;
+use sim::{RunOptions, check_assembly, run_scene};
 
 /// One step of a path into a TOML value.
 #[derive(Debug, Clone)]
@@ -203,7 +203,7 @@ fn fuzz(base: &str, cases: u32, seed: u8) -> Counts {
             c.rejected_by_validation += 1;
             return Ok(());
         };
-        let mut scene = match load_str(&text, "mutant") {
+        let mut scene = match load_str(&text, "mutant", lgres::scenes::BUILTINS) {
             Ok(s) => s,
             Err(_) => {
                 c.rejected_by_validation += 1;

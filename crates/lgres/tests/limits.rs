@@ -1,13 +1,17 @@
 //! Regression tests of issue 13: bad input ends in a named error (never a panic, hang or a
 //! silently wrong run), and `check` rejects what `run` would.
 
-use lgres::run::{ContactSeries, RunError, RunOptions, check_assembly};
-use lgres::scene::{SceneError, load_str};
 use lgres::scenes;
+use scene::{SceneError, load_str};
+use sim::{ContactSeries, RunError, RunOptions, check_assembly};
 
 /// `extends = "lgres"` plus `patch`, parsed and validated.
-fn patched(patch: &str) -> Result<lgres::scene::Scene, SceneError> {
-    load_str(&format!("extends = \"lgres\"\n{patch}\n"), "patch")
+fn patched(patch: &str) -> Result<scene::Scene, SceneError> {
+    load_str(
+        &format!("extends = \"lgres\"\n{patch}\n"),
+        "patch",
+        lgres::scenes::BUILTINS,
+    )
 }
 
 /// The error text of a patch that must be rejected, checked to name `field`.
@@ -114,7 +118,7 @@ fn pin_outside_its_bearing_is_rejected_naming_the_field() {
         text.contains("clearance_joints[0] (A)") && text.contains("outside its bearing"),
         "{text}"
     );
-    let e = lgres::run_scene("outside", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = sim::run_scene("outside", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(
         matches!(e, RunError::PinOutsideBearing { index: 0, .. }),
         "{e}"
@@ -172,7 +176,9 @@ fn joint_names_unsafe_in_file_names_are_rejected() {
 #[test]
 fn extra_array_elements_are_rejected_with_and_without_extends() {
     let text = edited("point = [-0.500, 0.0]", "point = [-0.500, 0.0, 99.0]");
-    let e = load_str(&text, "plain").unwrap_err().to_string();
+    let e = load_str(&text, "plain", lgres::scenes::BUILTINS)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("exactly two numbers") && e.contains("line"),
         "{e}"
@@ -192,6 +198,7 @@ fn extends_empty_array_replaces_the_base_array() {
     let s = load_str(
         "extends = \"slider-crank\"\nclearance_joints = []\n",
         "patch",
+        lgres::scenes::BUILTINS,
     )
     .unwrap();
     assert!(s.clearance_joints.is_empty());
@@ -205,7 +212,7 @@ fn extends_can_change_a_law_kind() {
     .unwrap();
     assert!(matches!(
         s.clearance_joints[0].normal_law,
-        lgres::scene::NormalLawParams::Hertz(_)
+        scene::NormalLawParams::Hertz(_)
     ));
 }
 
@@ -221,7 +228,7 @@ fn extends_patch_choosing_omega_replaces_the_base_rpm() {
          amplitude = 0.09, rpm = 30.0, omega = 5.0 }",
         "drivers[0].law",
     );
-    let e = load_str("extends = \"nope\"\n", "patch")
+    let e = load_str("extends = \"nope\"\n", "patch", lgres::scenes::BUILTINS)
         .unwrap_err()
         .to_string();
     assert!(e.contains("extends = \"nope\": no built-in"), "{e}");
@@ -262,7 +269,12 @@ fn check_rejects_a_mechanism_missing_a_clearance_joint_like_run() {
     let text = scenes::source("lgres").unwrap();
     let cut = text.find("# Joint B").unwrap();
     let end = text[cut..].find("[solver]").unwrap() + cut;
-    let scene = load_str(&format!("{}{}", &text[..cut], &text[end..]), "no B").unwrap();
+    let scene = load_str(
+        &format!("{}{}", &text[..cut], &text[end..]),
+        "no B",
+        lgres::scenes::BUILTINS,
+    )
+    .unwrap();
     let e = check_assembly("t", &scene, &RunOptions::default()).unwrap_err();
     assert!(e.is_bad_input(), "{e}");
     assert!(e.to_string().contains("kinematic analysis"), "{e}");
@@ -272,7 +284,7 @@ fn check_rejects_a_mechanism_missing_a_clearance_joint_like_run() {
 fn check_rejects_an_unassemblable_mechanism_naming_the_joints() {
     // Rod 1's ground pin moved far away: the loop cannot close.
     let text = edited("other_point = [0.0, 1.518]", "other_point = [0.0, 5.0]");
-    let scene = load_str(&text, "unassemblable").unwrap();
+    let scene = load_str(&text, "unassemblable", lgres::scenes::BUILTINS).unwrap();
     let e = check_assembly("t", &scene, &RunOptions::default()).unwrap_err();
     assert!(e.is_bad_input(), "{e}");
     let message = e.to_string();
@@ -294,8 +306,8 @@ fn penetration_beyond_half_the_clearance_fails_the_response_run() {
         penetration: vec![-1e-4, peak, 0.0],
         ..Default::default()
     };
-    lgres::scene::limits::check_penetration(&scene, "response", &[series(2.4e-4)]).unwrap();
-    match lgres::scene::limits::check_penetration(&scene, "response", &[series(2.6e-4)]) {
+    sim::validity::check_penetration(&scene, "response", &[series(2.4e-4)]).unwrap();
+    match sim::validity::check_penetration(&scene, "response", &[series(2.6e-4)]) {
         Err(e @ RunError::PenetrationBeyondLimit { .. }) => {
             let text = e.to_string();
             assert!(
@@ -314,8 +326,8 @@ fn soft_contact_run_fails_with_penetration_beyond_limit() {
         "[[clearance_joints]]\nname = \"A\"\nbearing_material = { youngs_modulus = 1e6, poisson_ratio = 0.3 }\npin_material = { youngs_modulus = 1e6, poisson_ratio = 0.3 }\n[run]\ncycles = 1\nperiod = 0.2\nwear_stages = 0",
     )
     .unwrap();
-    let options = lgres::run::RunOptions::default();
-    match lgres::run_scene("soft", &scene, &options, &mut ()) {
+    let options = sim::RunOptions::default();
+    match sim::run_scene("soft", &scene, &options, &mut ()) {
         Err(RunError::PenetrationBeyondLimit { joint, .. }) => assert_eq!(joint, "A"),
         other => panic!("expected PenetrationBeyondLimit, got {:?}", other.err()),
     }
@@ -326,17 +338,19 @@ fn step_budget_ends_a_run_in_a_failure_naming_the_field() {
     let scene = load_str(
         "extends = \"slider-crank\"\n[solver]\nmax_steps = 10\n",
         "budget",
+        lgres::scenes::BUILTINS,
     )
     .unwrap();
-    let e = lgres::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = sim::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(!e.is_bad_input());
     assert!(e.to_string().contains("solver.max_steps"), "{e}");
     let scene = load_str(
         "extends = \"slider-crank\"\n[solver]\nmax_wall_time = 1e-12\n",
         "budget",
+        lgres::scenes::BUILTINS,
     )
     .unwrap();
-    let e = lgres::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = sim::run_scene("budget", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(e.to_string().contains("solver.max_wall_time"), "{e}");
 }
 
@@ -345,17 +359,17 @@ fn run_scene_validates_a_scene_built_in_code() {
     // A library caller can skip `load_str`; `run_scene` still refuses the allocation.
     let mut scene = scenes::builtin("lgres").unwrap();
     scene.solver.output_interval = 1e-300;
-    let e = lgres::run_scene("code", &scene, &Default::default(), &mut ()).unwrap_err();
+    let e = sim::run_scene("code", &scene, &Default::default(), &mut ()).unwrap_err();
     assert!(e.is_bad_input());
     assert!(e.to_string().contains("solver.output_interval"), "{e}");
 }
 
 /// Issue 35, item 4: every setting that sets how much work a run does, fuzzed over values on
 /// both sides of its bound (from the smallest subnormal to the largest finite number): the
-/// verdict is the bound's (computed from `lgres::scene::limits`), and a refusal names the field.
+/// verdict is the bound's (computed from `scene::limits`), and a refusal names the field.
 #[test]
 fn work_bounds_hold_over_fuzzed_values() {
-    use lgres::scene::limits::{
+    use scene::limits::{
         MAX_CYCLES_PER_STAGE_REPRESENTED, MAX_LAYER_MODULUS, MAX_LENGTH, MAX_SUBSTEPS,
         MIN_SUBSTEP_FRACTION,
     };

@@ -127,7 +127,7 @@ fn every_plot_renders_a_png_of_the_right_size() {
     let n = 1000;
     let bearing: Vec<f64> = (0..n)
         .map(|k| {
-            let a = plot::cell_angle_deg(k, n).to_radians();
+            let a = sim::surfaces::cell_angle_deg(k, n).to_radians();
             1e-4 * (-(a - 2.3).powi(2) / 0.1).exp()
         })
         .collect();
@@ -173,7 +173,7 @@ fn every_plot_renders_a_png_of_the_right_size() {
         .map(|(b, p)| 5e-4 + (b + p) / 2.0)
         .collect();
     let path = dir.join("life.png");
-    let curve = plot::LifeCurve {
+    let curve = lgres::io::life_plot::LifeCurve {
         cycles: &cycles,
         bearing_depth: &bearing,
         pin_depth: &pin,
@@ -181,7 +181,8 @@ fn every_plot_renders_a_png_of_the_right_size() {
         stage_boundaries: &[1e6],
         limit: Some((5.2e-4, Some(1.7e6))),
     };
-    plot::life_curve(&path, "Wear of joint A over its life", (900, 700), &curve).unwrap();
+    lgres::io::life_plot::life_curve(&path, "Wear of joint A over its life", (900, 700), &curve)
+        .unwrap();
     assert_eq!(png_size(&path), (900, 700));
 
     // Empty data still gives a readable (empty) chart rather than an error or a panic.
@@ -237,8 +238,8 @@ cycles_per_stage = 2
 amplification = 750.0
 clearance_limit = 0.000505
 "#;
-    let scene = lgres::scene::load_str(text, "life").unwrap();
-    let outcome = lgres::run_scene("life", &scene, &Default::default(), &mut ()).unwrap();
+    let scene = scene::load_str(text, "life", lgres::scenes::BUILTINS).unwrap();
+    let outcome = sim::run_scene("life", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("life");
     let files = lgres::write_run(&outcome, &dir).unwrap();
     // Every file the run lists exists, and the folder holds nothing it does not list.
@@ -367,9 +368,9 @@ clearance_limit = 0.000505
     // limits: the curve ends at exactly the cycles the stage applied.
     far.run.amplification = 20_000.0;
     for joint in &mut far.clearance_joints {
-        joint.contact = lgres::scene::ContactSpec::line_of_centres();
+        joint.contact = scene::ContactSpec::line_of_centres();
     }
-    let outcome = lgres::run_scene("far", &far, &Default::default(), &mut ()).unwrap();
+    let outcome = sim::run_scene("far", &far, &Default::default(), &mut ()).unwrap();
     let wear = outcome.summary.wear.as_ref().unwrap();
     let applied = wear.cycles_applied_at_limits[0].expect("ends at the validity limits");
     let life = &outcome.wear[0].life;
@@ -384,7 +385,7 @@ clearance_limit = 0.000505
     let mut none = far;
     none.run.clearance_limit = None;
     none.run.wear_stages = 0;
-    let outcome = lgres::run_scene("none", &none, &Default::default(), &mut ()).unwrap();
+    let outcome = sim::run_scene("none", &none, &Default::default(), &mut ()).unwrap();
     let files = lgres::write_run(&outcome, &dir.join("none")).unwrap();
     assert!(
         files

@@ -5,7 +5,7 @@
 use lgres::analysis::precision::{
     PrecisionError, PrecisionOptions, PrecisionReport, RowOutcome, run_sweep,
 };
-use lgres::scene::Integrator;
+use scene::Integrator;
 
 /// The start-up window only (first impacts at ~0.012 s), two methods, two tolerances.
 fn short_sweep() -> PrecisionReport {
@@ -25,12 +25,12 @@ fn sweep(
     // The bounds below were set on the Cartesian formulation. In joint coordinates the 1e-11
     // references agree to 2.8e-9 m and BDF at 1e-8 is off by 1.0e-8 m: resolved, but not by
     // the factor 10 asserted here.
-    scene.solver.formulation = lgres::scene::Formulation::Cartesian;
+    scene.solver.formulation = scene::Formulation::Cartesian;
     // And on the line-of-centres contact: on the foundation the two 1e-11 references agree
     // only to 2e-7 m over this window (not yet understood; docs/convergence.md), which would
     // hide the errors this test checks.
     for joint in &mut scene.clearance_joints {
-        joint.contact = lgres::scene::ContactSpec::line_of_centres();
+        joint.contact = scene::ContactSpec::line_of_centres();
     }
     let options = PrecisionOptions {
         methods,
@@ -141,12 +141,12 @@ fn an_explicit_method_over_a_step_budget_fails_and_skips_its_tighter_tolerances(
     // The bounds below were set on the Cartesian formulation. In joint coordinates the 1e-11
     // references agree to 2.8e-9 m and BDF at 1e-8 is off by 1.0e-8 m: resolved, but not by
     // the factor 10 asserted here.
-    scene.solver.formulation = lgres::scene::Formulation::Cartesian;
+    scene.solver.formulation = scene::Formulation::Cartesian;
     // And on the line-of-centres contact: on the foundation the two 1e-11 references agree
     // only to 2e-7 m over this window (not yet understood; docs/convergence.md), which would
     // hide the errors this test checks.
     for joint in &mut scene.clearance_joints {
-        joint.contact = lgres::scene::ContactSpec::line_of_centres();
+        joint.contact = scene::ContactSpec::line_of_centres();
     }
     let options = PrecisionOptions {
         methods: vec![Integrator::Tsit45],

@@ -46,8 +46,8 @@ cycles_per_stage = 2
 amplification = 750.0
 clearance_limit = 0.000505
 "#;
-    let scene = lgres::scene::load_str(text, "report").unwrap();
-    let outcome = lgres::run_scene("report", &scene, &Default::default(), &mut ()).unwrap();
+    let scene = scene::load_str(text, "report", lgres::scenes::BUILTINS).unwrap();
+    let outcome = sim::run_scene("report", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("run");
     let files = lgres::write_run(&outcome, &dir).unwrap();
     let report = dir.join("report.html");
@@ -138,7 +138,7 @@ fn a_kinematic_run_reports_without_contact_tables() {
     let mut scene = scene;
     scene.run.cycles = 1;
     scene.run.animation = false;
-    let outcome = lgres::run_scene("lgres-ideal", &scene, &Default::default(), &mut ()).unwrap();
+    let outcome = sim::run_scene("lgres-ideal", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("ideal");
     lgres::write_run(&outcome, &dir).unwrap();
     let page = std::fs::read_to_string(dir.join("report.html")).unwrap();

@@ -1,8 +1,8 @@
 //! Shipped scenes parse, validate and are geometrically consistent; bad input is rejected with
 //! the field named.
 
-use lgres::scene::{self, Coordinate, DriverTarget, Scene, SceneError};
 use lgres::scenes::{self, BUILTINS, STUDIES};
+use scene::{self, Coordinate, DriverTarget, Scene, SceneError};
 
 fn issues(err: SceneError) -> Vec<String> {
     match err {
@@ -118,7 +118,7 @@ fn default_tolerances_scale_with_the_clearance() {
 fn scene_round_trips_through_toml() {
     for b in BUILTINS {
         let s = scenes::builtin(b.name).unwrap();
-        let again = scene::load_str(&s.to_toml(), "round trip").unwrap();
+        let again = scene::load_str(&s.to_toml(), "round trip", lgres::scenes::BUILTINS).unwrap();
         // Degrees → radians → degrees may move the last bit of an angle.
         for (x, y) in s.bodies.iter().zip(&again.bodies) {
             assert!((x.theta.rad() - y.theta.rad()).abs() < 1e-14);
@@ -144,8 +144,8 @@ fn older_law_spellings_load_as_contacts_own() {
         "stick_velocity = 1e-4, slip_velocity = 1e-3",
     );
     let (old, new) = (
-        scene::load_str(&old, "old").unwrap(),
-        scene::load_str(&new, "new").unwrap(),
+        scene::load_str(&old, "old", lgres::scenes::BUILTINS).unwrap(),
+        scene::load_str(&new, "new", lgres::scenes::BUILTINS).unwrap(),
     );
     let shipped = lgres::scenes::builtin("lgres").unwrap();
     assert_eq!(new, shipped);
@@ -155,55 +155,65 @@ fn older_law_spellings_load_as_contacts_own() {
     };
     assert_eq!(d.onset_velocity_floor, 2e-4);
     // What `to_toml` writes is contact's spelling, and it loads again.
-    let again = scene::load_str(&shipped.to_toml(), "again").unwrap();
+    let again = scene::load_str(&shipped.to_toml(), "again", lgres::scenes::BUILTINS).unwrap();
     assert_eq!(again, shipped);
 }
 
 #[test]
 fn bad_values_name_field_value_and_reason() {
     let text = edited("clearance = 0.0005", "clearance = 0.06");
-    let msg = issues(scene::load_str(&text, "t").unwrap_err());
+    let msg = issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err());
     assert_eq!(msg.len(), 1, "{msg:?}");
     assert!(msg[0].starts_with("clearance_joints[0].clearance = 0.06: must be smaller"));
 
     let text = edited("mass = 6.32", "mass = -1.0");
     assert!(
-        issues(scene::load_str(&text, "t").unwrap_err())[0].starts_with("bodies[0].mass = -1.0")
+        issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err())[0]
+            .starts_with("bodies[0].mass = -1.0")
     );
 
     let text = edited("restitution = 0.9", "restitution = 1.2");
     assert!(
-        issues(scene::load_str(&text, "t").unwrap_err())[0]
+        issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err())[0]
             .starts_with("clearance_joints[0].normal_law.restitution = 1.2: must be in (0, 1]")
     );
 
     let text = edited("v1 = 1e-3", "v1 = 1e-5");
     assert!(
-        issues(scene::load_str(&text, "t").unwrap_err())[0]
+        issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err())[0]
             .starts_with("clearance_joints[0].friction.slip_velocity = 1e-5: must be > stick")
     );
 
     let text = edited("other = \"rod2\"", "other = \"rod9\"");
     assert!(
-        issues(scene::load_str(&text, "t").unwrap_err())[0]
+        issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err())[0]
             .starts_with("revolute_joints[1].other = \"rod9\": no body")
     );
 
     let text = edited("name = \"rod2\"", "name = \"rod1\"");
-    let msg = issues(scene::load_str(&text, "t").unwrap_err());
+    let msg = issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err());
     assert!(
         msg.iter()
             .any(|m| m.starts_with("bodies[1].name = \"rod1\": duplicate"))
     );
 
     let text = edited("x = 0.15441", "x = nan");
-    assert!(issues(scene::load_str(&text, "t").unwrap_err())[0].contains("finite"));
+    assert!(
+        issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err())[0]
+            .contains("finite")
+    );
 
     let text = edited("rpm = 60.0", "rpm = 60.0, omega = 6.0");
-    assert!(issues(scene::load_str(&text, "t").unwrap_err())[0].starts_with("drivers[0].law"));
+    assert!(
+        issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err())[0]
+            .starts_with("drivers[0].law")
+    );
 
     let text = edited("rtol = 1e-6", "rtol = 0.0");
-    assert!(issues(scene::load_str(&text, "t").unwrap_err())[0].starts_with("solver.rtol"));
+    assert!(
+        issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err())[0]
+            .starts_with("solver.rtol")
+    );
 }
 
 #[test]
@@ -215,7 +225,7 @@ fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
         )
     };
     // Below the 0.5 mm of both A and B: one issue per joint, naming the field, value and joint.
-    let msg = issues(scene::load_str(&with("0.0004"), "t").unwrap_err());
+    let msg = issues(scene::load_str(&with("0.0004"), "t", lgres::scenes::BUILTINS).unwrap_err());
     assert_eq!(msg.len(), 2, "{msg:?}");
     for (m, joint) in msg
         .iter()
@@ -228,16 +238,16 @@ fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
         assert!(m.contains(joint) && m.contains("0.0005 m"), "{m}");
     }
     // Equal is not above.
-    let msg = issues(scene::load_str(&with("0.0005"), "t").unwrap_err());
+    let msg = issues(scene::load_str(&with("0.0005"), "t", lgres::scenes::BUILTINS).unwrap_err());
     assert_eq!(msg.len(), 2, "{msg:?}");
-    let msg = issues(scene::load_str(&with("-0.001"), "t").unwrap_err());
+    let msg = issues(scene::load_str(&with("-0.001"), "t", lgres::scenes::BUILTINS).unwrap_err());
     assert_eq!(msg, ["run.clearance_limit = -0.001: must be positive"]);
-    let msg = issues(scene::load_str(&with("inf"), "t").unwrap_err());
+    let msg = issues(scene::load_str(&with("inf"), "t", lgres::scenes::BUILTINS).unwrap_err());
     assert_eq!(msg, ["run.clearance_limit = inf: must be a finite number"]);
     // A valid limit loads, and survives the round trip through TOML; none is the default.
-    let s = scene::load_str(&with("0.001"), "t").unwrap();
+    let s = scene::load_str(&with("0.001"), "t", lgres::scenes::BUILTINS).unwrap();
     assert_eq!(s.run.clearance_limit, Some(0.001));
-    let again = scene::load_str(&s.to_toml(), "t").unwrap();
+    let again = scene::load_str(&s.to_toml(), "t", lgres::scenes::BUILTINS).unwrap();
     assert_eq!(again.run.clearance_limit, Some(0.001));
     assert_eq!(scenes::builtin("lgres").unwrap().run.clearance_limit, None);
     assert!(
@@ -251,25 +261,33 @@ fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
 #[test]
 fn unknown_keys_and_syntax_errors_carry_position() {
     let text = edited("mass = 6.32", "mass = 6.32\nmas = 1.0");
-    let msg = scene::load_str(&text, "t").unwrap_err().to_string();
+    let msg = scene::load_str(&text, "t", lgres::scenes::BUILTINS)
+        .unwrap_err()
+        .to_string();
     assert!(msg.contains("mas") && msg.contains("line"), "{msg}");
 
     let text = edited("rtol = 1e-6", "rtol = 1e-6\nrtoll = 1.0");
-    let msg = scene::load_str(&text, "t").unwrap_err().to_string();
+    let msg = scene::load_str(&text, "t", lgres::scenes::BUILTINS)
+        .unwrap_err()
+        .to_string();
     assert!(msg.contains("rtoll"), "{msg}");
 
     let text = edited("law = \"ambrosio\"", "law = \"ambrosia\"");
-    assert!(scene::load_str(&text, "t").is_err());
+    assert!(scene::load_str(&text, "t", lgres::scenes::BUILTINS).is_err());
 
-    let msg = scene::load_str("description = ", "t")
+    let msg = scene::load_str("description = ", "t", lgres::scenes::BUILTINS)
         .unwrap_err()
         .to_string();
     assert!(msg.contains("line 1"), "{msg}");
 
     // Unknown keys in a variant are rejected too (no position: the document was merged).
-    let msg = scene::load_str("extends = \"lgres\"\n[run]\ncycle = 3\n", "t")
-        .unwrap_err()
-        .to_string();
+    let msg = scene::load_str(
+        "extends = \"lgres\"\n[run]\ncycle = 3\n",
+        "t",
+        lgres::scenes::BUILTINS,
+    )
+    .unwrap_err()
+    .to_string();
     assert!(msg.contains("cycle"), "{msg}");
 }
 
@@ -278,12 +296,13 @@ fn extends_merges_by_name_and_rejects_unknown_bases() {
     let s = scene::load_str(
         "extends = \"lgres\"\n[[clearance_joints]]\nname = \"B\"\nclearance = 3e-4\n",
         "t",
+        lgres::scenes::BUILTINS,
     )
     .unwrap();
     assert_eq!(s.clearance_joints.len(), 2);
     assert_eq!(s.clearance_joints[0].clearance, 5e-4);
     assert_eq!(s.clearance_joints[1].clearance, 3e-4);
-    let err = scene::load_str("extends = \"nothing\"\n", "t").unwrap_err();
+    let err = scene::load_str("extends = \"nothing\"\n", "t", lgres::scenes::BUILTINS).unwrap_err();
     assert!(matches!(err, SceneError::Extends { .. }), "{err}");
 }
 
@@ -301,12 +320,12 @@ fn files_extend_files_next_to_them() {
         "extends = \"base.toml\"\n[run]\ncycles = 5\n",
     )
     .unwrap();
-    let s = scene::load_path(&dir.join("variant.toml")).unwrap();
+    let s = scene::load_path(&dir.join("variant.toml"), lgres::scenes::BUILTINS).unwrap();
     assert_eq!(s.run.cycles, 5);
     assert_eq!(s.bodies.len(), 3);
     std::fs::write(dir.join("loop.toml"), "extends = \"loop.toml\"\n").unwrap();
-    assert!(scene::load_path(&dir.join("loop.toml")).is_err());
-    assert!(scene::load_path(&dir.join("missing.toml")).is_err());
+    assert!(scene::load_path(&dir.join("loop.toml"), lgres::scenes::BUILTINS).is_err());
+    assert!(scene::load_path(&dir.join("missing.toml"), lgres::scenes::BUILTINS).is_err());
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -326,7 +345,9 @@ fn slider_crank_counts() {
 fn contact_model_fields_are_validated_naming_the_field() {
     // Joint A's contact table replaced.
     let with = |contact: &str| edited("contact = { cells = 500 }", &format!("contact = {contact}"));
-    let one = |contact: &str| issues(scene::load_str(&with(contact), "t").unwrap_err());
+    let one = |contact: &str| {
+        issues(scene::load_str(&with(contact), "t", lgres::scenes::BUILTINS).unwrap_err())
+    };
     assert_eq!(
         one("{ layer_modulus = -5e14 }"),
         ["clearance_joints[0].contact.layer_modulus = -500000000000000.0: must be positive"]
@@ -339,14 +360,14 @@ fn contact_model_fields_are_validated_naming_the_field() {
         "{msg:?}"
     );
     // Coarser nodes that span whole cells are taken, but not with linearly implicit steps.
-    let coarse = scene::load_str(&with("{ cells = 500 }"), "t").unwrap();
+    let coarse = scene::load_str(&with("{ cells = 500 }"), "t", lgres::scenes::BUILTINS).unwrap();
     assert_eq!(coarse.clearance_joints[0].contact.cells, Some(500));
     let implicit = with("{ cells = 500 }").replacen(
         "[run]\n",
         "[run]\nwear_stepping = \"linearly-implicit\"\n",
         1,
     );
-    let msg = issues(scene::load_str(&implicit, "t").unwrap_err());
+    let msg = issues(scene::load_str(&implicit, "t", lgres::scenes::BUILTINS).unwrap_err());
     assert!(
         msg[0].starts_with("clearance_joints[0].contact.cells = 500: run.wear_stepping"),
         "{msg:?}"
@@ -362,7 +383,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
             1,
         )
     };
-    let msg = issues(scene::load_str(&odd_wear("{}"), "t").unwrap_err());
+    let msg = issues(scene::load_str(&odd_wear("{}"), "t", lgres::scenes::BUILTINS).unwrap_err());
     assert!(
         msg[0].starts_with("clearance_joints[0].wear.cells = 999: Simpson's quadrature"),
         "{msg:?}"
@@ -373,7 +394,12 @@ fn contact_model_fields_are_validated_naming_the_field() {
             .any(|m| m.starts_with("clearance_joints[0].contact.cells = 2001: Simpson's")),
         "{msg:?}"
     );
-    let trapezoid = scene::load_str(&odd_wear("{ quadrature = \"trapezoid\" }"), "t").unwrap();
+    let trapezoid = scene::load_str(
+        &odd_wear("{ quadrature = \"trapezoid\" }"),
+        "t",
+        lgres::scenes::BUILTINS,
+    )
+    .unwrap();
     let model = trapezoid.clearance_joints[0].contact_model().unwrap();
     let contact::ContactModel::Foundation(layer) = model else {
         panic!("{model:?}")
@@ -382,7 +408,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
         (layer.quadrature(), layer.cells()),
         (contact::Quadrature::Trapezoid, 999)
     );
-    let again = scene::load_str(&trapezoid.to_toml(), "t").unwrap();
+    let again = scene::load_str(&trapezoid.to_toml(), "t", lgres::scenes::BUILTINS).unwrap();
     assert_eq!(
         again.clearance_joints[0].contact.quadrature,
         Some(contact::Quadrature::Trapezoid)
@@ -394,12 +420,22 @@ fn contact_model_fields_are_validated_naming_the_field() {
         "{msg:?}"
     );
     // An unknown model is a type error naming the field.
-    let err = scene::load_str(&with("{ model = \"winkler\" }"), "t").unwrap_err();
+    let err = scene::load_str(
+        &with("{ model = \"winkler\" }"),
+        "t",
+        lgres::scenes::BUILTINS,
+    )
+    .unwrap_err();
     assert!(err.to_string().contains("model"), "{err}");
     // A valid layer loads and round-trips; the default scene uses the foundation.
-    let s = scene::load_str(&with("{ layer_modulus = 8e11, width = 0.1 }"), "t").unwrap();
+    let s = scene::load_str(
+        &with("{ layer_modulus = 8e11, width = 0.1 }"),
+        "t",
+        lgres::scenes::BUILTINS,
+    )
+    .unwrap();
     assert_eq!(s.clearance_joints[0].contact.layer_modulus, Some(8e11));
-    let again = scene::load_str(&s.to_toml(), "t").unwrap();
+    let again = scene::load_str(&s.to_toml(), "t", lgres::scenes::BUILTINS).unwrap();
     assert_eq!(
         again.clearance_joints[0].contact,
         s.clearance_joints[0].contact
@@ -414,7 +450,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
         "transient_window = 0.1\nwear_smoothing_deg = -1.0",
     );
     assert_eq!(
-        issues(scene::load_str(&text, "t").unwrap_err()),
+        issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err()),
         [
             "run.wear_smoothing_deg = -1.0: must lie in [0, 30] degrees (0: no smoothing; a \
           Gaussian wider than a contact zone would erase the wear pattern)"
@@ -427,7 +463,12 @@ fn contact_model_fields_are_validated_naming_the_field() {
 /// name is refused, naming both. Names that only share a prefix stay allowed.
 #[test]
 fn joint_names_whose_files_collide_are_refused() {
-    let e = scene::load_str(&edited("name = \"B\"", "name = \"A_worn\""), "t").unwrap_err();
+    let e = scene::load_str(
+        &edited("name = \"B\"", "name = \"A_worn\""),
+        "t",
+        lgres::scenes::BUILTINS,
+    )
+    .unwrap_err();
     let msg = issues(e);
     assert_eq!(msg.len(), 1, "{msg:?}");
     assert!(
@@ -436,7 +477,14 @@ fn joint_names_whose_files_collide_are_refused() {
             && msg[0].contains("contact_force_A_worn.png"),
         "{msg:?}"
     );
-    assert!(scene::load_str(&edited("name = \"B\"", "name = \"A_2\""), "t").is_ok());
+    assert!(
+        scene::load_str(
+            &edited("name = \"B\"", "name = \"A_2\""),
+            "t",
+            lgres::scenes::BUILTINS
+        )
+        .is_ok()
+    );
 }
 
 #[test]
@@ -453,8 +501,14 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
         ("1.5", "must lie in (0, 1]"),
         ("nan", "must be a finite number"),
     ] {
-        let msg =
-            issues(scene::load_str(&with(&format!("wear_tolerance = {bad}")), "t").unwrap_err());
+        let msg = issues(
+            scene::load_str(
+                &with(&format!("wear_tolerance = {bad}")),
+                "t",
+                lgres::scenes::BUILTINS,
+            )
+            .unwrap_err(),
+        );
         assert_eq!(msg.len(), 1, "{msg:?}");
         assert!(
             msg[0].starts_with("run.wear_tolerance = ") && msg[0].contains(reason),
@@ -465,7 +519,7 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
         "adaptive_extrapolation = true",
         "adaptive_extrapolation = false",
     );
-    let msg = issues(scene::load_str(&text, "t").unwrap_err());
+    let msg = issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err());
     assert!(
         msg[0].contains("needs run.adaptive_extrapolation = true"),
         "{msg:?}"
@@ -475,30 +529,36 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
     let text = one_per_cell(with(
         "wear_tolerance = 0.05\nwear_stepping = \"linearly-implicit\"",
     ));
-    let msg = issues(scene::load_str(&text, "t").unwrap_err());
+    let msg = issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err());
     assert!(
         msg[0].starts_with("run.wear_tolerance = ") && msg[0].contains("linearly-implicit"),
         "{msg:?}"
     );
-    let bad = scene::load_str(&with("wear_stepping = \"backward\""), "t").unwrap_err();
+    let bad = scene::load_str(
+        &with("wear_stepping = \"backward\""),
+        "t",
+        lgres::scenes::BUILTINS,
+    )
+    .unwrap_err();
     assert!(bad.to_string().contains("wear_stepping"), "{bad}");
     let s = scene::load_str(
         &one_per_cell(with("wear_stepping = \"linearly-implicit\"")),
         "t",
+        lgres::scenes::BUILTINS,
     )
     .unwrap();
     assert_eq!(s.run.wear_stepping, wear::WearStepping::LinearlyImplicit);
     assert_eq!(
-        scene::load_str(&s.to_toml(), "t")
+        scene::load_str(&s.to_toml(), "t", lgres::scenes::BUILTINS)
             .unwrap()
             .run
             .wear_stepping,
         wear::WearStepping::LinearlyImplicit
     );
-    let s = scene::load_str(&with("wear_tolerance = 0.05"), "t").unwrap();
+    let s = scene::load_str(&with("wear_tolerance = 0.05"), "t", lgres::scenes::BUILTINS).unwrap();
     assert_eq!(s.run.wear_tolerance, Some(0.05));
     assert_eq!(
-        scene::load_str(&s.to_toml(), "t")
+        scene::load_str(&s.to_toml(), "t", lgres::scenes::BUILTINS)
             .unwrap()
             .run
             .wear_tolerance,

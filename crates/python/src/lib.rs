@@ -1,8 +1,8 @@
 //! The native module `wornjoint._native`: scenes as dicts, runs, and sweep tasks for the
 //! `wornjoint` Python package (its `__init__.py` wraps these in a friendlier API).
 //!
-//! Every run goes through the same code as `wearsim run` ([`lgres::scene::from_table`],
-//! [`lgres::overrides::RunOverrides`], [`lgres::run::run_scene`]), so its numbers equal the
+//! Every run goes through the same code as `wearsim run` ([`scene::from_table`],
+//! [`sim::overrides::RunOverrides`], [`sim::run_scene`]), so its numbers equal the
 //! command line's bit for bit; runs release the GIL. Bad input raises `SceneError` (a
 //! `ValueError`) naming the field, a failed run `RunError`, a bad sweep file `SweepError` (a
 //! `ValueError`); an internal panic is caught and raised as `RunError`, never a crash.
@@ -21,13 +21,13 @@ use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 
-use lgres::overrides::RunOverrides;
-use lgres::run::{Response, RunOutcome};
 use numpy::{PyArray1, PyArray2};
 use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use sim::overrides::RunOverrides;
+use sim::{Response, RunOutcome};
 use sweep::{LocalOptions, Row, Sweep};
 
 create_exception!(
@@ -79,11 +79,11 @@ fn scenes() -> BTreeMap<&'static str, &'static str> {
 }
 
 /// A built-in name or a file path → (name outputs are filed under, merged table).
-fn load_table(spec: &str) -> Result<(String, toml::Table), lgres::scene::SceneError> {
+fn load_table(spec: &str) -> Result<(String, toml::Table), scene::SceneError> {
     if let Some(text) = lgres::scenes::source(spec) {
         return Ok((
             spec.to_string(),
-            lgres::scene::merged_table(text, spec, None)?,
+            scene::merged_table(text, spec, None, lgres::scenes::BUILTINS)?,
         ));
     }
     let path = Path::new(spec);
@@ -91,7 +91,7 @@ fn load_table(spec: &str) -> Result<(String, toml::Table), lgres::scene::SceneEr
         // The built-in error lists the known names.
         lgres::scenes::builtin(spec)?;
     }
-    lgres::scene::merged_table_of_file(path)
+    scene::merged_table_of_file(path, lgres::scenes::BUILTINS)
 }
 
 fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {
@@ -193,7 +193,7 @@ fn dict_to_table(d: &Bound<'_, PyDict>, path: &str) -> PyResult<toml::Table> {
 fn load<'py>(py: Python<'py>, spec: &str) -> PyResult<(String, Bound<'py, PyDict>)> {
     let (name, table) = load_table(spec).map_err(scene_err)?;
     // Parse and validate now, so a bad file fails at load.
-    lgres::scene::from_table(table.clone(), &name).map_err(scene_err)?;
+    scene::from_table(table.clone(), &name).map_err(scene_err)?;
     Ok((name, table_to_py(py, &table)?))
 }
 
@@ -201,7 +201,7 @@ fn load<'py>(py: Python<'py>, spec: &str) -> PyResult<(String, Bound<'py, PyDict
 #[pyfunction]
 fn check(scene: &Bound<'_, PyDict>, name: &str) -> PyResult<()> {
     let table = dict_to_table(scene, "")?;
-    lgres::scene::from_table(table, name).map_err(scene_err)?;
+    scene::from_table(table, name).map_err(scene_err)?;
     Ok(())
 }
 
@@ -254,7 +254,7 @@ impl Outcome {
     /// The run's report as an HTML fragment (what a notebook displays), figures embedded.
     /// Releases the GIL while it draws.
     fn report_html(&self, py: Python<'_>) -> PyResult<String> {
-        py.detach(|| lgres::io::report::notebook_html(&self.0))
+        py.detach(|| lgres::io::artifacts::notebook_html(&self.0))
             .map_err(|e| RunError::new_err(e.to_string()))
     }
 }
@@ -287,7 +287,7 @@ fn fill_outcome(d: &Bound<'_, PyDict>, py: Python<'_>, o: &RunOutcome) -> PyResu
             .first()
             .map_or(0, |s| s.bearing().depth().len());
         let angle: Vec<f64> = (0..cells)
-            .map(|c| lgres::io::plot::cell_angle_deg(c, cells))
+            .map(|c| sim::surfaces::cell_angle_deg(c, cells))
             .collect();
         j.set_item("angle_deg", column(py, &angle))?;
         let bearing: Vec<Vec<f64>> = joint
@@ -361,7 +361,7 @@ fn run<'py>(
     if threads == Some(0) {
         return Err(scene_err("threads = 0: must be at least 1"));
     }
-    let mut scene = lgres::scene::from_table(table, &name).map_err(scene_err)?;
+    let mut scene = scene::from_table(table, &name).map_err(scene_err)?;
     let overrides = RunOverrides {
         cycles,
         stages,
@@ -380,7 +380,7 @@ fn run<'py>(
     let options = overrides.run_options();
     let result = py.detach(|| {
         catch_unwind(AssertUnwindSafe(|| -> Result<RunOutcome, PyErrText> {
-            let outcome = lgres::run::run_scene(&name, &scene, &options, &mut ()).map_err(|e| {
+            let outcome = sim::run_scene(&name, &scene, &options, &mut ()).map_err(|e| {
                 if e.is_bad_input() {
                     PyErrText::Scene(e.to_string())
                 } else {

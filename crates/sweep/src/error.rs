@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 
 use lgres::io::output::OutputError;
-use lgres::run::RunError;
-use lgres::scene::SceneError;
+use scene::SceneError;
+use sim::RunError;
 
 /// Why a sweep could not be set up or its outputs written (a failed sample is a [`Row`]).
 #[derive(Debug, thiserror::Error)]

@@ -6,12 +6,12 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::Path;
 use std::time::Instant;
 
-use lgres::overrides::RunOverrides;
-use lgres::run::RunError;
-use lgres::scene::SceneError;
 use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
+use scene::SceneError;
 use serde::{Deserialize, Serialize};
+use sim::RunError;
+use sim::overrides::RunOverrides;
 
 use crate::definition::{Input, Mode, Sampler};
 use crate::error::{SampleError, SweepError};
@@ -53,9 +53,7 @@ impl Whole {
 fn accepts(base: &toml::Table, path: &str, value: toml::Value) -> bool {
     let mut table = base.clone();
     path::set(&mut table, path, value).is_ok()
-        && toml::Value::Table(table)
-            .try_into::<lgres::scene::Scene>()
-            .is_ok()
+        && toml::Value::Table(table).try_into::<scene::Scene>().is_ok()
 }
 
 /// The range of the integer scene field at `path`; `None` for a float (or not a number) field.
@@ -203,17 +201,17 @@ pub struct Sweep {
 }
 
 /// The `[run]` table against the base scene, with the scene's rules and the run's
-/// ([`lgres::run::scene_as_run`]), before any sample: a bad setting would fail every row. The
+/// ([`sim::scene_as_run`]), before any sample: a bad setting would fail every row. The
 /// error names the table's field (`run.max_wall_time`) and the scene field it sets.
 fn check_run_table(
     overrides: &RunOverrides,
     base: &toml::Table,
     scene_name: &str,
 ) -> Result<(), SweepError> {
-    let mut scene = lgres::scene::from_table(base.clone(), scene_name)?;
+    let mut scene = scene::from_table(base.clone(), scene_name)?;
     let origin = format!("{scene_name} with the sweep file's [run] table");
     let refused = match overrides.apply(&mut scene, &origin) {
-        Ok(()) => match lgres::run::scene_as_run(scene_name, &scene, &overrides.run_options()) {
+        Ok(()) => match sim::scene_as_run(scene_name, &scene, &overrides.run_options()) {
             Ok(_) => return Ok(()),
             Err(RunError::Scene(e)) => e,
             Err(RunError::Trajectories { trajectories, .. }) => {
@@ -390,7 +388,7 @@ impl Sweep {
                     value: format!("{:?}", input.paths),
                     reason: e.to_string(),
                 })?;
-            let checked: Result<lgres::scene::Scene, _> =
+            let checked: Result<scene::Scene, _> =
                 serde_path_to_error::deserialize(toml::Value::Table(table));
             if let Err(e) = checked {
                 let at = e.path().to_string();
@@ -471,13 +469,13 @@ impl Sweep {
     }
 
     /// The scene of sample `index`, with the run settings applied and validated.
-    pub fn scene(&self, index: usize) -> Result<lgres::scene::Scene, SampleError> {
+    pub fn scene(&self, index: usize) -> Result<scene::Scene, SampleError> {
         let mut table = self.base.clone();
         for (input, v) in self.inputs.iter().zip(self.input_values(index)) {
             self.edit(&mut table, input, v)?;
         }
         let origin = format!("{} sample {index}", self.name);
-        let mut scene = lgres::scene::from_table(table, &origin)?;
+        let mut scene = scene::from_table(table, &origin)?;
         self.overrides.apply(
             &mut scene,
             &format!("{origin} with the sweep file's [run] table"),
@@ -523,7 +521,7 @@ impl Sweep {
 
     fn metrics_of(&self, index: usize) -> Result<Vec<Option<f64>>, SampleError> {
         let scene = self.scene(index)?;
-        let outcome = lgres::run::run_scene(
+        let outcome = sim::run_scene(
             &self.scene_name,
             &scene,
             &self.overrides.run_options(),

@@ -2,8 +2,8 @@
 
 use std::path::Path;
 
-use lgres::overrides::RunOverrides;
 use serde::Deserialize;
+use sim::overrides::RunOverrides;
 
 use crate::{Input, Mode, Sampler, SweepError};
 
@@ -95,7 +95,7 @@ impl RunSection {
         // (`check_run_table`). The scene refuses more, but only once a sample is built, and the scene's validation
         // of an enormous count itself takes forever (it lists every stage's file names): so
         // here, up front, by this field.
-        let most = lgres::scene::limits::MAX_WEAR_STAGES;
+        let most = scene::limits::MAX_WEAR_STAGES;
         if let Some(n) = self.stages.filter(|n| *n > most) {
             return Err(bad("run.stages", n, format!("at most {most}")));
         }
@@ -357,7 +357,7 @@ pub(crate) fn base_scene(
     if let Some(text) = lgres::scenes::source(spec) {
         return Ok((
             spec.to_string(),
-            lgres::scene::merged_table(text, spec, None)?,
+            scene::merged_table(text, spec, None, lgres::scenes::BUILTINS)?,
         ));
     }
     let path = dir.map_or_else(|| Path::new(spec).to_path_buf(), |d| d.join(spec));
@@ -368,5 +368,5 @@ pub(crate) fn base_scene(
             "no built-in scene and no file of this name (relative to the sweep file)",
         ));
     }
-    Ok(lgres::scene::merged_table_of_file(&path)?)
+    Ok(scene::merged_table_of_file(&path, lgres::scenes::BUILTINS)?)
 }

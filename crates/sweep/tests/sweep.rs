@@ -266,8 +266,8 @@ fn threads_one_by_one_and_resume_give_the_same_file() {
 #[test]
 fn scene_tables_parse_to_the_scenes_the_command_line_loads() {
     for b in lgres::scenes::BUILTINS {
-        let table = lgres::scene::merged_table(b.source, b.name, None).unwrap();
-        let from_table = lgres::scene::from_table(table, b.name).unwrap();
+        let table = scene::merged_table(b.source, b.name, None, lgres::scenes::BUILTINS).unwrap();
+        let from_table = scene::from_table(table, b.name).unwrap();
         assert_eq!(
             from_table,
             lgres::scenes::builtin(b.name).unwrap(),
@@ -279,8 +279,13 @@ fn scene_tables_parse_to_the_scenes_the_command_line_loads() {
 
 #[test]
 fn paths_address_named_elements() {
-    let mut t =
-        lgres::scene::merged_table(lgres::scenes::source("lgres").unwrap(), "lgres", None).unwrap();
+    let mut t = scene::merged_table(
+        lgres::scenes::source("lgres").unwrap(),
+        "lgres",
+        None,
+        lgres::scenes::BUILTINS,
+    )
+    .unwrap();
     sweep::path::set(
         &mut t,
         "clearance_joints.B.wear.k_d",
@@ -289,7 +294,7 @@ fn paths_address_named_elements() {
     .unwrap();
     sweep::path::set(&mut t, "drivers.drive.law.rpm", toml::Value::Float(45.0)).unwrap();
     sweep::path::set(&mut t, "bodies[1].mass", toml::Value::Float(13.0)).unwrap();
-    let s = lgres::scene::from_table(t.clone(), "x").unwrap();
+    let s = scene::from_table(t.clone(), "x").unwrap();
     assert_eq!(s.clearance_joints[1].wear.as_ref().unwrap().k_d, 2e-13);
     assert_eq!(s.bodies[1].mass, 13.0);
     let e = sweep::path::set(

@@ -2,10 +2,10 @@
 //! `"joint"`) on the default LGRES: over the start-up window, before the chaotic paths separate
 //! (docs/model.md §8), the journal-centre paths and the first impacts at A and B must agree.
 
-use lgres::build::{JointHandle, Surfaces, build};
-use lgres::run::simulation_options;
-use lgres::scene::{Formulation, Scene};
 use multibody::{Frame, Observer, OutputTimes};
+use scene::{Formulation, Scene};
+use sim::build::{JointHandle, Surfaces, build};
+use sim::simulation_options;
 
 /// Journal-centre paths (eccentricity vectors) and normal forces at every output frame.
 #[derive(Default)]

@@ -1,11 +1,11 @@
-//! The LGRES through all four crates: scene → `lgres::build` → `multibody` with `contact`
+//! The LGRES through all four crates: scene → `sim::build` → `multibody` with `contact`
 //! clearance elements and `wear` surfaces. Short runs (a fraction of a drive cycle) so the suite
 //! stays fast in release.
 
-use lgres::build::{Surfaces, build, unworn_joints};
-use lgres::run::{RunOptions, run_scene, simulation_options};
-use lgres::scene::Scene;
 use multibody::{OutputTimes, SimulationResult};
+use scene::Scene;
+use sim::build::{Surfaces, build, unworn_joints};
+use sim::{RunOptions, run_scene, simulation_options};
 
 fn scene(name: &str) -> Scene {
     lgres::scenes::builtin(name).expect("built-in scene")

@@ -8,9 +8,9 @@
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 
-use lgres::io::surfaces::SurfacesError;
-use lgres::run::{RunError, RunOptions, run_scene};
-use lgres::scene::{ContactModelName, ContactSpec};
+use scene::{ContactModelName, ContactSpec};
+use sim::surfaces::SurfacesError;
+use sim::{RunError, RunOptions, run_scene};
 
 /// A Gaussian dent `depth · exp(−((θ − centre)/width)²)` on `cells` cells (wrapped).
 fn dent(cells: usize, centre_deg: f64, depth: f64) -> Vec<f64> {
@@ -107,7 +107,7 @@ fn elastic_contact_conserves_energy(model: ContactModelName) {
     std::fs::remove_dir_all(dir).ok();
 }
 
-fn set_model(scene: &mut lgres::scene::Scene, model: ContactModelName) {
+fn set_model(scene: &mut scene::Scene, model: ContactModelName) {
     for joint in &mut scene.clearance_joints {
         joint.contact = match model {
             ContactModelName::LineOfCentres => ContactSpec::line_of_centres(),
@@ -218,12 +218,12 @@ fn line_of_centres_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_e
 /// finds its partials equal to central differences of its forces.
 #[test]
 fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
-    use lgres::build::{Surfaces, build, unworn_joints};
     use multibody::OutputTimes;
+    use sim::build::{Surfaces, build, unworn_joints};
     let dir = worn_folder("partials");
     let scene = lgres::scenes::builtin("lgres").expect("built-in");
     let unworn = unworn_joints(&scene).expect("joints");
-    let worn = lgres::io::surfaces::load_last_stage(&dir, &scene, &unworn).expect("loads");
+    let worn = sim::surfaces::load_last_stage(&dir, &scene, &unworn).expect("loads");
     let build_worn = || {
         build(
             &scene,
@@ -237,7 +237,7 @@ fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
     let mut built = build_worn();
     let (q0, qd0) = built.system.initial_guess();
     let start = built.system.assemble(0.0, &q0, &qd0).expect("assembles");
-    let options = lgres::run::simulation_options(&scene, 0.4, OutputTimes::Every(1e-3), true);
+    let options = sim::simulation_options(&scene, 0.4, OutputTimes::Every(1e-3), true);
     let result = built
         .system
         .simulate(&start, &options, &mut ())
@@ -255,7 +255,7 @@ fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
         // of the current contact, a constant of the force law) belongs to that state.
         let mut fresh = build_worn();
         let t = trajectory.times[f];
-        let options = lgres::run::simulation_options(&scene, t, OutputTimes::At(vec![t]), true);
+        let options = sim::simulation_options(&scene, t, OutputTimes::At(vec![t]), true);
         let run = fresh
             .system
             .simulate(&start, &options, &mut ())
@@ -285,14 +285,14 @@ fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
 /// a FIFO, no silent surface from shuffled rows or a depth of 1e300 m.
 #[test]
 fn corrupt_or_special_wear_files_are_refused_by_name() {
-    use lgres::build::unworn_joints;
+    use sim::build::unworn_joints;
     let dir = worn_folder("corrupt");
     let scene = lgres::scenes::builtin("lgres").expect("built-in");
     let unworn = unworn_joints(&scene).expect("joints");
     let file = dir.join("wear_B_stage1.csv");
     let good = std::fs::read_to_string(&file).expect("reads");
     let refused = |what: &str| -> String {
-        match lgres::io::surfaces::load_last_stage(&dir, &scene, &unworn) {
+        match sim::surfaces::load_last_stage(&dir, &scene, &unworn) {
             Err(e) => {
                 let text = e.to_string();
                 assert!(text.contains("wear_B_stage1.csv"), "{what}: {text}");
@@ -357,6 +357,6 @@ fn corrupt_or_special_wear_files_are_refused_by_name() {
     }
     // The good file loads again.
     std::fs::write(&file, &good).expect("writes");
-    assert!(lgres::io::surfaces::load_last_stage(&dir, &scene, &unworn).is_ok());
+    assert!(sim::surfaces::load_last_stage(&dir, &scene, &unworn).is_ok());
     std::fs::remove_dir_all(dir).ok();
 }

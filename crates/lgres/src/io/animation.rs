@@ -1,5 +1,5 @@
 //! The animated mechanism, `mechanism.gif`: one drive cycle after the start-up window, from
-//! the poses a run records ([`crate::run::MechanismFrames`]).
+//! the poses a run records ([`sim::MechanismFrames`]).
 //!
 //! Each frame shows the bodies as links through their joint points (a bar for two points, a
 //! polygon for more, a block for a slider), the ideal mechanism as a wide light-grey band
@@ -21,27 +21,26 @@
 //! quantized, and only the rectangle that changed from the previous frame is stored. The
 //! same input gives the same bytes.
 
+mod canvas;
 mod encode;
 mod inset;
 mod layout;
 
 use std::path::Path;
 
-use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::io::output::{OutputError, write_via_temp};
-use crate::io::plot::{FONT, register_fonts};
-use crate::run::{JointWearHistory, MechanismFrames, Response};
-use crate::scene::Scene;
+use crate::io::plot::register_fonts;
+use scene::Scene;
+use sim::{JointWearHistory, MechanismFrames, Response};
 
-pub use crate::run::MAX_ANIMATION_FRAMES;
+pub use sim::MAX_ANIMATION_FRAMES;
 
+pub use canvas::ANIMATION_SIZE;
+use canvas::{Area, DrawResult, colours, text};
 use inset::Inset;
 use layout::{Mechanism, View};
-
-/// Width and height of the animation, pixels.
-pub const ANIMATION_SIZE: (u32, u32) = (720, 540);
 
 /// Time each frame shows, hundredths of a second (GIF's unit): a cycle of 72 frames loops in
 /// about 4 s whatever its real period.
@@ -57,38 +56,6 @@ pub struct AnimationInfo {
     /// Per active clearance joint (name): the factor its clearance is magnified by in its
     /// inset, relative to the mechanism's scale.
     pub magnification: Vec<(String, f64)>,
-}
-
-/// Colours of the drawing; the GIF's palette is built from these and their blends with white.
-pub(super) mod colours {
-    use plotters::style::RGBColor;
-
-    /// The links of the mechanism with clearance.
-    pub const LINK: RGBColor = RGBColor(0, 114, 178);
-    /// The ideal mechanism behind.
-    pub const IDEAL: RGBColor = RGBColor(205, 205, 205);
-    /// Ground marks, guides, frames of the insets.
-    pub const GROUND: RGBColor = RGBColor(110, 110, 110);
-    /// Clearance joints: their mark in the mechanism and their label.
-    pub const JOINT: RGBColor = RGBColor(230, 159, 0);
-    /// The journal-centre orbit.
-    pub const TRAIL: RGBColor = RGBColor(86, 180, 233);
-    /// The contact force.
-    pub const FORCE: RGBColor = RGBColor(213, 94, 0);
-    /// The worn bearing outline.
-    pub const WORN: RGBColor = RGBColor(0, 158, 115);
-    /// Every colour drawn (white and black included).
-    pub const ALL: [RGBColor; 9] = [
-        RGBColor(255, 255, 255),
-        RGBColor(0, 0, 0),
-        LINK,
-        IDEAL,
-        GROUND,
-        JOINT,
-        TRAIL,
-        FORCE,
-        WORN,
-    ];
 }
 
 /// Draws the animation of `response` (its recorded [`MechanismFrames`]) to `path` atomically;
@@ -234,14 +201,6 @@ struct SceneFrame<'a> {
     period: f64,
     /// The frame, an index into `frames.frames`.
     i: usize,
-}
-
-type Area<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
-type DrawResult = Result<(), Box<dyn std::error::Error>>;
-
-fn text(area: &Area<'_>, s: &str, at: (i32, i32), size: u32, colour: RGBColor) -> DrawResult {
-    area.draw(&Text::new(s, at, (FONT, size).into_font().color(&colour)))?;
-    Ok(())
 }
 
 fn draw_frame(root: &Area<'_>, f: &SceneFrame<'_>) -> DrawResult {

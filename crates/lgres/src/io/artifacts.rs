@@ -6,12 +6,14 @@
 use std::path::{Path, PathBuf};
 
 use crate::io::animation;
+use crate::io::life_plot::{LifeCurve, life_curve};
 use crate::io::output::{
     Cell, Column, CsvWriter, OutputError, write_atomic, write_csv, write_json,
 };
 use crate::io::plot::{self, DEFAULT_SIZE, Figure, Series};
-use crate::io::report::Captioned;
-use crate::run::{LifePoint, Response, RunOutcome};
+use crate::io::report::{Captioned, FILES_MARK, REPORT_FILE};
+use scene::file_names::{JointFile, is_file_name_safe};
+use sim::{LifePoint, Response, RunOutcome};
 
 const QUANTITIES: [(&str, &str, &str); 6] = [
     ("x", "m", "x displacement"),
@@ -28,7 +30,7 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
     let names = outcome.response.contact.iter().map(|c| &c.name);
     if let Some(name) = names
         .chain(outcome.wear.iter().map(|w| &w.name))
-        .find(|n| !crate::scene::limits::is_file_name_safe(n))
+        .find(|n| !is_file_name_safe(n))
     {
         return Err(OutputError::UnsafeName { name: name.clone() });
     }
@@ -50,6 +52,25 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
     Ok(files)
 }
 
+/// The report of `outcome` as an HTML fragment for a notebook (`_repr_html_`): the page
+/// without the files list, figures embedded. The run's files are drawn in a temporary folder,
+/// removed before returning.
+pub fn notebook_html(outcome: &RunOutcome) -> Result<String, OutputError> {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!(".wearsim-notebook-{}-{n}", std::process::id()));
+    let page = write_run(outcome, &dir).and_then(|_| {
+        let path = dir.join(REPORT_FILE);
+        std::fs::read_to_string(&path).map_err(crate::io::output::io_err(&path))
+    });
+    // Best effort: the report (or its error) matters more than a leftover temporary folder.
+    let _ = std::fs::remove_dir_all(&dir);
+    let page = page?;
+    let start = page.find("<div class=\"wj-report\">").unwrap_or(0);
+    let end = page.find(FILES_MARK).unwrap_or(page.len());
+    Ok(format!("{}</div>\n", &page[start..end]))
+}
+
 /// Every file of [`write_run`] but the animations and the report, in order.
 fn data_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
     let mut files = Vec::new();
@@ -62,7 +83,7 @@ fn data_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
         for (k, stage) in joint.stages.iter().enumerate() {
             let (bearing, pin) = (stage.bearing().depth(), stage.pin().depth());
             let angle: Vec<f64> = (0..bearing.len())
-                .map(|c| plot::cell_angle_deg(c, bearing.len()))
+                .map(|c| sim::surfaces::cell_angle_deg(c, bearing.len()))
                 .collect();
             let path = dir.join(JointFile::StageWear(k + 1).name(&joint.name));
             files.push(write_csv(
@@ -238,11 +259,11 @@ fn life_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
             .and_then(|j| j.clearance_limit.as_ref())
             .map(|l| (l.limit_m, l.cycles));
         let path = dir.join(JointFile::Life.name(&joint.name));
-        plot::life_curve(
+        life_curve(
             &path,
             &format!("Wear of joint {} over its life", joint.name),
             DEFAULT_SIZE,
-            &plot::LifeCurve {
+            &LifeCurve {
                 cycles: &cycles,
                 bearing_depth: &column(|p| p.bearing_peak_depth_m),
                 pin_depth: &column(|p| p.pin_peak_depth_m),
@@ -402,60 +423,4 @@ fn response_files(
         files.push(path);
     }
     Ok(files)
-}
-
-/// The files a run writes for one clearance joint, named after it.
-#[derive(Debug, Clone, Copy)]
-pub(crate) enum JointFile {
-    /// `wear_<joint>_stage<k>.csv`.
-    StageWear(usize),
-    /// `wear_<joint>.png`.
-    Wear,
-    /// `worn_outline_<joint>.png`.
-    Outline,
-    /// `wear_life_<joint>.png`.
-    Life,
-    /// `contact_force_<joint>[_worn].png`.
-    Force(bool),
-    /// `journal_<joint>[_worn].png`.
-    Journal(bool),
-}
-
-impl JointFile {
-    /// The file name for joint `joint`.
-    pub(crate) fn name(self, joint: &str) -> String {
-        let worn = |w: bool| if w { "_worn" } else { "" };
-        match self {
-            JointFile::StageWear(k) => format!("wear_{joint}_stage{k}.csv"),
-            JointFile::Wear => format!("wear_{joint}.png"),
-            JointFile::Outline => format!("worn_outline_{joint}.png"),
-            JointFile::Life => format!("wear_life_{joint}.png"),
-            JointFile::Force(w) => format!("contact_force_{joint}{}.png", worn(w)),
-            JointFile::Journal(w) => format!("journal_{joint}{}.png", worn(w)),
-        }
-    }
-}
-
-/// A file name two clearance joints would both write (the first found), e.g.
-/// `contact_force_A_worn.png` for joints `A` and `A_worn`. The per-stage CSVs
-/// `wear_<joint>_stage<k>.csv` cannot collide for distinct names (`<k>` is a number, and
-/// the other files end otherwise), so only the fixed set is compared: the check costs the
-/// same for any number of stages.
-pub fn colliding_file(first: &str, second: &str) -> Option<String> {
-    let files = |joint: &str| -> Vec<String> {
-        [
-            JointFile::Wear,
-            JointFile::Outline,
-            JointFile::Life,
-            JointFile::Force(false),
-            JointFile::Force(true),
-            JointFile::Journal(false),
-            JointFile::Journal(true),
-        ]
-        .into_iter()
-        .map(|f| f.name(joint))
-        .collect()
-    };
-    let theirs = files(second);
-    files(first).into_iter().find(|f| theirs.contains(f))
 }

@@ -1,16 +1,15 @@
 //! Files in and out: atomic writers and number formats ([`output`], which also re-exports the
 //! staged, locked output folders of runs and studies), a run's CSV, JSON and PNG files
-//! ([`artifacts`]), figures ([`plot`], with the life curve), the animated mechanism
-//! (`mechanism.gif`, [`animation`]) and worn surfaces read back from an earlier run
-//! ([`surfaces`]), and the self-contained HTML pages ([`html`]) of a run's
+//! ([`artifacts`]), figures ([`plot`], the life curve in [`life_plot`]), the animated mechanism
+//! (`mechanism.gif`, [`animation`]), and the self-contained HTML pages ([`html`]) of a run's
 //! report ([`report`]).
 
 pub mod animation;
 pub mod artifacts;
 pub mod html;
-mod life_plot;
+pub mod life_plot;
 pub mod output;
+mod output_error;
 pub mod plot;
 pub mod report;
 mod staged;
-pub mod surfaces;

@@ -14,8 +14,7 @@ use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
 use crate::io::output::{OutputError, write_via_temp};
-
-pub use super::life_plot::{LifeCurve, life_curve};
+use sim::surfaces::cell_angle_deg;
 
 /// Default figure size, pixels.
 pub const DEFAULT_SIZE: (u32, u32) = (1000, 650);
@@ -172,11 +171,6 @@ pub fn line_chart(
     })
 }
 
-/// Body-frame angle of the centre of grid cell `k` of `n`, degrees: cell 0 spans 0..360/n.
-pub fn cell_angle_deg(k: usize, n: usize) -> f64 {
-    (k as f64 + 0.5) * 360.0 / n as f64
-}
-
 /// Wear depth per grid cell (m) against the cell's body-frame angle, one curve per surface;
 /// drawn in µm.
 pub fn wear_depth(
@@ -216,7 +210,7 @@ pub struct WornJoint<'a> {
     pub bearing_radius: f64,
     /// Nominal pin radius, m.
     pub pin_radius: f64,
-    /// Radius increase of the bearing per cell, m (cell k at [`cell_angle_deg`]).
+    /// Radius increase of the bearing per cell, m (cell k at [`cell_angle_deg`](sim::surfaces::cell_angle_deg)).
     pub bearing_wear: &'a [f64],
     /// Radius decrease of the pin per cell, m.
     pub pin_wear: &'a [f64],

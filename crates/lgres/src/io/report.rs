@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::io::html::{Html, Td};
 use crate::io::output::OutputError;
-use crate::run::{
+use sim::{
     ENERGY_BOOKS_TOLERANCE_J, JointSummary, PeakStats, ResponseSummary, RunOutcome, Summary,
 };
 
@@ -51,26 +51,7 @@ pub fn write_run_report(
 }
 
 /// Where the list of files beside the page starts (a notebook's copy ends there).
-const FILES_MARK: &str = "<!-- files -->\n";
-
-/// The report of `outcome` as an HTML fragment for a notebook (`_repr_html_`): the page
-/// without the files list, figures embedded. The run's files are drawn in a temporary folder,
-/// removed before returning.
-pub fn notebook_html(outcome: &RunOutcome) -> Result<String, OutputError> {
-    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!(".wearsim-notebook-{}-{n}", std::process::id()));
-    let page = crate::io::artifacts::write_run(outcome, &dir).and_then(|_| {
-        let path = dir.join(REPORT_FILE);
-        std::fs::read_to_string(&path).map_err(crate::io::output::io_err(&path))
-    });
-    // Best effort: the report (or its error) matters more than a leftover temporary folder.
-    let _ = std::fs::remove_dir_all(&dir);
-    let page = page?;
-    let start = page.find("<div class=\"wj-report\">").unwrap_or(0);
-    let end = page.find(FILES_MARK).unwrap_or(page.len());
-    Ok(format!("{}</div>\n", &page[start..end]))
-}
+pub(crate) const FILES_MARK: &str = "<!-- files -->\n";
 
 /// The report's top part, the verdicts and tables without figures (what a notebook shows first).
 pub fn run_summary(s: &Summary) -> Html {
@@ -218,7 +199,7 @@ fn share_cell(after: Option<&PeakStats>) -> Td {
                 100.0 * p.elastic_share_median,
                 100.0 * p.elastic_share_min
             ),
-            p.elastic_share_median >= crate::run::MIN_ELASTIC_SHARE,
+            p.elastic_share_median >= sim::MIN_ELASTIC_SHARE,
         ),
     }
 }
@@ -240,7 +221,7 @@ fn deviations(html: &mut Html, s: &Summary) {
             ("after window", r.deviation_after_transient.as_ref()),
             ("whole run", Some(&r.deviation)),
         ] {
-            let cell = |f: fn(&crate::run::Deviation) -> f64, unit: &str| {
+            let cell = |f: fn(&sim::Deviation) -> f64, unit: &str| {
                 Td::num(d.map_or_else(|| "n/a".into(), |d| with_unit(f(d), unit)))
             };
             rows.push(vec![

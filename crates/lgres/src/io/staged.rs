@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use super::output::{OutputError, io_err};
+use super::output_error::{OutputError, io_err};
 
 /// An output folder being written, for [`abandon_staged`].
 struct Active {

@@ -8,14 +8,14 @@ use super::{
     CycleQuantities, Errors, Measured, Paths, PrecisionError, PrecisionOptions, PrecisionReport,
     ReferenceRun, Row, RowOutcome, method_name,
 };
-use crate::build::{Built, Surfaces, build, unworn_joints};
-use crate::run::simulation_options;
-use crate::scene::{Integrator, Scene};
 use clearance::WornClearanceForce;
+use scene::{Integrator, Scene};
+use sim::build::{Built, Surfaces, build, unworn_joints};
+use sim::simulation_options;
 
 /// Records the rod position and journal-centre paths at output frames.
 struct PathRecorder<'a> {
-    built_joints: &'a [crate::build::JointHandle],
+    built_joints: &'a [sim::build::JointHandle],
     body: usize,
     paths: Paths,
 }

@@ -39,7 +39,7 @@ use multibody::State;
 use serde::Serialize;
 
 use crate::io::output::OutputError;
-use crate::scene::{Integrator, SceneError};
+use scene::{Integrator, SceneError};
 
 /// Relative tolerances of the sweep.
 pub const DEFAULT_RTOLS: [f64; 8] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10];

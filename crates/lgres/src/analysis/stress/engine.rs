@@ -10,10 +10,10 @@ use wear::{Side, WornJoint, WornProfile};
 use super::{
     CaseResult, Expect, Outcome, StressCase, StressError, StressOptions, SurfaceSetup, cases,
 };
-use crate::build::{Surfaces, build, unworn_joints};
-use crate::run::simulation_options;
-use crate::scene::Scene;
 use crate::scenes;
+use scene::Scene;
+use sim::build::{Surfaces, build, unworn_joints};
+use sim::simulation_options;
 
 /// Tracks the first non-finite sampled state.
 struct Watch {
@@ -115,7 +115,7 @@ fn run_case_inner(case: &StressCase) -> CaseResult {
         &case.expect,
     ) {
         (Err(e), Expect::Rejected(field)) => {
-            let named = matches!(&e, crate::scene::SceneError::Invalid { issues, .. }
+            let named = matches!(&e, scene::SceneError::Invalid { issues, .. }
                 if issues.iter().any(|i| i.path.ends_with(field.as_str())));
             let outcome = if named {
                 Outcome::ExpectedError {

@@ -37,7 +37,7 @@ use contact::{FrictionLawParams, NormalLawParams};
 use serde::Serialize;
 
 use crate::io::output::OutputError;
-use crate::scene::{Scene, TimeLaw};
+use scene::{Scene, TimeLaw};
 
 /// Simulated time of a short case, s: the start-up impacts (first 0.02 s) plus contact.
 pub const DEFAULT_DURATION: f64 = 0.3;
@@ -202,13 +202,13 @@ impl Default for StressOptions {
 pub enum StressError {
     /// The base scene did not load.
     #[error(transparent)]
-    Scene(#[from] crate::scene::SceneError),
+    Scene(#[from] scene::SceneError),
     /// A report file could not be written.
     #[error(transparent)]
     Output(#[from] OutputError),
 }
 
-fn each_joint(scene: &mut Scene, f: impl Fn(&mut crate::scene::ClearanceJoint)) {
+fn each_joint(scene: &mut Scene, f: impl Fn(&mut scene::ClearanceJoint)) {
     scene.clearance_joints.iter_mut().for_each(f);
 }
 

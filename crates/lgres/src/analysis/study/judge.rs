@@ -12,8 +12,8 @@ use std::fmt;
 
 use wear::{WornJoint, WornProfile};
 
-use super::{StudyKind, StudyResults};
-use crate::run::{ResponseSummary, RunOutcome};
+use super::results::{StudyKind, StudyResults};
+use sim::{ResponseSummary, RunOutcome};
 
 /// Fraction of a surface's peak depth that counts as worn, for the worn arc and irregularity.
 pub const ARC_FRACTION: f64 = 0.1;
@@ -251,7 +251,7 @@ fn response_comparisons(label: &str, a: &ResponseSummary, b: &ResponseSummary) -
     let mut out = Vec::new();
     for (ja, jb) in a.joints.iter().zip(&b.joints) {
         // Not measured (a window covering the run) compares as NaN: inconclusive.
-        let stat = |p: &Option<crate::run::PeakStats>, f: fn(&crate::run::PeakStats) -> f64| {
+        let stat = |p: &Option<sim::PeakStats>, f: fn(&sim::PeakStats) -> f64| {
             p.as_ref().map_or(f64::NAN, |p| f(p) * 1e-3)
         };
         let (pa, pb) = (
@@ -265,7 +265,7 @@ fn response_comparisons(label: &str, a: &ResponseSummary, b: &ResponseSummary) -
             noise: 0.5 * (stat(pa, |p| p.cycle_iqr) + stat(pb, |p| p.cycle_iqr)),
         });
     }
-    let deviation = |r: &ResponseSummary, f: fn(&crate::run::Deviation) -> f64| {
+    let deviation = |r: &ResponseSummary, f: fn(&sim::Deviation) -> f64| {
         r.deviation_after_transient
             .as_ref()
             .map_or(f64::NAN, |d| f(d) * 1e3)

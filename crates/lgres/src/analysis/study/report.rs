@@ -12,10 +12,10 @@ use super::judge::{
     trends, wear_metrics,
 };
 use super::paper::{PaperStudy, PaperValue, Quantity, paper};
-use super::{EXTRAPOLATION, SINGLE_JUMP_RUN, SceneRun, StudyKind, StudyResults, relative};
+use super::results::{EXTRAPOLATION, SINGLE_JUMP_RUN, SceneRun, StudyKind, StudyResults, relative};
 use crate::io::output::OutputError;
 use crate::io::plot::{self, DEFAULT_SIZE};
-use crate::run::{ResponseSummary, RunOutcome};
+use sim::{ResponseSummary, RunOutcome};
 
 const DEVIATIONS: [(&str, &str); 6] = [
     ("|Δx|", "m"),
@@ -55,7 +55,7 @@ fn force_text(r: &ResponseSummary, j: usize) -> String {
             return "n/a (the start-up window covers the run)".into();
         };
         let share = if p.elastic_share_median.is_finite() {
-            let flag = if p.elastic_share_median < crate::run::MIN_ELASTIC_SHARE {
+            let flag = if p.elastic_share_median < sim::MIN_ELASTIC_SHARE {
                 ", MOSTLY DAMPING"
             } else {
                 ""

@@ -6,12 +6,12 @@ use std::f64::consts::TAU;
 
 use plotters::prelude::*;
 
-use super::colours::{FORCE, GROUND, IDEAL, JOINT, LINK, TRAIL, WORN};
+use super::canvas::colours::{FORCE, GROUND, IDEAL, JOINT, LINK, TRAIL, WORN};
+use super::canvas::{ANIMATION_SIZE, Area, DrawResult, text};
 use super::layout::{FOOTER, INSETS, TITLE, View, global};
-use super::{ANIMATION_SIZE, Area, DrawResult, text};
-use crate::io::plot::cell_angle_deg;
-use crate::run::{JointWearHistory, MechanismFrames, Response};
-use crate::scene::{BodyRef, Scene};
+use scene::{BodyRef, Scene};
+use sim::surfaces::cell_angle_deg;
+use sim::{JointWearHistory, MechanismFrames, Response};
 
 /// Most points of the orbit drawn over a cycle.
 const TRAIL_POINTS: usize = 1500;

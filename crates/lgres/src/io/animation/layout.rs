@@ -3,10 +3,10 @@
 
 use plotters::prelude::*;
 
-use super::colours::{GROUND, IDEAL, LINK};
-use super::{ANIMATION_SIZE, Area, DrawResult};
-use crate::run::MechanismFrames;
-use crate::scene::{BodyRef, Scene};
+use super::canvas::colours::{GROUND, IDEAL, LINK};
+use super::canvas::{ANIMATION_SIZE, Area, DrawResult};
+use scene::{BodyRef, Scene};
+use sim::MechanismFrames;
 
 /// Height of the title band, pixels.
 pub(super) const TITLE: i32 = 36;

@@ -11,8 +11,8 @@ use super::{
     simulation_options,
 };
 use crate::build::{Built, JointHandle, Surfaces, build};
-use crate::run::validity::{Limits, Tally};
-use crate::scene::Scene;
+use crate::validity::{Limits, Tally};
+use scene::Scene;
 
 /// The ideal mechanism at the output times: the recorded body's motion, and every body's pose
 /// at the animation's frames (`None`: no animation).
@@ -105,7 +105,7 @@ pub(super) fn assemble(built: &Built, what: &str) -> Result<multibody::State, Ru
             what: what.to_string(),
             source,
         })?;
-    crate::scene::limits::check_initial_penetration(built, &state, what)?;
+    crate::validity::check_initial_penetration(built, &state, what)?;
     Ok(state)
 }
 

@@ -18,7 +18,7 @@ use super::{
     simulation_options,
 };
 use crate::build::{Surfaces, build};
-use crate::scene::Scene;
+use scene::Scene;
 
 /// Per-stage history, summary and final surfaces (one slot per active clearance joint).
 type Staged = (Vec<JointWearHistory>, WearSummary, Vec<Option<WornJoint>>);
@@ -189,7 +189,7 @@ pub(super) fn stages(
     let k = r.cycles_per_stage.max(1);
     let line_of_centres = scene
         .active_clearance_joints()
-        .any(|c| c.contact.model == crate::scene::ContactModelName::LineOfCentres);
+        .any(|c| c.contact.model == scene::ContactModelName::LineOfCentres);
     let (max_slope_change, max_curvature_change) = r.shape_change_bounds(line_of_centres);
     let extrapolation =
         if let (true, Some(tolerance)) = (r.adaptive_extrapolation, r.wear_tolerance) {

@@ -1,8 +1,49 @@
+//! Building and running a scene, between the scene format (the `scene` crate) and what is made
+//! of a run (`lgres`'s files, figures, reports and analyses): a validated scene → a
+//! `multibody` system ([`build`]), one run of it ([`run_scene`]), the validity of its worn
+//! geometry ([`validity`]), the run settings given outside the scene file ([`overrides`]) and
+//! the worn surfaces an earlier run left, to start from ([`surfaces`]).
+//!
 //! One run of a scene: the response over `cycles` drive periods against the ideal mechanism,
 //! then the wear stages, with every summary number kept in memory ([`RunOutcome`]).
 //!
 //! [`run_scene`] is what the CLI's `run` calls and what a study loop can call repeatedly; it
-//! writes nothing (see [`crate::io::artifacts`]) and reports progress through [`Progress`].
+//! writes nothing (`lgres::io::artifacts` does) and reports progress through [`Progress`].
+//!
+//! ```
+//! const CRANK: &str = r#"
+//! description = "A driven crank"
+//! inertia_convention = "centroidal"
+//! gravity = [0.0, -9.81]
+//!
+//! [[bodies]]
+//! name = "crank"
+//! mass = 0.3
+//! inertia = 1e-4
+//! x = 0.025
+//! y = 0.0
+//! theta_deg = 0.0
+//!
+//! [[revolute_joints]]
+//! name = "O"
+//! body = "crank"
+//! point = [-0.025, 0.0]
+//! other = "ground"
+//! other_point = [0.0, 0.0]
+//!
+//! [[drivers]]
+//! name = "speed"
+//! target = { kind = "body-coordinate", body = "crank", coordinate = "theta" }
+//! law = { kind = "ramp", value = 0.0, rate = 6.283 }
+//! "#;
+//! let crank = scene::load_str(CRANK, "crank", &[])?;
+//! let options = sim::RunOptions::default();
+//! let outcome = sim::run_scene("crank", &crank, &options, &mut ())?;
+//! // No clearance joint: the response is the ideal mechanism's, nothing wears.
+//! assert!(!outcome.response.times.is_empty());
+//! assert!(outcome.response.contact.is_empty());
+//! # Ok::<(), sim::RunError>(())
+//! ```
 //!
 //! - **Response run**: assembled from the scene's initial poses (pins concentric), integrated
 //!   over `run.cycles` periods on unworn surfaces, sampled every `solver.output_interval`.
@@ -26,224 +67,50 @@
 //! `stages` the wear stages, `life` the joints' life curves over the stages' drive cycles
 //! and [`validity`] the worn geometry's validity measures.
 
+#![warn(missing_docs)]
+
+pub mod build;
+mod error;
 mod life;
+mod options;
 mod outcome;
+pub mod overrides;
+mod progress;
 mod record;
 mod stages;
 mod summary;
+pub mod surfaces;
 pub mod validity;
 
 use std::time::Instant;
 
-use multibody::{
-    AbsoluteTolerances, AssemblyError, Baumgarte, KinematicsError, OutputTimes, SimulationError,
-    SimulationOptions,
-};
+use multibody::OutputTimes;
 use serde::Serialize;
 use wear::WornJoint;
 
-use crate::build::{BuildError, Surfaces, build, unworn_joints};
-use crate::scene::{self, Scene};
+use crate::build::{Surfaces, build, unworn_joints};
+use scene::Scene;
 
+pub use error::RunError;
 pub use life::cycles_to_reach;
+pub use options::{RunOptions, simulation_options};
 pub use outcome::{
     ClearanceLimitReport, ContactSeries, Deviation, JointSummary, JointWearHistory,
     JointWearSummary, LifePoint, MechanismFrames, Motion, Numerics, PeakStats, Response,
     ResponseSummary, RunOutcome, SubstepSummary, Summary, WearSummary,
 };
+pub use progress::Progress;
 use record::{Ideal, assemble, respond, simulate};
 use stages::stages;
 use summary::summarize;
 pub use summary::{
-    ENERGY_BOOKS_TOLERANCE_J, MIN_ELASTIC_SHARE, STAGE_HALVES_TOLERANCE, median_bootstrap_noise,
-    peak_stats,
+    ENERGY_BOOKS_TOLERANCE_J, STAGE_HALVES_TOLERANCE, median_bootstrap_noise, peak_stats,
 };
+pub use validity::MIN_ELASTIC_SHARE;
 
 /// Most frames an animation shows: one drive cycle in at most this many poses
-/// ([`MechanismFrames`], [`crate::io::animation`]).
+/// ([`MechanismFrames`], `lgres::io::animation`).
 pub const MAX_ANIMATION_FRAMES: usize = 72;
-
-/// Receives progress; every method defaults to doing nothing (`()` ignores everything).
-pub trait Progress {
-    /// A new phase of `cycles` drive periods starts (e.g. `"response"`, `"stage 1.2"`).
-    fn phase(&mut self, _label: &str, _cycles: f64) {}
-    /// Position within the current phase, in periods.
-    fn advance(&mut self, _cycles: f64) {}
-    /// The current phase is done.
-    fn finish(&mut self) {}
-    /// A note or warning for the user (e.g. a single-jump extrapolation warning).
-    fn note(&mut self, _text: &str) {}
-}
-
-impl Progress for () {}
-
-/// Overrides of the scene's run settings.
-#[derive(Debug, Clone, Default)]
-pub struct RunOptions {
-    /// Start from the worn surfaces of an earlier run: the folder holding its last-stage
-    /// `wear_<joint>_stage<k>.csv` files (see [`crate::io::surfaces`]). The response run and the
-    /// stages then begin from those surfaces.
-    pub surfaces: Option<std::path::PathBuf>,
-    /// Simulated cycles per wear stage `K` instead of `run.cycles_per_stage`; the
-    /// amplification is rescaled so a stage still stands for `K_scene × amplification` cycles.
-    pub cycles_per_stage: Option<u32>,
-    /// Trajectories a wear sub-step's `K` cycles are spread over, instead of
-    /// `run.trajectories`; they must divide `K`.
-    pub trajectories: Option<u32>,
-    /// Threads a wear sub-step's trajectories run on (`run.trajectories`; default: the
-    /// machine's cores). The results do not depend on it.
-    pub threads: Option<usize>,
-    /// Skip the response run on the worn surfaces after the stages.
-    pub skip_worn_response: bool,
-}
-
-/// Why a run failed.
-#[derive(Debug, thiserror::Error)]
-pub enum RunError {
-    /// The scene does not make a valid system (field named).
-    #[error(transparent)]
-    Build(#[from] BuildError),
-    /// The initial poses do not assemble.
-    #[error(
-        "{what}: the initial poses (bodies[*].x, y, theta_deg) do not assemble at t = 0: {source}"
-    )]
-    Assembly {
-        /// Which system.
-        what: String,
-        /// Cause, naming the constraints.
-        source: AssemblyError,
-    },
-    /// The worker threads of a wear sub-step's trajectories could not be started.
-    #[error(
-        "the {threads} worker thread(s) of the wear trajectories could not be started: {message}"
-    )]
-    Threads {
-        /// How many were asked for.
-        threads: usize,
-        /// The system's reason.
-        message: String,
-    },
-    /// The trajectories of a wear sub-step do not divide its simulated cycles.
-    #[error(
-        "run.trajectories = {trajectories} must divide the simulated cycles per wear stage \
-         K = {cycles_per_stage} (--cycles-per-stage, run.cycles_per_stage): each trajectory \
-         simulates whole drive cycles"
-    )]
-    Trajectories {
-        /// `run.trajectories`.
-        trajectories: u32,
-        /// `K` after the overrides.
-        cycles_per_stage: u32,
-    },
-    /// The ideal mechanism's kinematic analysis failed.
-    #[error(
-        "kinematic analysis of the ideal mechanism (clearance joints {joints} made ideal \
-         revolute joints; drivers {drivers}): {source}; the drivers must fix every degree of \
-         freedom the ideal mechanism has"
-    )]
-    Kinematics {
-        /// The clearance joints, by name.
-        joints: String,
-        /// The drivers, by name.
-        drivers: String,
-        /// Cause.
-        source: KinematicsError,
-    },
-    /// The integrator failed or ran out of its budget (the hint names the scene field).
-    #[error("{what}: {source}{}", crate::scene::limits::budget_hint(source))]
-    Simulation {
-        /// Which run.
-        what: String,
-        /// Cause.
-        source: SimulationError,
-    },
-    /// Wear staging failed (e.g. a pin worn through, too many sub-steps).
-    #[error("wear staging: {0}")]
-    Wear(#[from] wear::WearError),
-    /// A wear stage's run ended without the wear record of a worn joint (an internal error:
-    /// the element was built without one, or it was taken twice).
-    #[error("{what}: clearance joint {joint} has no wear record after its run (internal error)")]
-    LostWearBuffer {
-        /// Which run.
-        what: String,
-        /// The joint.
-        joint: String,
-    },
-    /// The worn surfaces to start from could not be loaded (file and joint named).
-    #[error(transparent)]
-    Surfaces(#[from] crate::io::surfaces::SurfacesError),
-    /// The scene has no drive period (validation normally catches this).
-    #[error("run.period: no drive period; give run.period")]
-    NoPeriod,
-    /// The scene has no body to record.
-    #[error("run.response_body: no body to record")]
-    NoResponseBody,
-    /// The scene (with the run's overrides applied) is not valid.
-    #[error(transparent)]
-    Scene(#[from] scene::SceneError),
-    /// A pin starts outside its bearing after assembly at t = 0.
-    #[error(
-        "{what}: clearance_joints[{index}] ({joint}): after assembly at t = 0 the pin centre is \
-         {eccentricity:.6e} m from the bearing centre, beyond the clearance ({clearance:e} m): \
-         the pin starts outside its bearing (check the bodies' initial poses and the joint's \
-         pin_point, bearing_point)"
-    )]
-    PinOutsideBearing {
-        /// Which system.
-        what: String,
-        /// Index into `clearance_joints`.
-        index: usize,
-        /// Joint name.
-        joint: String,
-        /// Initial eccentricity, m.
-        eccentricity: f64,
-        /// Nominal clearance, m.
-        clearance: f64,
-    },
-    /// A contact penetrated beyond [`crate::scene::limits::MAX_PENETRATION_FRACTION`] of its
-    /// clearance (or pin radius): the contact law is outside its validity.
-    #[error(
-        "{what}: clearance joint {joint}: peak penetration {penetration:.3e} m exceeds {limit:.3e} m \
-         (half the smaller of clearance and pin radius): the contact law is outside its validity \
-         (material too soft, load too high or tolerances too loose); forces are not trusted"
-    )]
-    PenetrationBeyondLimit {
-        /// Which run.
-        what: String,
-        /// Clearance joint name.
-        joint: String,
-        /// Peak penetration, m.
-        penetration: f64,
-        /// The limit, m.
-        limit: f64,
-    },
-    /// A run produced a non-finite value.
-    #[error("{what}: the solution became non-finite (NaN or infinite) at t = {t}")]
-    NonFinite {
-        /// Which run.
-        what: String,
-        /// First bad output time.
-        t: f64,
-    },
-}
-
-impl RunError {
-    /// Whether the scene itself is at fault (exit code 2) rather than the run (1).
-    pub fn is_bad_input(&self) -> bool {
-        matches!(
-            self,
-            RunError::Build(_)
-                | RunError::Surfaces(_)
-                | RunError::Scene(_)
-                | RunError::Kinematics { .. }
-                | RunError::Assembly { .. }
-                | RunError::PinOutsideBearing { .. }
-                | RunError::NoPeriod
-                | RunError::NoResponseBody
-                | RunError::Trajectories { .. }
-        )
-    }
-}
 
 /// What [`check_assembly`] found.
 #[derive(Debug, Clone, Copy, Serialize)]
@@ -305,7 +172,7 @@ pub fn run_scene(
     let active = scene.active_clearance_joints().count() > 0;
     let unworn = unworn_joints(&scene)?;
     let initial = match &options.surfaces {
-        Some(dir) => crate::io::surfaces::load_last_stage(dir, &scene, &unworn)?,
+        Some(dir) => crate::surfaces::load_last_stage(dir, &scene, &unworn)?,
         None => unworn,
     };
     let frames = scene.run.animation.then(|| {
@@ -362,7 +229,7 @@ pub fn run_scene(
         Some(simulated) => {
             let (response, summary) = simulated?.compare(&scene, &ideal)?;
             // Worn surfaces may legitimately open the clearance past the limit: warn only there.
-            match crate::scene::limits::check_penetration(&scene, "response", &response.contact) {
+            match validity::check_penetration(&scene, "response", &response.contact) {
                 Err(e) if options.surfaces.is_some() => progress.note(&format!("warning: {e}")),
                 checked => checked?,
             }
@@ -385,11 +252,9 @@ pub fn run_scene(
                         "worn response",
                     )?;
                     // Worn surfaces may legitimately open the clearance past the limit: warn only.
-                    if let Err(e) = crate::scene::limits::check_penetration(
-                        &scene,
-                        "worn response",
-                        &run.0.contact,
-                    ) {
+                    if let Err(e) =
+                        validity::check_penetration(&scene, "worn response", &run.0.contact)
+                    {
                         progress.note(&format!("warning: {e}"));
                     }
                     worn = Some(run);
@@ -555,40 +420,6 @@ fn ideal_motion(
         poses: Vec::new(),
     });
     Ok(Ideal { motion, frames })
-}
-
-/// Simulation options from the scene's solver settings (integrator, rtol, the clearance-scaled
-/// absolute tolerances, Baumgarte gains) for a run to `t_end`.
-pub fn simulation_options(
-    scene: &Scene,
-    t_end: f64,
-    output: OutputTimes,
-    record: bool,
-) -> SimulationOptions {
-    let tol = scene.tolerances();
-    let mut o = SimulationOptions::until(t_end);
-    o.integrator = scene.solver.integrator;
-    o.formulation = scene.solver.formulation;
-    o.rtol = scene.solver.rtol;
-    o.atol = AbsoluteTolerances {
-        position: tol.position,
-        angle: tol.angle,
-        velocity: tol.velocity,
-        angular_velocity: tol.velocity,
-    };
-    o.baumgarte = Baumgarte {
-        alpha: scene.solver.baumgarte_alpha,
-        beta: scene.solver.baumgarte_beta,
-    };
-    o.output = output;
-    o.record_trajectory = record;
-    o.max_steps = Some(scene.solver.max_steps.unwrap_or(scene::DEFAULT_MAX_STEPS));
-    let wall = scene
-        .solver
-        .max_wall_time
-        .unwrap_or(scene::DEFAULT_MAX_WALL_TIME);
-    o.max_wall_time = std::time::Duration::try_from_secs_f64(wall).ok();
-    o
 }
 
 #[cfg(test)]

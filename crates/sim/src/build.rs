@@ -13,8 +13,8 @@ use multibody::{
 };
 use wear::{WearError, WearParams, WornJoint};
 
-use crate::scene::{BodyRef, ClearanceJoint, DriverTarget, Scene, TimeLaw};
 use clearance::{ClearanceForce, ClearanceProbe};
+use scene::{BodyRef, ClearanceJoint, DriverTarget, Scene, TimeLaw};
 
 /// Why a scene could not be turned into a system; `field` is the scene path at fault.
 #[derive(Debug, thiserror::Error)]
@@ -290,7 +290,7 @@ pub fn build(scene: &Scene, surfaces: Surfaces<'_>) -> Result<Built, BuildError>
             element,
             worn: worn.is_some(),
             clearance: c.clearance,
-            foundation: c.contact.model == crate::scene::ContactModelName::Foundation,
+            foundation: c.contact.model == scene::ContactModelName::Foundation,
         });
     }
     Ok(Built { system, joints })

@@ -1,17 +1,18 @@
 //! What a run may ask for: the ranges that make physical sense, what a run may allocate, the
-//! tolerances that still resolve a penetration, names that are safe in file names, and the
-//! penetration beyond which a contact result is not trusted.
+//! tolerances that still resolve a penetration, and the penetration beyond which a contact
+//! result is not trusted (checked on a run's results by `sim::validity`). Names are
+//! checked against the file-name rules of [`super::file_names`].
 //!
-//! [`crate::scene::Scene::validate`] runs these checks, so `check` and `run` reject the same
+//! [`crate::Scene::validate`] runs these checks, so `check` and `run` reject the same
 //! scenes, each problem naming its field. Every bound is far outside the shipped scenes (a
 //! landing gear at 60 rpm, a slider-crank at 5000 rpm) and far inside what makes a run hang,
 //! panic or exhaust memory.
 
-use crate::build::Built;
-use crate::run::{ContactSeries, RunError};
 use contact::{FrictionLawParams, NormalLawParams};
 
-use crate::scene::{BodyRef, ClearanceJoint, Scene, TimeLaw, Validator, WearSpec};
+use super::error::Validator;
+use super::file_names::{MAX_NAME_CHARS, is_file_name_safe};
+use super::{BodyRef, ClearanceJoint, Scene, TimeLaw, WearSpec};
 
 /// Most bodies in a scene: the dense `3n × 3n` matrices of 1000 bodies already take ~70 MB.
 pub const MAX_BODIES: usize = 1000;
@@ -74,8 +75,6 @@ pub const MAX_ATOL_PER_CLEARANCE: f64 = 1e-2;
 pub const MAX_ATOL_VELOCITY: f64 = 1e-3;
 /// Smallest output interval, s.
 pub const MIN_OUTPUT_INTERVAL: f64 = 1e-9;
-/// Longest name, in characters.
-pub const MAX_NAME_CHARS: usize = 64;
 /// Peak penetration of the (unworn) response run beyond which it fails, as a fraction of the
 /// smaller of clearance and pin radius. Hertz contact assumes deformations small against the
 /// contact geometry; steel joints penetrate micrometres (the default scene: tens of µm at
@@ -489,83 +488,4 @@ fn speed_scales(k: usize, c: &ClearanceJoint) -> Vec<(f64, String)> {
         NormalLawParams::Hertz(_) => {}
     }
     v
-}
-
-/// Whether `name` can be used as (part of) a file name on any platform without creating
-/// folders, escaping the output folder or hiding the file.
-pub fn is_file_name_safe(name: &str) -> bool {
-    !name.is_empty()
-        && !name.starts_with('.')
-        && name.chars().count() <= MAX_NAME_CHARS
-        && name
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'))
-}
-
-/// The response run's peak penetration against [`MAX_PENETRATION_FRACTION`] of the smaller of
-/// clearance and pin radius, per joint: `Err` names the first joint beyond it. `what` labels
-/// the run. Joints are looked up in `scene` by name for their pin radius.
-pub fn check_penetration(
-    scene: &Scene,
-    what: &str,
-    contact: &[ContactSeries],
-) -> Result<(), RunError> {
-    for series in contact {
-        let pin_radius = scene
-            .clearance_joints
-            .iter()
-            .find(|c| c.name == series.name)
-            .map_or(f64::INFINITY, ClearanceJoint::pin_radius);
-        let limit = MAX_PENETRATION_FRACTION * series.clearance.min(pin_radius);
-        let penetration = series.penetration.iter().copied().fold(f64::MIN, f64::max);
-        if penetration > limit {
-            return Err(RunError::PenetrationBeyondLimit {
-                what: what.to_string(),
-                joint: series.name.clone(),
-                penetration,
-                limit,
-            });
-        }
-    }
-    Ok(())
-}
-
-/// A pin must start inside its bearing once the mechanism is assembled at t = 0: outside, the
-/// first contact force is the elastic force of a penetration far beyond anything Hertz contact
-/// describes (a probe reported 5e10 N). Checked after assembly, which may move the file's poses.
-pub fn check_initial_penetration(
-    built: &Built,
-    state: &multibody::State,
-    what: &str,
-) -> Result<(), RunError> {
-    for joint in &built.joints {
-        let Some(probe) = joint.probe(built.system.elements()) else {
-            continue;
-        };
-        let d = probe.contact(&state.q, &state.qd).diagnostics;
-        if d.penetration > 0.0 {
-            return Err(RunError::PinOutsideBearing {
-                what: what.to_string(),
-                index: joint.scene_index,
-                joint: joint.name.clone(),
-                eccentricity: d.eccentricity,
-                clearance: joint.clearance,
-            });
-        }
-    }
-    Ok(())
-}
-
-/// Names the scene field behind a simulation's budget error (empty for other errors).
-pub fn budget_hint(e: &multibody::SimulationError) -> &'static str {
-    match e {
-        multibody::SimulationError::StepLimit { .. } => {
-            " (solver.max_steps; raise it, or --max-steps, if the run is expected to be long)"
-        }
-        multibody::SimulationError::WallTimeLimit { .. } => {
-            " (solver.max_wall_time; raise it, or --max-wall-time, if the run is expected to be \
-             long)"
-        }
-        _ => "",
-    }
 }

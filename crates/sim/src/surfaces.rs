@@ -11,9 +11,13 @@ use std::path::{Path, PathBuf};
 
 use wear::{Side, WearError, WornJoint, WornProfile};
 
-use crate::io::artifacts::JointFile;
-use crate::io::plot::cell_angle_deg;
-use crate::scene::{MAX_WEAR_CELLS, Scene};
+use scene::file_names::JointFile;
+use scene::{MAX_WEAR_CELLS, Scene};
+
+/// Body-frame angle of the centre of grid cell `k` of `n`, degrees: cell 0 spans 0..360/n.
+pub fn cell_angle_deg(k: usize, n: usize) -> f64 {
+    (k as f64 + 0.5) * 360.0 / n as f64
+}
 
 /// How far a row's angle may sit from its cell's centre, as a fraction of a cell: room for a
 /// file re-saved with fewer digits, none for a row out of place.

@@ -5,7 +5,7 @@ use multibody::SimulationResult;
 
 use super::{Deviation, JointSummary, Numerics, PeakStats, Response, ResponseSummary};
 use crate::build::{Built, JointHandle};
-use crate::scene::Scene;
+use scene::Scene;
 
 /// What a dynamic run leaves for its energy books.
 pub(super) struct Audit<'a> {
@@ -236,10 +236,6 @@ fn quantile(values: &[f64], q: f64) -> f64 {
     let (lo, hi) = (x.floor() as usize, x.ceil() as usize);
     values[lo] + (x - lo as f64) * (values[hi] - values[lo])
 }
-
-/// Median elastic share of the per-cycle force peaks below which a response's forces are
-/// mostly the damping term of the law, not loads the surfaces carry: flagged, not results.
-pub const MIN_ELASTIC_SHARE: f64 = 0.5;
 
 /// Bootstrap resamples behind [`median_bootstrap_noise`].
 const BOOTSTRAP_RESAMPLES: usize = 2000;

@@ -14,6 +14,27 @@ pub struct Issue {
     pub reason: String,
 }
 
+/// Collects [`Issue`]s while walking a scene (in `validate` and [`super::limits`]).
+#[derive(Default)]
+pub(crate) struct Validator {
+    pub(super) issues: Vec<Issue>,
+}
+
+impl Validator {
+    pub(crate) fn push(
+        &mut self,
+        path: impl Into<String>,
+        value: impl fmt::Debug,
+        reason: impl Into<String>,
+    ) {
+        self.issues.push(Issue {
+            path: path.into(),
+            value: format!("{value:?}"),
+            reason: reason.into(),
+        });
+    }
+}
+
 impl fmt::Display for Issue {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{} = {}: {}", self.path, self.value, self.reason)

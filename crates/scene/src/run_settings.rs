@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::types::yes;
+use super::defaults::yes;
 
 /// How long to run and how to stage wear.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -25,7 +25,7 @@ pub struct RunSettings {
     /// (a divisor of it; default 1). With 1, every sub-step restarts the mechanism from its
     /// assembled state and simulates its cycles one after the other after the start-up window;
     /// with `M ≥ 2`, `M` trajectories of `K/M` cycles each run on threads, each continuing from
-    /// where it ended in the previous sub-step ([`clearance::Ensemble`]). Both estimate the same
+    /// where it ended in the previous sub-step (`clearance::Ensemble`). Both estimate the same
     /// average wear of the chaotic motion (docs/convergence.md); the results do not depend on
     /// the number of threads.
     #[serde(default = "one")]
@@ -92,7 +92,7 @@ pub struct RunSettings {
     pub transient_window: f64,
     /// Draw `mechanism.gif` (and `mechanism_worn.gif` after wear stages): one drive cycle after
     /// the start-up window animated, the ideal mechanism faint behind and every clearance
-    /// magnified in an inset ([`crate::io::animation`]). False: skip it and the pose recording.
+    /// magnified in an inset (`lgres::io::animation`). False: skip it and the pose recording.
     #[serde(default = "yes")]
     pub animation: bool,
     /// Maintenance limit on the largest local clearance, m (optional; above every clearance

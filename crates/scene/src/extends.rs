@@ -4,23 +4,39 @@
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
+use super::builtins::{Builtin, source};
 use super::{Issue, Scene, SceneError};
 
 /// How many `extends` levels are followed before giving up (guards against cycles).
 const MAX_EXTENDS_DEPTH: usize = 8;
 
-/// Parse and validate scene text; `extends` may name built-in scenes only.
-pub fn load_str(text: &str, origin: &str) -> Result<Scene, SceneError> {
-    let scene = parse(text, origin, None)?;
+/// Parse and validate scene text; `extends` may name the scenes of `builtins` only.
+pub fn load_str(text: &str, origin: &str, builtins: &[Builtin]) -> Result<Scene, SceneError> {
+    let scene = parse(text, origin, None, builtins)?;
     scene.validate(origin)?;
     Ok(scene)
 }
 
-/// Read, parse and validate a scene file; `extends` may also name a file relative to it.
-pub fn load_path(path: &Path) -> Result<Scene, SceneError> {
+/// The scene of `builtins` named `name`, parsed and validated (its `extends` resolved against
+/// `builtins`).
+pub fn builtin(builtins: &[Builtin], name: &str) -> Result<Scene, SceneError> {
+    let text = source(builtins, name).ok_or_else(|| SceneError::UnknownBuiltin {
+        name: name.to_string(),
+        known: builtins
+            .iter()
+            .map(|b| b.name)
+            .collect::<Vec<_>>()
+            .join(", "),
+    })?;
+    load_str(text, name, builtins)
+}
+
+/// Read, parse and validate a scene file; `extends` may name a scene of `builtins` or a file
+/// relative to it.
+pub fn load_path(path: &Path, builtins: &[Builtin]) -> Result<Scene, SceneError> {
     let text = read(path)?;
     let origin = path.display().to_string();
-    let scene = parse(&text, &origin, path.parent())?;
+    let scene = parse(&text, &origin, path.parent(), builtins)?;
     scene.validate(&origin)?;
     Ok(scene)
 }
@@ -40,13 +56,18 @@ fn toml_err(origin: &str) -> impl Fn(toml::de::Error) -> SceneError + '_ {
 }
 
 /// Parse without validating, following `extends`.
-fn parse(text: &str, origin: &str, dir: Option<&Path>) -> Result<Scene, SceneError> {
+fn parse(
+    text: &str,
+    origin: &str,
+    dir: Option<&Path>,
+    builtins: &[Builtin],
+) -> Result<Scene, SceneError> {
     let table: toml::Table = toml::from_str(text).map_err(toml_err(origin))?;
     if !table.contains_key("extends") {
         // Deserialize from the text itself so type errors keep their line and column.
         return toml::from_str(text).map_err(toml_err(origin));
     }
-    let merged = resolve_extends(table, origin, dir, 0)?;
+    let merged = resolve_extends(table, origin, dir, builtins, 0)?;
     // The merged table has no line numbers: keep the field path of a type error, and find
     // its line in the extending file when the field is written there.
     serde_path_to_error::deserialize(toml::Value::Table(merged.clone())).map_err(|e| {
@@ -118,6 +139,7 @@ fn resolve_extends(
     mut table: toml::Table,
     origin: &str,
     dir: Option<&Path>,
+    builtins: &[Builtin],
     depth: usize,
 ) -> Result<toml::Table, SceneError> {
     let Some(target) = table.remove("extends") else {
@@ -132,7 +154,7 @@ fn resolve_extends(
     if depth >= MAX_EXTENDS_DEPTH {
         return Err(fail("too many nested `extends` (a cycle?)"));
     }
-    let (text, base_origin, base_dir) = if let Some(text) = crate::scenes::source(name) {
+    let (text, base_origin, base_dir) = if let Some(text) = source(builtins, name) {
         (text.to_string(), name.to_string(), None)
     } else if let Some(path) = dir.map(|d| d.join(name)).filter(|p| p.is_file()) {
         let parent = path.parent().map(Path::to_path_buf);
@@ -141,7 +163,7 @@ fn resolve_extends(
         return Err(fail("no built-in scene or file of this name"));
     };
     let base: toml::Table = toml::from_str(&text).map_err(toml_err(&base_origin))?;
-    let mut base = resolve_extends(base, &base_origin, base_dir.as_deref(), depth + 1)?;
+    let mut base = resolve_extends(base, &base_origin, base_dir.as_deref(), builtins, depth + 1)?;
     merge(&mut base, table, "", origin)?;
     Ok(base)
 }
@@ -270,24 +292,28 @@ fn all_named(items: &[toml::Value]) -> bool {
 
 /// Scene text with its `extends` chain merged in, as a TOML table, neither deserialized nor
 /// validated: the form sweeps and the Python bindings edit before [`from_table`]. `dir` is the
-/// folder file `extends` are relative to (`None`: built-in scenes only).
+/// folder file `extends` are relative to (`None`: the scenes of `builtins` only).
 pub fn merged_table(
     text: &str,
     origin: &str,
     dir: Option<&Path>,
+    builtins: &[Builtin],
 ) -> Result<toml::Table, SceneError> {
     let table: toml::Table = toml::from_str(text).map_err(toml_err(origin))?;
-    resolve_extends(table, origin, dir, 0)
+    resolve_extends(table, origin, dir, builtins, 0)
 }
 
 /// A scene file's [`merged_table`] (file `extends` relative to its folder) and its file stem,
 /// the name its outputs are filed under.
-pub fn merged_table_of_file(path: &Path) -> Result<(String, toml::Table), SceneError> {
+pub fn merged_table_of_file(
+    path: &Path,
+    builtins: &[Builtin],
+) -> Result<(String, toml::Table), SceneError> {
     let text = read(path)?;
     let stem = path
         .file_stem()
         .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned());
-    let table = merged_table(&text, &path.display().to_string(), path.parent())?;
+    let table = merged_table(&text, &path.display().to_string(), path.parent(), builtins)?;
     Ok((stem, table))
 }
 

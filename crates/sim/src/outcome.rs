@@ -4,8 +4,8 @@
 use serde::Serialize;
 use wear::WornJoint;
 
-use crate::run::validity::Validity;
-use crate::scene::Scene;
+use crate::validity::Validity;
+use scene::Scene;
 
 /// Centroid motion of one body at the output times.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -99,7 +99,7 @@ pub struct Response {
 #[derive(Debug, Clone, Default)]
 pub struct MechanismFrames {
     /// Indices into [`Response::times`] of the frames shown (at most
-    /// [`MAX_ANIMATION_FRAMES`](crate::run::MAX_ANIMATION_FRAMES), increasing, spanning at most
+    /// [`MAX_ANIMATION_FRAMES`](crate::MAX_ANIMATION_FRAMES), increasing, spanning at most
     /// one period).
     pub frames: Vec<usize>,
     /// `[x, y, θ]` (m, m, rad) of every scene body (scene order) at each frame, with
@@ -211,7 +211,7 @@ pub struct JointSummary {
     /// Largest eccentricity, m.
     pub max_eccentricity_m: f64,
     /// Whether the (worn) geometry stayed where the contact model holds, with the measures
-    /// (see [`crate::run::validity`]). Force peaks of a run outside it are not results.
+    /// (see [`crate::validity`]). Force peaks of a run outside it are not results.
     pub validity: Option<Validity>,
     /// Energy friction dissipates per cycle, `∫ F_t v_t dt` on the material sliding, J
     /// (`ClearanceForce::friction_dissipation`, trapezoid over accepted steps).
@@ -373,9 +373,9 @@ pub struct WearSummary {
     pub max_halves_difference: Option<f64>,
     /// Per stage (even K): the stage's wear extrapolated from each half of the simulated
     /// cycles alone, their peak depths' and worn volumes' relative difference
-    /// (`clearance::StageHalves`), against [`STAGE_HALVES_TOLERANCE`](crate::run::STAGE_HALVES_TOLERANCE).
+    /// (`clearance::StageHalves`), against [`STAGE_HALVES_TOLERANCE`](crate::STAGE_HALVES_TOLERANCE).
     pub stage_halves: Vec<Option<StageHalvesSummary>>,
-    /// Whether every stage's halves agree within [`STAGE_HALVES_TOLERANCE`](crate::run::STAGE_HALVES_TOLERANCE) (false for
+    /// Whether every stage's halves agree within [`STAGE_HALVES_TOLERANCE`](crate::STAGE_HALVES_TOLERANCE) (false for
     /// odd K: not checked).
     pub converged: bool,
     /// Per stage: the drive cycles it applied when it ended early at the contact model's

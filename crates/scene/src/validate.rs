@@ -1,13 +1,12 @@
-//! Validation: every value of a parsed scene checked, each problem an [`Issue`] naming its
+//! Validation: every value of a parsed scene checked, each problem an [`Issue`](super::Issue) naming its
 //! field path; contact laws and materials are checked by `contact` itself.
 
-use std::collections::HashSet;
-use std::fmt;
-
 use contact::ContactError;
+use std::collections::HashSet;
 
+use super::error::Validator;
 use super::{
-    BodyRef, ClearanceJoint, ContactModelName, DriverTarget, GROUND, Issue, MAX_WEAR_CELLS, Scene,
+    BodyRef, ClearanceJoint, ContactModelName, DriverTarget, GROUND, MAX_WEAR_CELLS, Scene,
     SceneError, Solver, TimeLaw,
 };
 
@@ -16,7 +15,7 @@ impl Scene {
     pub fn validate(&self, origin: &str) -> Result<(), SceneError> {
         let mut v = Validator::default();
         v.scene(self);
-        crate::scene::limits::check(&mut v, self);
+        super::limits::check(&mut v, self);
         if v.issues.is_empty() {
             Ok(())
         } else {
@@ -28,26 +27,7 @@ impl Scene {
     }
 }
 
-/// Collects [`Issue`]s while walking a scene (here and in [`crate::scene::limits`]).
-#[derive(Default)]
-pub(crate) struct Validator {
-    issues: Vec<Issue>,
-}
-
 impl Validator {
-    pub(crate) fn push(
-        &mut self,
-        path: impl Into<String>,
-        value: impl fmt::Debug,
-        reason: impl Into<String>,
-    ) {
-        self.issues.push(Issue {
-            path: path.into(),
-            value: format!("{value:?}"),
-            reason: reason.into(),
-        });
-    }
-
     /// Finite and, if `positive`, > 0; returns whether it passed.
     fn number(&mut self, path: &str, x: f64, positive: bool) -> bool {
         if !x.is_finite() {
@@ -135,7 +115,7 @@ impl Validator {
                 if other.name == c.name {
                     continue;
                 }
-                if let Some(file) = crate::io::artifacts::colliding_file(&other.name, &c.name) {
+                if let Some(file) = super::file_names::colliding_file(&other.name, &c.name) {
                     self.push(
                         format!("{p}.name"),
                         &c.name,

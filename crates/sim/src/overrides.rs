@@ -2,27 +2,52 @@
 //! or the Python bindings' keyword arguments), applied the same way by every front end.
 //!
 //! ```
-//! use lgres::overrides::RunOverrides;
+//! use sim::overrides::RunOverrides;
 //!
-//! let mut scene = lgres::scenes::builtin("lgres")?;
+//! # const CRANK: &str = r#"
+//! description = "A driven crank"
+//! inertia_convention = "centroidal"
+//! gravity = [0.0, -9.81]
+//!
+//! [[bodies]]
+//! name = "crank"
+//! mass = 0.3
+//! inertia = 1e-4
+//! x = 0.025
+//! y = 0.0
+//! theta_deg = 0.0
+//!
+//! [[revolute_joints]]
+//! name = "O"
+//! body = "crank"
+//! point = [-0.025, 0.0]
+//! other = "ground"
+//! other_point = [0.0, 0.0]
+//!
+//! [[drivers]]
+//! name = "speed"
+//! target = { kind = "body-coordinate", body = "crank", coordinate = "theta" }
+//! law = { kind = "ramp", value = 0.0, rate = 6.283 }
+//! "#;
+//! let mut scene = scene::load_str(CRANK, "crank", &[])?;
 //! let o = RunOverrides { cycles: Some(1), stages: Some(0), ..Default::default() };
-//! o.apply(&mut scene, "lgres with command-line overrides")?;
+//! o.apply(&mut scene, "crank with command-line overrides")?;
 //! assert_eq!((scene.run.cycles, scene.run.wear_stages), (1, 0));
-//! assert_eq!(o.run_options().cycles_per_stage, Some(lgres::overrides::QUICK_CYCLES_PER_STAGE));
-//! # Ok::<(), lgres::scene::SceneError>(())
+//! assert_eq!(o.run_options().cycles_per_stage, Some(sim::overrides::QUICK_CYCLES_PER_STAGE));
+//! # Ok::<(), scene::SceneError>(())
 //! ```
 
 use std::path::PathBuf;
 
-use crate::run::RunOptions;
-use crate::scene::{Scene, SceneError};
+use crate::RunOptions;
+use scene::{Scene, SceneError};
 
 /// Simulated cycles per wear stage `K` when none is given: quick (the amplification is
 /// rescaled so a stage still stands for as many cycles, see [`RunOptions::cycles_per_stage`]).
 pub const QUICK_CYCLES_PER_STAGE: u32 = 2;
 
 /// Trajectories of a wear sub-step when neither they nor `K` are given: the quick `K`'s cycles
-/// each on its own trajectory, in parallel ([`crate::scene::RunSettings::trajectories`]).
+/// each on its own trajectory, in parallel ([`scene::RunSettings::trajectories`]).
 pub const QUICK_TRAJECTORIES: u32 = 2;
 
 /// Overrides of a scene's run settings; `None` keeps the scene's value.
@@ -54,7 +79,7 @@ pub struct RunOverrides {
 
 impl RunOverrides {
     /// The scene field each override sets, by the name a sweep file's `[run]` table gives it
-    /// (`cycles_per_stage` and `trajectories` are the run's: [`crate::run::scene_as_run`]).
+    /// (`cycles_per_stage` and `trajectories` are the run's: [`crate::scene_as_run`]).
     pub const SCENE_FIELDS: [(&'static str, &'static str); 8] = [
         ("cycles", "run.cycles"),
         ("stages", "run.wear_stages"),
@@ -93,7 +118,7 @@ impl RunOverrides {
         scene.validate(origin)
     }
 
-    /// The options of [`crate::run::run_scene`]: `K` defaults to [`QUICK_CYCLES_PER_STAGE`]
+    /// The options of [`crate::run_scene`]: `K` defaults to [`QUICK_CYCLES_PER_STAGE`]
     /// and, with it, the trajectories to [`QUICK_TRAJECTORIES`].
     pub fn run_options(&self) -> RunOptions {
         RunOptions {

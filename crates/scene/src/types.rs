@@ -5,6 +5,7 @@ use std::f64::consts::TAU;
 
 use serde::{Deserialize, Serialize};
 
+use super::defaults::yes;
 use super::{ContactSpec, RunSettings};
 
 use super::{
@@ -173,10 +174,6 @@ pub struct PrismaticJoint {
     /// Keep the angle between `body` and `other` at its initial value (adds one equation).
     #[serde(default = "yes")]
     pub lock_rotation: bool,
-}
-
-pub(super) fn yes() -> bool {
-    true
 }
 
 /// A prescribed coordinate.

@@ -1,13 +1,58 @@
-//! The scene format: a planar mechanism with ideal and clearance revolute joints, as TOML.
+//! The scene format: a planar mechanism with ideal and clearance revolute joints, as TOML —
+//! the bottom of the application's data flow (`scene` → `lgres`'s run, outputs and analyses →
+//! `sweep`, `cli`, `python`).
 //!
 //! A scene is data only. Units are SI throughout (m, kg, s, N, Pa, rad) with one exception made
 //! for people who read and write files by hand: initial body angles are given in degrees
 //! (`theta_deg`) and stored in radians ([`Angle`]). Every struct rejects unknown keys, so a typo
 //! is an error rather than a silently ignored setting.
 //!
-//! Get a validated scene from [`crate::scenes::builtin`], [`load_path`] or [`load_str`]; all
-//! three resolve `extends` (see below) and run [`Scene::validate`], so a scene returned by them
+//! Get a validated scene from [`builtin`], [`load_path`] or [`load_str`]; all three resolve
+//! `extends` (see below) against a list of named scenes ([`Builtin`]: the LGRES model ships
+//! its own, `lgres::scenes::BUILTINS`) and run [`Scene::validate`], so a scene returned by them
 //! names only existing bodies, has finite numbers and physically meaningful parameters.
+//!
+//! ```
+//! use scene::{BodyRef, Builtin, builtin, load_str};
+//!
+//! // A crank turning about a ground pivot, shipped under a name...
+//! const CRANK: &str = r#"
+//! description = "A driven crank"
+//! inertia_convention = "centroidal"
+//! gravity = [0.0, -9.81]
+//!
+//! [[bodies]]
+//! name = "crank"
+//! mass = 0.3
+//! inertia = 1e-4
+//! x = 0.025
+//! y = 0.0
+//! theta_deg = 0.0
+//!
+//! [[revolute_joints]]
+//! name = "O"
+//! body = "crank"
+//! point = [-0.025, 0.0]
+//! other = "ground"
+//! other_point = [0.0, 0.0]
+//!
+//! [[drivers]]
+//! name = "speed"
+//! target = { kind = "body-coordinate", body = "crank", coordinate = "theta" }
+//! law = { kind = "ramp", value = 0.0, rate = 6.283 }
+//! "#;
+//! let shipped = [Builtin { name: "crank", summary: "a driven crank", source: CRANK }];
+//! let crank = builtin(&shipped, "crank")?;
+//! assert_eq!(crank.degrees_of_freedom(), 0);
+//! assert_eq!(crank.resolve("crank"), Some(BodyRef::Body(0)));
+//!
+//! // ...and a variant that extends it and changes one value.
+//! let patch = "extends = \"crank\"\n[[bodies]]\nname = \"crank\"\nmass = 0.6\n";
+//! let heavy = load_str(patch, "heavy", &shipped)?;
+//! assert_eq!(heavy.bodies[0].mass, 0.6);
+//! assert!(load_str(patch, "heavy", &[]).is_err()); // no scene named `crank` to extend
+//! # Ok::<(), scene::SceneError>(())
+//! ```
 //!
 //! # Variants (`extends`)
 //! A scene file may start with `extends = "<name>"` (a built-in scene, or a file path relative
@@ -19,27 +64,33 @@
 //! the study variants a few lines each and the reconstructed geometry in one file.
 //!
 //! # Layout and the lower crates' types
-//! The data types are in `types`, loading and `extends` in `extends`, the per-field checks in
-//! `validate` and the numeric limits in [`limits`]. Contact laws, materials, the sliding choice,
+//! The data types are in `types`, loading and `extends` in `extends`, the named scenes in
+//! `builtins`, the per-field checks in `validate`, the numeric limits in [`limits`] and the
+//! rules for names that become file names in [`file_names`]. Contact laws, materials, the sliding choice,
 //! the integrator and driven coordinates are `contact`'s and `multibody`'s own serde types,
 //! re-exported here; `contact` also reads the spellings of older scene files
 //! (`law = "hertz-lankarani-nikravesh"`, `impact_velocity_floor`, `v0`, `v1`) and checks their
 //! ranges, which validation reports under the parameter's field path.
 
+#![warn(missing_docs)]
+
+mod builtins;
 mod contact_spec;
+mod defaults;
 mod error;
 mod extends;
+pub mod file_names;
 pub mod limits;
 mod run_settings;
 mod types;
 mod validate;
 
+pub use builtins::{Builtin, source};
 pub use contact_spec::{ContactModelName, ContactSpec, LayerCalibration};
 pub use error::{Issue, SceneError};
-pub use extends::{from_table, load_path, load_str, merged_table, merged_table_of_file};
+pub use extends::{builtin, from_table, load_path, load_str, merged_table, merged_table_of_file};
 pub use run_settings::{DEFAULT_WEAR_SMOOTHING_DEG, RunSettings};
 pub use types::*;
-pub(crate) use validate::Validator;
 
 pub use contact::{FrictionLawParams, MaterialParams, NormalLawParams, SlidingVelocity};
 pub use multibody::{Coordinate, Formulation, Integrator};
