@@ -93,6 +93,12 @@ impl<T: Copy> NodeQueue<T> {
     }
 
     pub(super) fn push(&mut self, pending: Pending<T>) {
+        // Three at most (the module's stream closes a node once it is two behind): a fourth
+        // would take the oldest's slot.
+        debug_assert!(
+            self.len < self.items.len(),
+            "the node queue holds three nodes"
+        );
         let slot = self.slot(self.len);
         self.items[slot] = Some(pending);
         self.len += 1;
