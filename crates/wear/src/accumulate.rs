@@ -203,9 +203,11 @@ impl StageWear {
             finite("node bearing_angle", node.bearing_angle)?;
             non_negative("node stiffness", node.stiffness)?;
         }
-        // The nodes of a joint share one arc: its spread factors and spans are computed once.
+        // The nodes of a joint share one arc: its spread factors are computed once. A node's
+        // angle spans as many pin cells as its pin spread factor; on the bearing's grid the same
+        // angle spans `bearing_span` cells (at the pin's radius).
         let mut spread = (f64::NAN, 0.0, 0.0);
-        let mut spans = (0.0, 0.0);
+        let mut bearing_span = 0.0;
         for node in start.iter().chain(end) {
             let speed = node.sliding(self.sliding).abs();
             let archard_rate = self.wear_coefficient * node.normal_force * speed;
@@ -218,11 +220,7 @@ impl StageWear {
                     spread_factor(node.arc, self.pin_radius, self.pin.len()),
                     spread_factor(node.arc, self.bearing_radius, self.bearing.len()),
                 );
-                // The node's angle in cells of each grid (the same angle on both surfaces).
-                spans = (
-                    spread_factor(node.arc, self.pin_radius, self.pin.len()),
-                    spread_factor(node.arc, self.pin_radius, self.bearing.len()),
-                );
+                bearing_span = spread_factor(node.arc, self.pin_radius, self.bearing.len());
             }
             let (_, pin_cells, bearing_cells) = spread;
             // The relaxation is spread like the depth, so a cell holds the mean over the nodes
@@ -232,13 +230,13 @@ impl StageWear {
                 [&mut self.pin, &mut self.pin_relaxation],
                 node.pin_angle,
                 [depth * pin_cells, relaxation * pin_cells],
-                spans.0,
+                pin_cells,
             );
             deposit_over(
                 [&mut self.bearing, &mut self.bearing_relaxation],
                 node.bearing_angle,
                 [depth * bearing_cells, relaxation * bearing_cells],
-                spans.1,
+                bearing_span,
             );
             self.archard_volume += archard_rate * 0.5 * dt;
         }

@@ -105,7 +105,6 @@ struct Pass<T> {
     onset: f64,
     /// The paper's sliding rate `φ̇ = t·ė/|e|`.
     phi_rate: T,
-    zero: T,
     theta_bearing: T,
     theta_pin: f64,
     pin_centre_arm: [T; 2],
@@ -248,7 +247,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             simpson,
             onset,
             phi_rate,
-            zero,
             theta_bearing,
             theta_pin,
             pin_centre_arm,
@@ -383,7 +381,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let paper = if node.g.value() > 0.0 {
             node.g * pass.phi_rate
         } else {
-            pass.zero
+            T::constant(0.0)
         };
         let sliding = match self.friction_sliding {
             SlidingVelocity::Material => material,
@@ -552,8 +550,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 let mut entry = Pending {
                     index: k,
                     node,
-                    fine: pass.zero,
-                    coarse: pass.zero,
+                    fine: T::constant(0.0),
+                    coarse: T::constant(0.0),
                 };
                 if let Some(left) = queue.at(k - 1) {
                     let (q, dq_a, dq_b) = segment(left.node.g, entry.node.g);
