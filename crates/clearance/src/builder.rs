@@ -1,7 +1,7 @@
 //! A clearance joint assembled from named parts instead of nested constructors.
 
 use contact::{
-    CircularProfile, ClearanceJoint, ContactError, ContactModel, FrictionLawKind, JointSurface,
+    CircularProfile, ClearanceJoint, ContactError, ContactModelKind, FrictionLawKind, JointSurface,
     Material, NormalLawKind, SlidingVelocity,
 };
 use multibody::BodyId;
@@ -109,7 +109,7 @@ pub struct ClearanceJointBuilder {
     friction_law: FrictionLawKind,
     friction_sliding: SlidingVelocity,
     wear_sliding: SlidingVelocity,
-    model: ContactModel,
+    model: ContactModelKind,
 }
 
 impl ClearanceJointBuilder {
@@ -129,14 +129,14 @@ impl ClearanceJointBuilder {
             friction_law: FrictionLawKind::None,
             friction_sliding: SlidingVelocity::Material,
             wear_sliding: SlidingVelocity::Material,
-            model: ContactModel::LineOfCentres,
+            model: ContactModelKind::default(),
         }
     }
 
     /// Sets the contact model (default: line of centres). A worn joint on the foundation model
     /// should give it as many nodes as its wear grid has cells, so each node is a pin cell.
-    pub fn contact_model(mut self, model: ContactModel) -> Self {
-        self.model = model;
+    pub fn contact_model(mut self, model: impl Into<ContactModelKind>) -> Self {
+        self.model = model.into();
         self
     }
 

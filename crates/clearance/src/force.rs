@@ -240,11 +240,10 @@ where
     }
 
     fn on_accepted_step(&mut self, t_previous: f64, t: f64, q: &[f64], qd: &[f64]) {
-        // The foundation's wear needs the pressure of every loaded node, from the same
-        // evaluation as the diagnostics.
-        let foundation_wear =
-            self.wear.is_some() && matches!(self.joint.model(), ContactModel::Foundation(_));
-        let current = if foundation_wear {
+        // A model with nodes wears node by node: it needs the pressure of every loaded node,
+        // from the same evaluation as the diagnostics.
+        let node_wear = self.wear.is_some() && self.joint.model().nodes().is_some();
+        let current = if node_wear {
             let [bearing, pin] = self.states(q, qd);
             let mut nodes = std::mem::take(&mut self.nodes[1]);
             nodes.clear();
@@ -280,7 +279,7 @@ where
                 .filter(|(split, _)| t_previous < *split)
                 .map(|(_, wear)| wear);
             for wear in std::iter::once(wear).chain(first) {
-                let deposited = if foundation_wear {
+                let deposited = if node_wear {
                     wear.accumulate_nodes(&self.nodes[0], &self.nodes[1], dt)
                 } else {
                     wear.accumulate_step(&previous, &current, dt)
@@ -293,7 +292,7 @@ where
                 }
             }
         }
-        if foundation_wear {
+        if node_wear {
             self.nodes.swap(0, 1);
         }
         self.last = Some(current);

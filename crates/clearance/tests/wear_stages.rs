@@ -11,7 +11,7 @@ use clearance::{
     ClearanceJointBuilder, Ensemble, JointSide, LankaraniNikravesh, Material, StagePlan,
     StageSimulation, WearParams, WearStagesError, run_ensemble_stages, run_wear_stages,
 };
-use contact::{ContactModel, Foundation};
+use contact::{ContactModelKind, Foundation};
 use wear::{Extrapolation, RunContext, WornJoint};
 
 const MASS: f64 = 10.0;
@@ -24,7 +24,9 @@ const WEAR_FROM: f64 = 0.5;
 /// ... to here: two whole turns, one per half.
 const T_END: f64 = 1.5;
 
-fn shaft_joint(model: ContactModel) -> Result<ClearanceJointBuilder, Box<dyn std::error::Error>> {
+fn shaft_joint(
+    model: ContactModelKind,
+) -> Result<ClearanceJointBuilder, Box<dyn std::error::Error>> {
     let steel = Material::new(200e9, 0.3)?;
     Ok(ClearanceJointBuilder::new(
         "shaft",
@@ -36,9 +38,9 @@ fn shaft_joint(model: ContactModel) -> Result<ClearanceJointBuilder, Box<dyn std
 }
 
 /// The elastic foundation on the wear grid's 720 cells.
-fn foundation() -> Result<ContactModel, Box<dyn std::error::Error>> {
+fn foundation() -> Result<ContactModelKind, Box<dyn std::error::Error>> {
     let steel = Material::new(200e9, 0.3)?;
-    Ok(ContactModel::Foundation(
+    Ok(ContactModelKind::Foundation(
         Foundation::calibrated(&steel, &steel).with_cells(720)?,
     ))
 }
@@ -46,7 +48,7 @@ fn foundation() -> Result<ContactModel, Box<dyn std::error::Error>> {
 /// The hanging shaft on `surfaces`, wearing from [`WEAR_FROM`], halves split at 1 s.
 fn hanging_shaft(
     surfaces: &WornJoint,
-    contact_model: ContactModel,
+    contact_model: ContactModelKind,
 ) -> Result<StageSimulation, Box<dyn std::error::Error>> {
     let mut model = Model::new();
     let shaft = model.add_body(Body::new("shaft", MASS, 0.02, [0.0, 0.0, 0.0]))?;
@@ -79,7 +81,7 @@ fn hanging_shaft(
 #[test]
 fn each_stage_adds_the_archard_volume_of_a_dead_load_times_the_amplification()
 -> Result<(), Box<dyn std::error::Error>> {
-    stages_add_the_archard_volume(ContactModel::LineOfCentres)
+    stages_add_the_archard_volume(ContactModelKind::default())
 }
 
 #[test]
@@ -88,7 +90,9 @@ fn the_foundation_wears_the_archard_volume_from_its_pressure()
     stages_add_the_archard_volume(foundation()?)
 }
 
-fn stages_add_the_archard_volume(model: ContactModel) -> Result<(), Box<dyn std::error::Error>> {
+fn stages_add_the_archard_volume(
+    model: ContactModelKind,
+) -> Result<(), Box<dyn std::error::Error>> {
     let amplification = 10.0;
     let params = WearParams::new(1e-13, 0.02, 720)?;
     let mut joints = vec![shaft_joint(model)?.unworn_surfaces(&params)?];
@@ -131,9 +135,9 @@ fn stages_add_the_archard_volume(model: ContactModel) -> Result<(), Box<dyn std:
 #[test]
 fn an_element_without_a_stage_buffer_is_named() -> Result<(), Box<dyn std::error::Error>> {
     let params = WearParams::new(1e-13, 0.02, 720)?;
-    let mut joints = vec![shaft_joint(ContactModel::LineOfCentres)?.unworn_surfaces(&params)?];
+    let mut joints = vec![shaft_joint(ContactModelKind::default())?.unworn_surfaces(&params)?];
     let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
-        let mut run = hanging_shaft(&surfaces[0], ContactModel::LineOfCentres)?;
+        let mut run = hanging_shaft(&surfaces[0], ContactModelKind::default())?;
         // The gravity element (0) is no clearance joint.
         run.elements = vec![clearance::multibody::ElementId(0)];
         Ok::<_, Box<dyn std::error::Error>>(run)
@@ -202,9 +206,9 @@ fn an_ensemble_continues_its_trajectories_and_wears_the_archard_volume_on_any_th
     let mut surfaces = Vec::new();
     for threads in [1, 2] {
         let starts = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
-        let mut joints = vec![shaft_joint(ContactModel::LineOfCentres)?.unworn_surfaces(&params)?];
+        let mut joints = vec![shaft_joint(ContactModelKind::default())?.unworn_surfaces(&params)?];
         let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
-            let mut run = hanging_shaft(&surfaces[0], ContactModel::LineOfCentres)?;
+            let mut run = hanging_shaft(&surfaces[0], ContactModelKind::default())?;
             run.system.add_element(Box::new(FirstStep {
                 starts: starts.clone(),
                 seen: false,
@@ -252,10 +256,10 @@ fn an_ensemble_continues_its_trajectories_and_wears_the_archard_volume_on_any_th
 #[test]
 fn three_trajectories_have_no_halves() -> Result<(), Box<dyn std::error::Error>> {
     let params = WearParams::new(1e-13, 0.02, 720)?;
-    let mut joints = vec![shaft_joint(ContactModel::LineOfCentres)?.unworn_surfaces(&params)?];
+    let mut joints = vec![shaft_joint(ContactModelKind::default())?.unworn_surfaces(&params)?];
     let plan = StagePlan::new(1, 10.0, Extrapolation::SingleJump { warn_fraction: 0.1 });
     let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
-        hanging_shaft(&surfaces[0], ContactModel::LineOfCentres)
+        hanging_shaft(&surfaces[0], ContactModelKind::default())
     };
     let stages = run_ensemble_stages(&mut joints, &plan, Ensemble::new(3, 2), &mut runs)
         .map_err(|e| e.to_string())?;
@@ -271,9 +275,9 @@ fn three_trajectories_have_no_halves() -> Result<(), Box<dyn std::error::Error>>
 fn controlled_sub_steps_wear_the_archard_volume() -> Result<(), Box<dyn std::error::Error>> {
     let amplification = 1000.0;
     let params = WearParams::new(1e-13, 0.02, 720)?;
-    let fresh = shaft_joint(ContactModel::LineOfCentres)?.unworn_surfaces(&params)?;
+    let fresh = shaft_joint(ContactModelKind::default())?.unworn_surfaces(&params)?;
     let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
-        hanging_shaft(&surfaces[0], ContactModel::LineOfCentres)
+        hanging_shaft(&surfaces[0], ContactModelKind::default())
     };
     // The clearance change of the whole stage in one jump sets bounds that need ≥ 4 sub-steps.
     let jump = StagePlan::new(

@@ -1,182 +1,93 @@
-//! The clearance revolute joint: kinematics, force and exact Jacobian.
-//!
-//! # Geometry
-//! The **bearing** (a hole) is carried by body *i*, the **pin** by body *j*; their centres are
-//! body-fixed points `s_i`, `s_j` (body frame), at `r_k^c = r_k + A(θ_k) s_k` in the global frame.
-//! With `e = r_j^c − r_i^c`, the normal is `n = e/|e|`, the tangent `t` is `n` turned by +90°
-//! and `φ = atan2(n_y, n_x)`. The surfaces are sampled in the contact direction in their own
-//! body frames, at `φ − θ_i` (bearing) and `φ − θ_j` (pin), giving the local radii `R_i`, `R_j`,
-//! the local clearance `c(φ) = R_i − R_j` and the penetration `δ = |e| − c(φ)`.
-//!
-//! # Round surfaces
-//! The normal force `F_n` of the law acts along the line of centres: `−(F_n n + F_t t)` on the
-//! pin at its contact point `r_j^c + R_j n`, the opposite on the bearing at `r_i^c + R_i n`.
-//! Each body gets the moment of its force about its own centroid. The two points are `δ n`
-//! apart, so the pair of forces has a net moment `−δ F_t` about any point (zero without
-//! friction): the pair is otherwise in balance. The damping rate is the material normal
-//! velocity `v_n = (v_j^Q − v_i^Q)·n = dδ/dt`.
-//!
-//! # Worn (non-round) surfaces
-//! The local radii in the contact direction give the penetration and the conformal Hertz
-//! stiffness (effective radius `R = R_i R_j/(R_i − R_j)`). Since they depend on `φ` and the body
-//! angles, so do `δ` and `K`, and a force along the line of centres would not be conservative:
-//! orbiting pins would pump energy in. The force is instead the gradient of the stored energy
-//! `V = K W(δ)` (module `general`): `−F_n m` on the pin centre with
-//! `m = n − ((R_i' − R_j')/|e|) t`, torques `+F_n R_j'` on the pin and `−F_n R_i'` on the
-//! bearing, a small `∇K` term; damping and the onset velocity use `δ̇ = ∇δ·q̇`, friction acts
-//! along the contact tangent (perpendicular to `m`) under the load `F_n |m|`. For round
-//! surfaces this is the force above; the round kernel is kept because it is cheaper.
-//!
-//! The model stays a line-of-centres model: it describes the contact while the profile is
-//! smooth and shallow against the clearance (`|R_i' − R_j'|/|e|` small, the pin able to follow
-//! the worn dent). Callers should check these at the contacts (the diagnostics report slopes
-//! and curvatures); [`ClearanceJoint::outline_overlap`] measures the true overlap of the two
-//! outlines for comparison.
-//!
-//! Which sliding velocity drives friction is a choice ([`SlidingVelocity`]): the material
-//! points' (physical, default) or the paper's `δ φ̇`.
+//! The clearance revolute joint: a bearing on one body, a pin on another, and the contact
+//! model between them.
 //!
 //! # Layout
-//! This module holds [`ClearanceJoint`], its construction and the line-of-centres model.
-//! Beside it, each importing only downwards: `types` (the values an evaluation takes and
-//! gives: [`BodyState`], [`JointSurface`], [`JointKinematics`], [`ContactForces`]), `model`
-//! (which model a joint uses, [`ContactModel`], and the elastic foundation's parameters,
-//! [`Foundation`]), `outline` (the outlines' radius bounds and the overlap memory),
-//! `general` (the line-of-centres force on worn surfaces), `dual` (the dual numbers of the
-//! Jacobians) and [`foundation`] (the elastic foundation's kernel, itself in `geometry`,
-//! `nodes`, `stream` and `books`).
+//! [`ClearanceJoint`] is a [`ContactPair`] (module `pair`: the outlines on their bodies, their
+//! materials and laws) and a [`ContactModelKind`] (module `kind`), and hands every evaluation
+//! to the model. What a model is, the [`ContactModel`] trait, is in `model`; each model is a
+//! module implementing it: [`line_of_centres`] (one contact point, Hertz law on the local
+//! radii; with its worn-surface kernel `general`) and [`foundation`] (an elastic layer over
+//! the true outlines: `layer`, `geometry`, `nodes`, `stream`, `books`). Below them: `types`
+//! (the values an evaluation takes and gives: [`BodyState`], [`JointSurface`],
+//! [`JointKinematics`], [`ContactForces`]), `outline` (the outlines' radius bounds and the
+//! overlap memory) and `dual` (the dual numbers of the foundation's Jacobian). Each imports
+//! only downwards: `types`, `outline`, `dual` → `pair` → `model` → the models → `kind` → this
+//! module. docs/architecture.md lists what adding a model takes.
 
-use nalgebra::{Matrix2, SMatrix, Vector2, Vector3};
-
-use crate::diagnostics::ContactDiagnostics;
-use crate::error::{ContactError, finite, positive};
+use crate::error::ContactError;
 use crate::friction::{FrictionLaw, FrictionLawKind};
-use crate::normal::{NormalForce, NormalLaw, NormalLawKind};
+use crate::normal::{NormalLaw, NormalLawKind};
 use crate::surface::SurfaceProfile;
 
 mod dual;
 pub mod foundation;
-mod general;
+mod kind;
+pub mod line_of_centres;
 mod model;
 mod outline;
+mod pair;
 mod types;
 
 pub use crate::material::{Material, MaterialParams};
-pub use model::{
-    ContactModel, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, NodeLoad,
-    Quadrature, SlidingVelocity,
+pub use foundation::{DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, Quadrature};
+pub use kind::ContactModelKind;
+pub use line_of_centres::LineOfCentres;
+pub use model::{ContactModel, NodeLoad, ShapeLimits, ValidityMeasure};
+pub use pair::ContactPair;
+pub use types::{
+    BodyState, ContactForces, ContactJacobian, JointKinematics, JointSurface, OutlineOverlap,
+    SlidingVelocity,
 };
-use outline::OutlineBounds;
-use types::Geometry;
-pub use types::{BodyState, ContactForces, JointKinematics, JointSurface, OutlineOverlap};
-
-/// Partials of the six generalized forces with respect to the twelve body coordinates.
-///
-/// Rows: `[bearing F_x, F_y, M, pin F_x, F_y, M]`.
-/// Columns: `[x_i, y_i, θ_i, x_j, y_j, θ_j, ẋ_i, ẏ_i, θ̇_i, ẋ_j, ẏ_j, θ̇_j]`
-/// (i = bearing body, j = pin body; positions then velocities).
-pub type ContactJacobian = SMatrix<f64, 6, 12>;
-
-type Row = SMatrix<f64, 1, 12>;
-type Rows2 = SMatrix<f64, 2, 12>;
-
-/// Column of `θ_i` in [`ContactJacobian`].
-const COL_THETA_I: usize = 2;
-/// Column of `θ_j` in [`ContactJacobian`].
-const COL_THETA_J: usize = 5;
-/// First velocity column of the bearing body (`ẋ_i`).
-const COL_VEL_I: usize = 6;
-/// First velocity column of the pin body (`ẋ_j`).
-const COL_VEL_J: usize = 9;
-
-/// Angles at which a joint's profiles are checked on construction.
-const VALIDATION_SAMPLES: usize = 64;
 
 /// A clearance revolute joint between a bearing on body *i* and a pin on body *j*.
 ///
 /// Generic over the surface profiles and the laws, so a fixed configuration is statically
-/// dispatched; the defaults ([`NormalLawKind`], [`FrictionLawKind`]) dispatch at run time.
+/// dispatched; the defaults ([`NormalLawKind`], [`FrictionLawKind`]) dispatch at run time, as
+/// the contact model ([`ContactModelKind`]) does.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ClearanceJoint<B, P, N = NormalLawKind, F = FrictionLawKind> {
-    bearing_centre: Vector2<f64>,
-    pin_centre: Vector2<f64>,
-    bearing_profile: B,
-    pin_profile: P,
-    bearing_material: Material,
-    pin_material: Material,
-    /// `4/(3(ε_i + ε_j))`: the stiffness is this times `√R`.
-    modulus_factor: f64,
-    normal_law: N,
-    friction_law: F,
-    /// Which sliding velocity the friction law sees.
-    friction_sliding: SlidingVelocity,
+    pair: ContactPair<B, P, N, F>,
     /// Line of centres (default) or elastic foundation.
-    model: ContactModel,
-    /// The outlines' radius bounds, for the foundation's node window.
-    bounds: OutlineBounds,
+    model: ContactModelKind,
 }
 
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     ClearanceJoint<B, P, N, F>
 {
-    /// A joint, validated: finite centres, and profiles that are finite, positive and leave a
-    /// positive clearance in every direction (checked on 64 angles per surface: the smallest
-    /// bearing radius must exceed the largest pin radius).
+    /// A joint on the line-of-centres model, validated: finite centres, and profiles that are
+    /// finite, positive and leave a positive clearance in every direction (checked on 64
+    /// angles per surface: the smallest bearing radius must exceed the largest pin radius).
     pub fn new(
         bearing: JointSurface<B>,
         pin: JointSurface<P>,
         normal_law: N,
         friction_law: F,
     ) -> Result<Self, ContactError> {
-        for (parameter, value) in [
-            ("bearing centre x", bearing.centre[0]),
-            ("bearing centre y", bearing.centre[1]),
-            ("pin centre x", pin.centre[0]),
-            ("pin centre y", pin.centre[1]),
-        ] {
-            finite(parameter, value)?;
-        }
-        validate_profiles(&bearing.profile, &pin.profile)?;
-        let compliance = bearing.material.compliance() + pin.material.compliance();
-        let bounds = OutlineBounds::new(&bearing.profile, &pin.profile, DEFAULT_FOUNDATION_CELLS);
-        Ok(Self {
-            bearing_centre: Vector2::from(bearing.centre),
-            pin_centre: Vector2::from(pin.centre),
-            bearing_profile: bearing.profile,
-            pin_profile: pin.profile,
-            bearing_material: bearing.material,
-            pin_material: pin.material,
-            modulus_factor: 4.0 / (3.0 * compliance),
-            normal_law,
-            friction_law,
-            friction_sliding: SlidingVelocity::Material,
-            model: ContactModel::LineOfCentres,
-            bounds,
-        })
+        let model = ContactModelKind::default();
+        let pair = ContactPair::new(bearing, pin, normal_law, friction_law, node_window(&model))?;
+        Ok(Self { pair, model })
     }
 
-    /// The same joint with contact model `model` (default [`ContactModel::LineOfCentres`]).
-    pub fn with_model(mut self, model: ContactModel) -> Self {
-        self.model = model;
-        self.bounds = OutlineBounds::new(&self.bearing_profile, &self.pin_profile, self.cells());
-        self
+    /// The same joint with contact model `model` (default [`LineOfCentres`]).
+    pub fn with_model(self, model: impl Into<ContactModelKind>) -> Self {
+        let model = model.into();
+        Self {
+            pair: self.pair.with_cells(node_window(&model)),
+            model,
+        }
     }
 
     /// The contact model.
-    pub fn model(&self) -> ContactModel {
+    pub fn model(&self) -> ContactModelKind {
         self.model
     }
 
-    /// Nodes on the pin's outline of the foundation model ([`DEFAULT_FOUNDATION_CELLS`] for the
-    /// line of centres, which has none).
-    fn cells(&self) -> usize {
-        match self.model {
-            ContactModel::Foundation(f) => f.cells(),
-            ContactModel::LineOfCentres => DEFAULT_FOUNDATION_CELLS,
-        }
+    /// What the model is evaluated on: outlines, materials, laws.
+    pub fn pair(&self) -> &ContactPair<B, P, N, F> {
+        &self.pair
     }
 
-    /// Calls `visit` with every loaded node of the foundation model at the given states (its
+    /// Calls `visit` with every loaded node of a model with nodes at the given states (its
     /// pressure and sliding, for Archard wear), and returns the forces; the line-of-centres
     /// model has no nodes and visits none.
     pub fn forces_visiting_nodes(
@@ -186,32 +97,24 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         onset_velocity: Option<f64>,
         visit: &mut dyn FnMut(&NodeLoad),
     ) -> ContactForces {
-        match self.model {
-            ContactModel::Foundation(f) => {
-                self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, Some(visit))
-            }
-            ContactModel::LineOfCentres => self.forces(bearing_body, pin_body, onset_velocity),
-        }
+        self.model.forces(
+            &self.pair,
+            bearing_body,
+            pin_body,
+            onset_velocity,
+            Some(visit),
+        )
     }
 
     /// The same joint with friction driven by `sliding` (default [`SlidingVelocity::Material`]).
     pub fn with_friction_sliding(mut self, sliding: SlidingVelocity) -> Self {
-        self.friction_sliding = sliding;
+        self.pair.friction_sliding = sliding;
         self
     }
 
     /// Which sliding velocity the friction law sees.
     pub fn friction_sliding(&self) -> SlidingVelocity {
-        self.friction_sliding
-    }
-
-    /// Both surfaces round and friction on the material sliding: the cheaper round-surface
-    /// kernel gives the same forces as the general one.
-    #[inline]
-    fn uses_round_kernel(&self) -> bool {
-        self.friction_sliding == SlidingVelocity::Material
-            && self.bearing_profile.is_round()
-            && self.pin_profile.is_round()
+        self.pair.friction_sliding
     }
 
     /// The same joint with new surface profiles (e.g. after a wear stage), validated again.
@@ -220,69 +123,56 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         bearing_profile: B2,
         pin_profile: P2,
     ) -> Result<ClearanceJoint<B2, P2, N, F>, ContactError> {
-        validate_profiles(&bearing_profile, &pin_profile)?;
-        let bounds = OutlineBounds::new(&bearing_profile, &pin_profile, self.cells());
+        let cells = node_window(&self.model);
         Ok(ClearanceJoint {
-            bearing_centre: self.bearing_centre,
-            pin_centre: self.pin_centre,
-            bearing_profile,
-            pin_profile,
-            bearing_material: self.bearing_material,
-            pin_material: self.pin_material,
-            modulus_factor: self.modulus_factor,
-            normal_law: self.normal_law,
-            friction_law: self.friction_law,
-            friction_sliding: self.friction_sliding,
+            pair: self
+                .pair
+                .with_profiles(bearing_profile, pin_profile, cells)?,
             model: self.model,
-            bounds,
         })
     }
 
     /// The bearing's profile.
     pub fn bearing_profile(&self) -> &B {
-        &self.bearing_profile
+        self.pair.bearing_profile()
     }
 
     /// The pin's profile.
     pub fn pin_profile(&self) -> &P {
-        &self.pin_profile
+        self.pair.pin_profile()
     }
 
     /// The bearing and pin materials.
     pub fn materials(&self) -> (Material, Material) {
-        (self.bearing_material, self.pin_material)
+        self.pair.materials()
     }
 
     /// The normal law.
     pub fn normal_law(&self) -> &N {
-        &self.normal_law
+        self.pair.normal_law()
     }
 
     /// The friction law.
     pub fn friction_law(&self) -> &F {
-        &self.friction_law
+        self.pair.friction_law()
     }
 
     /// Hertz stiffness `K = 4/(3(ε_i + ε_j)) √(R_i R_j/(R_i − R_j))` for local radii (N/m^1.5).
     pub fn stiffness(&self, bearing_radius: f64, pin_radius: f64) -> f64 {
-        let effective_radius = bearing_radius * pin_radius / (bearing_radius - pin_radius);
-        self.modulus_factor * effective_radius.sqrt()
+        self.pair.stiffness(bearing_radius, pin_radius)
     }
 
-    /// Penetration `δ` only (m; negative when free): cheap, for event (root) functions. For the
-    /// foundation model, the deepest overlap of the outlines at its nodes.
+    /// The model's event function (m; negative when free): cheap, for root finding. For the
+    /// line of centres the penetration `δ`; for the foundation the deepest overlap of the
+    /// outlines at its nodes.
     #[inline]
     pub fn penetration(&self, bearing_body: &BodyState, pin_body: &BodyState) -> f64 {
-        if let ContactModel::Foundation(f) = self.model {
-            return self.foundation_overlap(&f, bearing_body, pin_body);
-        }
-        self.geometry(bearing_body, pin_body).penetration
+        self.model.penetration(&self.pair, bearing_body, pin_body)
     }
 
-    /// Full kinematics of the joint at the given states.
+    /// Full kinematics of the line of centres at the given states.
     pub fn kinematics(&self, bearing_body: &BodyState, pin_body: &BodyState) -> JointKinematics {
-        let geometry = self.geometry(bearing_body, pin_body);
-        kinematics_from(&geometry, bearing_body, pin_body)
+        self.pair.kinematics(bearing_body, pin_body)
     }
 
     /// Generalized forces on both bodies.
@@ -296,28 +186,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_body: &BodyState,
         onset_velocity: Option<f64>,
     ) -> ContactForces {
-        if let ContactModel::Foundation(f) = self.model {
-            return self.foundation_forces(&f, bearing_body, pin_body, onset_velocity, None);
-        }
-        let geometry = self.geometry(bearing_body, pin_body);
-        let kin = kinematics_from(&geometry, bearing_body, pin_body);
-        if kin.penetration < 0.0 {
-            return free_forces(&kin, bearing_body, pin_body);
-        }
-        if !self.uses_round_kernel() {
-            return self
-                .general_values(&geometry, &kin, bearing_body, pin_body, onset_velocity)
-                .forces;
-        }
-        let stiffness = self.stiffness(kin.bearing.radius, kin.pin.radius);
-        let onset = onset_velocity.unwrap_or(kin.normal_velocity);
-        let normal =
-            self.normal_law
-                .evaluate(stiffness, kin.penetration, kin.normal_velocity, onset);
-        let friction = self
-            .friction_law
-            .evaluate(kin.tangential_velocity, normal.force);
-        assemble(&kin, bearing_body, pin_body, &normal, friction.force)
+        self.model
+            .forces(&self.pair, bearing_body, pin_body, onset_velocity, None)
     }
 
     /// Generalized forces and their exact partials (layout: [`ContactJacobian`]).
@@ -332,73 +202,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_body: &BodyState,
         onset_velocity: Option<f64>,
     ) -> (ContactForces, ContactJacobian) {
-        if let ContactModel::Foundation(f) = self.model {
-            return self.foundation_forces_and_jacobian(&f, bearing_body, pin_body, onset_velocity);
-        }
-        let geometry = self.geometry(bearing_body, pin_body);
-        let kin = kinematics_from(&geometry, bearing_body, pin_body);
-        if kin.penetration < 0.0 {
-            return (
-                free_forces(&kin, bearing_body, pin_body),
-                ContactJacobian::zeros(),
-            );
-        }
-        if !self.uses_round_kernel() {
-            return self.general_forces_and_jacobian(
-                &geometry,
-                &kin,
-                bearing_body,
-                pin_body,
-                onset_velocity,
-            );
-        }
-        let onset = onset_velocity.unwrap_or(kin.normal_velocity);
-        let (n, t) = (kin.normal, kin.tangent);
-        let p = PositionPartials::new(&geometry);
-        let (d_rho, d_phi) = (p.d_rho, p.d_phi);
-        let (d_bearing_radius, d_pin_radius) = (p.d_bearing_radius, p.d_pin_radius);
-        let d_penetration = d_rho - d_bearing_radius + d_pin_radius;
-
-        let (stiffness, d_stiffness) = self.stiffness_partials(&kin, &p);
-
-        // Arms from the centroids to the contact points, and the relative velocity.
-        let arms = ArmPartials::new(&geometry, &kin, bearing_body, pin_body, &p);
-        let (bearing_arm, pin_arm) = (arms.bearing_arm, arms.pin_arm);
-        let (d_bearing_arm, d_pin_arm, d_rel_vel) =
-            (arms.d_bearing_arm, arms.d_pin_arm, arms.d_relative_velocity);
-        let d_normal_velocity: Row = n.transpose() * d_rel_vel + d_phi * kin.tangential_velocity;
-        let d_tangential_velocity: Row = t.transpose() * d_rel_vel - d_phi * kin.normal_velocity;
-
-        // Laws.
-        let normal =
-            self.normal_law
-                .evaluate(stiffness, kin.penetration, kin.normal_velocity, onset);
-        let friction = self
-            .friction_law
-            .evaluate(kin.tangential_velocity, normal.force);
-        let d_normal_force = d_penetration * normal.d_penetration
-            + d_normal_velocity * normal.d_velocity
-            + d_stiffness * normal.d_stiffness;
-        let d_friction_force =
-            d_tangential_velocity * friction.d_velocity + d_normal_force * friction.d_normal_force;
-
-        // Force on the pin, −(F_n n + F_t t), and its moments.
-        let pin_force = -(n * normal.force + t * friction.force);
-        let d_pin_force: Rows2 = -(n * d_normal_force
-            + t * d_friction_force
-            + (t * normal.force - n * friction.force) * d_phi);
-        let d_pin_moment = moment_partials(&pin_arm, &d_pin_arm, &pin_force, &d_pin_force);
-        let d_bearing_moment =
-            moment_partials(&bearing_arm, &d_bearing_arm, &-pin_force, &-d_pin_force);
-
-        let mut jacobian = ContactJacobian::zeros();
-        jacobian.fixed_rows_mut::<2>(0).copy_from(&-d_pin_force);
-        jacobian.set_row(2, &d_bearing_moment);
-        jacobian.fixed_rows_mut::<2>(3).copy_from(&d_pin_force);
-        jacobian.set_row(5, &d_pin_moment);
-
-        let forces = assemble(&kin, bearing_body, pin_body, &normal, friction.force);
-        (forces, jacobian)
+        self.model
+            .forces_and_jacobian(&self.pair, bearing_body, pin_body, onset_velocity)
     }
 
     /// The true overlap of the two outlines: the largest distance by which a point of the pin's
@@ -414,379 +219,12 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_body: &BodyState,
         samples: usize,
     ) -> OutlineOverlap {
-        let bearing_centre = bearing_body.position() + bearing_body.rotate(&self.bearing_centre);
-        let pin_centre = pin_body.position() + pin_body.rotate(&self.pin_centre);
-        let mut deepest = OutlineOverlap {
-            depth: f64::NEG_INFINITY,
-            angle: 0.0,
-        };
-        for k in 0..samples.max(1) {
-            let alpha = std::f64::consts::TAU * k as f64 / samples.max(1) as f64;
-            let (s, c) = (alpha + pin_body.theta).sin_cos();
-            let point = pin_centre + Vector2::new(c, s) * self.pin_profile.sample(alpha).radius;
-            let offset = point - bearing_centre;
-            let angle = offset.y.atan2(offset.x);
-            let depth = offset.norm()
-                - self
-                    .bearing_profile
-                    .sample(angle - bearing_body.theta)
-                    .radius;
-            if depth > deepest.depth {
-                deepest = OutlineOverlap { depth, angle };
-            }
-        }
-        deepest
-    }
-
-    /// Stiffness `K` through the effective radius, and its partials.
-    #[inline]
-    fn stiffness_partials(&self, kin: &JointKinematics, p: &PositionPartials) -> (f64, Row) {
-        let (r_i, r_j) = (kin.bearing.radius, kin.pin.radius);
-        let clearance = r_i - r_j;
-        let effective_radius = r_i * r_j / clearance;
-        let stiffness = self.modulus_factor * effective_radius.sqrt();
-        let d_effective_radius = (p.d_pin_radius * (r_i * r_i) - p.d_bearing_radius * (r_j * r_j))
-            / (clearance * clearance);
-        let d_stiffness = d_effective_radius * (0.5 * stiffness / effective_radius);
-        (stiffness, d_stiffness)
-    }
-
-    fn geometry(&self, bearing_body: &BodyState, pin_body: &BodyState) -> Geometry {
-        let bearing_centre_arm = bearing_body.rotate(&self.bearing_centre);
-        let pin_centre_arm = pin_body.rotate(&self.pin_centre);
-        let eccentricity =
-            pin_body.position() + pin_centre_arm - bearing_body.position() - bearing_centre_arm;
-        let eccentricity_norm = eccentricity.norm();
-        let normal = if eccentricity_norm > 0.0 {
-            eccentricity / eccentricity_norm
-        } else {
-            Vector2::x()
-        };
-        let contact_angle = normal.y.atan2(normal.x);
-        let bearing = self
-            .bearing_profile
-            .sample(contact_angle - bearing_body.theta);
-        let pin = self.pin_profile.sample(contact_angle - pin_body.theta);
-        Geometry {
-            bearing_centre_arm,
-            pin_centre_arm,
-            eccentricity,
-            eccentricity_norm,
-            normal,
-            contact_angle,
-            bearing,
-            pin,
-            penetration: eccentricity_norm - (bearing.radius - pin.radius),
-        }
+        self.pair.outline_overlap(bearing_body, pin_body, samples)
     }
 }
 
-fn validate_profiles<B: SurfaceProfile, P: SurfaceProfile>(
-    bearing: &B,
-    pin: &P,
-) -> Result<(), ContactError> {
-    let mut smallest_bearing = (f64::INFINITY, 0.0);
-    let mut largest_pin = (f64::NEG_INFINITY, 0.0);
-    for k in 0..VALIDATION_SAMPLES {
-        let angle = std::f64::consts::TAU * k as f64 / VALIDATION_SAMPLES as f64;
-        let b = bearing.sample(angle);
-        let p = pin.sample(angle);
-        finite("bearing radius", b.radius)?;
-        finite("bearing radius slope", b.slope)?;
-        finite("pin radius", p.radius)?;
-        finite("pin radius slope", p.slope)?;
-        positive("pin radius", p.radius)?;
-        if b.radius < smallest_bearing.0 {
-            smallest_bearing = (b.radius, angle);
-        }
-        if p.radius > largest_pin.0 {
-            largest_pin = (p.radius, angle);
-        }
-    }
-    if smallest_bearing.0 > largest_pin.0 {
-        Ok(())
-    } else {
-        Err(ContactError::NonPositiveClearance {
-            bearing_radius: smallest_bearing.0,
-            pin_radius: largest_pin.0,
-            angle: smallest_bearing.1,
-        })
-    }
-}
-
-fn kinematics_from(
-    geometry: &Geometry,
-    bearing_body: &BodyState,
-    pin_body: &BodyState,
-) -> JointKinematics {
-    let n = geometry.normal;
-    let t = perp(&n);
-    let bearing_point =
-        bearing_body.position() + geometry.bearing_centre_arm + n * geometry.bearing.radius;
-    let pin_point = pin_body.position() + geometry.pin_centre_arm + n * geometry.pin.radius;
-    let bearing_point_velocity = bearing_body.velocity()
-        + perp(&(bearing_point - bearing_body.position())) * bearing_body.omega;
-    let pin_point_velocity =
-        pin_body.velocity() + perp(&(pin_point - pin_body.position())) * pin_body.omega;
-    let relative_velocity = pin_point_velocity - bearing_point_velocity;
-    let eccentricity_rate = pin_body.velocity() + perp(&geometry.pin_centre_arm) * pin_body.omega
-        - bearing_body.velocity()
-        - perp(&geometry.bearing_centre_arm) * bearing_body.omega;
-    JointKinematics {
-        eccentricity: geometry.eccentricity,
-        eccentricity_norm: geometry.eccentricity_norm,
-        normal: n,
-        tangent: t,
-        contact_angle: geometry.contact_angle,
-        bearing: geometry.bearing,
-        pin: geometry.pin,
-        penetration: geometry.penetration,
-        bearing_point,
-        pin_point,
-        bearing_point_velocity,
-        pin_point_velocity,
-        eccentricity_rate,
-        normal_velocity: relative_velocity.dot(&n),
-        tangential_velocity: relative_velocity.dot(&t),
-    }
-}
-
-/// What a contact state loads and dissipates, for [`ContactDiagnostics`].
-#[derive(Clone, Copy, Default)]
-struct Loads {
-    normal_velocity: f64,
-    tangential_velocity: f64,
-    geometric_sliding_velocity: f64,
-    normal_force: f64,
-    elastic_force: f64,
-    friction_force: f64,
-    elastic_energy: f64,
-    damping_power: f64,
-    friction_power: f64,
-}
-
-fn diagnostics(
-    kin: &JointKinematics,
-    bearing_body: &BodyState,
-    pin_body: &BodyState,
-    loads: &Loads,
-) -> ContactDiagnostics {
-    let wrap = crate::surface::wrap_angle;
-    ContactDiagnostics {
-        in_contact: kin.penetration >= 0.0,
-        penetration: kin.penetration,
-        eccentricity: kin.eccentricity_norm,
-        contact_angle: kin.contact_angle,
-        bearing_angle: wrap(kin.contact_angle - bearing_body.theta),
-        pin_angle: wrap(kin.contact_angle - pin_body.theta),
-        bearing_radius: kin.bearing.radius,
-        pin_radius: kin.pin.radius,
-        normal_velocity: loads.normal_velocity,
-        tangential_velocity: loads.tangential_velocity,
-        geometric_sliding_velocity: loads.geometric_sliding_velocity,
-        normal_force: loads.normal_force,
-        elastic_force: loads.elastic_force,
-        friction_force: loads.friction_force,
-        contact_point: [kin.bearing_point.x, kin.bearing_point.y],
-        elastic_energy: loads.elastic_energy,
-        damping_power: loads.damping_power,
-        friction_power: loads.friction_power,
-        bearing_slope: kin.bearing.slope,
-        pin_slope: kin.pin.slope,
-        bearing_curvature: kin.bearing.curvature,
-        pin_curvature: kin.pin.curvature,
-        ..ContactDiagnostics::default()
-    }
-}
-
-fn free_forces(
-    kin: &JointKinematics,
-    bearing_body: &BodyState,
-    pin_body: &BodyState,
-) -> ContactForces {
-    let loads = Loads {
-        normal_velocity: kin.normal_velocity,
-        tangential_velocity: kin.tangential_velocity,
-        ..Loads::default()
-    };
-    ContactForces {
-        bearing: Vector3::zeros(),
-        pin: Vector3::zeros(),
-        diagnostics: diagnostics(kin, bearing_body, pin_body, &loads),
-    }
-}
-
-/// Forces of the round-surface kernel: `−(F_n n + F_t t)` on the pin at its contact point.
-fn assemble(
-    kin: &JointKinematics,
-    bearing_body: &BodyState,
-    pin_body: &BodyState,
-    normal: &NormalForce,
-    friction_force: f64,
-) -> ContactForces {
-    let pin_force = -(kin.normal * normal.force + kin.tangent * friction_force);
-    let pin_moment = cross(&(kin.pin_point - pin_body.position()), &pin_force);
-    let bearing_moment = cross(&(kin.bearing_point - bearing_body.position()), &-pin_force);
-    let loads = Loads {
-        normal_velocity: kin.normal_velocity,
-        tangential_velocity: kin.tangential_velocity,
-        geometric_sliding_velocity: kin.penetration * kin.contact_angle_rate(),
-        normal_force: normal.force,
-        elastic_force: normal.elastic,
-        friction_force,
-        elastic_energy: normal.potential,
-        damping_power: (normal.force - normal.elastic) * kin.normal_velocity,
-        friction_power: friction_force * kin.tangential_velocity,
-    };
-    ContactForces {
-        bearing: Vector3::new(-pin_force.x, -pin_force.y, bearing_moment),
-        pin: Vector3::new(pin_force.x, pin_force.y, pin_moment),
-        diagnostics: diagnostics(kin, bearing_body, pin_body, &loads),
-    }
-}
-
-/// Partials of the positional quantities with respect to the twelve coordinates.
-struct PositionPartials {
-    /// `∂|e|`.
-    d_rho: Row,
-    /// `∂φ`.
-    d_phi: Row,
-    /// `∂R_i` through the body-frame angle `φ − θ_i`.
-    d_bearing_radius: Row,
-    /// `∂R_j` through `φ − θ_j`.
-    d_pin_radius: Row,
-}
-
-impl PositionPartials {
-    #[inline]
-    fn new(geometry: &Geometry) -> Self {
-        let n = geometry.normal;
-        let t = perp(&n);
-        let mut d_ecc = Rows2::zeros();
-        d_ecc[(0, 0)] = -1.0;
-        d_ecc[(1, 1)] = -1.0;
-        d_ecc.set_column(COL_THETA_I, &-perp(&geometry.bearing_centre_arm));
-        d_ecc[(0, 3)] = 1.0;
-        d_ecc[(1, 4)] = 1.0;
-        d_ecc.set_column(COL_THETA_J, &perp(&geometry.pin_centre_arm));
-        let d_rho: Row = n.transpose() * d_ecc;
-        let d_phi: Row = t.transpose() * d_ecc / geometry.eccentricity_norm;
-        let mut d_bearing_radius = d_phi * geometry.bearing.slope;
-        d_bearing_radius[COL_THETA_I] -= geometry.bearing.slope;
-        let mut d_pin_radius = d_phi * geometry.pin.slope;
-        d_pin_radius[COL_THETA_J] -= geometry.pin.slope;
-        Self {
-            d_rho,
-            d_phi,
-            d_bearing_radius,
-            d_pin_radius,
-        }
-    }
-}
-
-/// The arms from the centroids to the contact points `r^c + R n` and the material relative
-/// velocity there, with their partials.
-struct ArmPartials {
-    bearing_arm: Vector2<f64>,
-    pin_arm: Vector2<f64>,
-    d_bearing_arm: Rows2,
-    d_pin_arm: Rows2,
-    d_relative_velocity: Rows2,
-}
-
-impl ArmPartials {
-    #[inline]
-    fn new(
-        geometry: &Geometry,
-        kin: &JointKinematics,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        p: &PositionPartials,
-    ) -> Self {
-        let (n, t) = (kin.normal, kin.tangent);
-        let bearing_arm = kin.bearing_point - bearing_body.position();
-        let pin_arm = kin.pin_point - pin_body.position();
-        let d_bearing_arm = arm_partials(
-            &geometry.bearing_centre_arm,
-            COL_THETA_I,
-            &n,
-            &t,
-            kin.bearing.radius,
-            &p.d_bearing_radius,
-            &p.d_phi,
-        );
-        let d_pin_arm = arm_partials(
-            &geometry.pin_centre_arm,
-            COL_THETA_J,
-            &n,
-            &t,
-            kin.pin.radius,
-            &p.d_pin_radius,
-            &p.d_phi,
-        );
-        let mut d_rel_vel = rotate_columns(&d_pin_arm) * pin_body.omega
-            - rotate_columns(&d_bearing_arm) * bearing_body.omega;
-        d_rel_vel[(0, COL_VEL_I)] -= 1.0;
-        d_rel_vel[(1, COL_VEL_I + 1)] -= 1.0;
-        d_rel_vel.set_column(COL_VEL_I + 2, &-perp(&bearing_arm));
-        d_rel_vel[(0, COL_VEL_J)] += 1.0;
-        d_rel_vel[(1, COL_VEL_J + 1)] += 1.0;
-        d_rel_vel.set_column(COL_VEL_J + 2, &perp(&pin_arm));
-        Self {
-            bearing_arm,
-            pin_arm,
-            d_bearing_arm,
-            d_pin_arm,
-            d_relative_velocity: d_rel_vel,
-        }
-    }
-}
-
-/// `v` turned by +90°.
-#[inline]
-fn perp(v: &Vector2<f64>) -> Vector2<f64> {
-    Vector2::new(-v.y, v.x)
-}
-
-/// z component of `a × b`.
-#[inline]
-fn cross(a: &Vector2<f64>, b: &Vector2<f64>) -> f64 {
-    a.x * b.y - a.y * b.x
-}
-
-/// Every column turned by +90°.
-#[inline]
-fn rotate_columns(d: &Rows2) -> Rows2 {
-    Matrix2::new(0.0, -1.0, 1.0, 0.0) * d
-}
-
-/// Partials of a contact arm `A(θ) s + R n` (centroid to contact point).
-#[inline]
-fn arm_partials(
-    centre_arm: &Vector2<f64>,
-    theta_column: usize,
-    n: &Vector2<f64>,
-    t: &Vector2<f64>,
-    radius: f64,
-    d_radius: &Row,
-    d_phi: &Row,
-) -> Rows2 {
-    // dn = t dφ.
-    let mut d_arm: Rows2 = n * d_radius + t * (d_phi * radius);
-    let turned = perp(centre_arm);
-    d_arm[(0, theta_column)] += turned.x;
-    d_arm[(1, theta_column)] += turned.y;
-    d_arm
-}
-
-/// Partials of the moment `b × f`.
-#[inline]
-fn moment_partials(
-    arm: &Vector2<f64>,
-    d_arm: &Rows2,
-    force: &Vector2<f64>,
-    d_force: &Rows2,
-) -> Row {
-    d_arm.row(0) * force.y - d_arm.row(1) * force.x + d_force.row(1) * arm.x
-        - d_force.row(0) * arm.y
+/// The node count the pair's node window is laid out for: the model's nodes, else the
+/// default (the line of centres has none and reads only the window's radius bounds).
+fn node_window(model: &ContactModelKind) -> usize {
+    model.nodes().unwrap_or(DEFAULT_FOUNDATION_CELLS)
 }

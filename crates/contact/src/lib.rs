@@ -24,12 +24,15 @@
 //! - [`NormalLawKind`] and [`FrictionLawKind`]: serde enums for scene files (validated on load);
 //!   they implement the traits by dispatch. Concrete law types give static dispatch.
 //!
-//! Contact models ([`ContactModel`], set with [`ClearanceJoint::with_model`]): the
-//! line-of-centres model (the default here; one contact point, below) and the elastic
+//! Contact models (the [`ContactModel`] trait; [`ContactModelKind`] chooses a built-in one at
+//! run time, set with [`ClearanceJoint::with_model`]): the line-of-centres model
+//! ([`LineOfCentres`], the default here; one contact point, below) and the elastic
 //! foundation over the true outlines ([`joint::foundation`], [`Foundation`]): a Winkler layer
 //! pressed by every node of the pin's outline, exact geometry at any eccentricity, several
 //! contact zones, its loads per node ([`NodeLoad`], [`ClearanceJoint::forces_visiting_nodes`])
-//! for Archard wear. Both return forces, the exact Jacobian and [`ContactDiagnostics`].
+//! for Archard wear. Both return forces, the exact Jacobian and [`ContactDiagnostics`], and
+//! name the measures of their validity ([`ValidityMeasure`]) and the shape limits they need
+//! ([`ShapeLimits`]).
 //!
 //! Worn surfaces: the local radii in the contact direction replace the nominal ones in the
 //! penetration and in the conformal Hertz stiffness, and the force is the gradient of the stored
@@ -91,9 +94,10 @@ pub use friction::{
     FrictionLawParams, Frictionless,
 };
 pub use joint::{
-    BodyState, ClearanceJoint, ContactForces, ContactJacobian, ContactModel,
-    DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, JointKinematics, JointSurface,
-    Material, MaterialParams, NodeLoad, OutlineOverlap, Quadrature, SlidingVelocity,
+    BodyState, ClearanceJoint, ContactForces, ContactJacobian, ContactModel, ContactModelKind,
+    ContactPair, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, JointKinematics,
+    JointSurface, LineOfCentres, Material, MaterialParams, NodeLoad, OutlineOverlap, Quadrature,
+    ShapeLimits, SlidingVelocity, ValidityMeasure,
 };
 pub use normal::{
     DEFAULT_HERTZ_EXPONENT, DEFAULT_ONSET_VELOCITY_FLOOR, DampedHertzParams, Flores, Hertz,

@@ -7,7 +7,7 @@ mod common;
 use common::foundation::*;
 use common::{BEARING_RADIUS, CLEARANCE, round_joint, steel};
 use contact::{
-    BodyState, ContactModel, Foundation, Frictionless, LankaraniNikravesh, RadiusSample,
+    BodyState, ContactModelKind, Foundation, Frictionless, LankaraniNikravesh, RadiusSample,
     SurfaceProfile,
 };
 use rand::{Rng, SeedableRng};
@@ -128,7 +128,7 @@ fn a_pin_in_a_groove_it_fits_carries_the_conformal_closed_form() {
             hertz(),
             Frictionless,
         )
-        .with_model(ContactModel::Foundation(layer));
+        .with_model(ContactModelKind::Foundation(layer));
         // The off-centre joint's bearing and pin centres (as in `place`): the pin's centre goes
         // `offset + δ` from the bearing's along x.
         let bearing = BodyState::at_rest(0.0, 0.0, 0.0);
@@ -176,7 +176,7 @@ fn a_pin_in_a_groove_it_fits_carries_the_conformal_closed_form() {
 #[test]
 fn the_matched_layer_gives_the_hertz_force_at_its_reference_overlap() {
     let joint = round_joint([0.0, 0.0], [0.0, 0.0], hertz(), Frictionless).with_model(
-        ContactModel::Foundation(
+        ContactModelKind::Foundation(
             Foundation::hertz_matched(
                 &steel(),
                 &steel(),

@@ -8,7 +8,7 @@ mod common;
 use common::foundation::*;
 use common::{BEARING_RADIUS, CLEARANCE, round_joint, steel};
 use contact::{
-    Ambrosio, BodyState, ClearanceJoint, ContactModel, Foundation, FrictionLaw, Frictionless,
+    Ambrosio, BodyState, ClearanceJoint, ContactModelKind, Foundation, FrictionLaw, Frictionless,
     NodeLoad, NormalLaw, Quadrature, RadiusSample, SlidingVelocity, SurfaceProfile,
 };
 use rand::{Rng, SeedableRng};
@@ -241,7 +241,7 @@ fn the_resolution_estimate_matches_the_error_the_nodes_make() {
     let mut previous: Option<f64> = None;
     for nodes in [125, 250, 500, 1000, 2000] {
         let joint = round_joint([0.0, 0.0], [0.0, 0.0], hertz(), Frictionless).with_model(
-            ContactModel::Foundation(
+            ContactModelKind::Foundation(
                 Foundation::calibrated(&steel(), &steel())
                     .with_quadrature(Quadrature::Trapezoid)
                     .and_then(|f| f.with_cells(nodes))
@@ -303,7 +303,7 @@ fn simpsons_quadrature_is_within_its_resolution_estimate() {
         let trapezoid = layer.with_quadrature(Quadrature::Trapezoid).expect("valid");
         let joint = |layer| {
             round_joint([0.0, 0.0], [0.0, 0.0], hertz(), Frictionless)
-                .with_model(ContactModel::Foundation(layer))
+                .with_model(ContactModelKind::Foundation(layer))
         };
         let (simpson, trapezoid) = (joint(layer), joint(trapezoid));
         let (mut measured, mut estimated, mut worst, mut ratio) = (0.0, 0.0, 0.0_f64, 0.0_f64);

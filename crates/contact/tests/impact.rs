@@ -4,7 +4,7 @@
 mod common;
 
 use common::{CLEARANCE, Inertia, round_joint, simulate_impact};
-use contact::{BodyState, ContactModel, Foundation, Frictionless, Hertz, LankaraniNikravesh};
+use contact::{BodyState, ContactModelKind, Foundation, Frictionless, Hertz, LankaraniNikravesh};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -71,7 +71,7 @@ fn the_layer_rebounds_with_c_e_at_every_speed_and_less_damped_below_a_reference_
             LankaraniNikravesh::new(restitution).unwrap(),
             Frictionless,
         )
-        .with_model(ContactModel::Foundation(layer))
+        .with_model(ContactModelKind::Foundation(layer))
     };
     let default = joint(layer);
     let floored = joint(layer.with_reference_speed(v_ref).expect("valid"));

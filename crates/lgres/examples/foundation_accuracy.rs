@@ -20,7 +20,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use contact::{
-    BodyState, ClearanceJoint, ContactModel, FrictionLawKind, JointSurface, Material,
+    BodyState, ClearanceJoint, ContactModelKind, FrictionLawKind, JointSurface, Material,
     NormalLawKind, Quadrature,
 };
 use rand::{Rng, SeedableRng};
@@ -48,7 +48,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let active = scene.clearance_joints.iter().filter(|c| !c.ideal);
     for (spec, surfaces) in active.zip(&worn) {
         let Some(surfaces) = surfaces else { continue };
-        let ContactModel::Foundation(foundation) = spec.contact_model()? else {
+        let ContactModelKind::Foundation(foundation) = spec.contact_model()? else {
             continue;
         };
         let own = surfaces.pin().cells();
@@ -70,7 +70,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 FrictionLawKind::from_params(spec.friction)?,
             )?
             .with_friction_sliding(spec.sliding.friction)
-            .with_model(ContactModel::Foundation(
+            .with_model(ContactModelKind::Foundation(
                 foundation.with_quadrature(quadrature)?.with_cells(cells)?,
             ));
             Ok(joint)

@@ -401,7 +401,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
     )
     .unwrap();
     let model = trapezoid.clearance_joints[0].contact_model().unwrap();
-    let contact::ContactModel::Foundation(layer) = model else {
+    let contact::ContactModelKind::Foundation(layer) = model else {
         panic!("{model:?}")
     };
     assert_eq!(
@@ -442,7 +442,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
     );
     assert!(matches!(
         scenes::builtin("lgres").unwrap().clearance_joints[0].contact_model(),
-        Ok(contact::ContactModel::Foundation(_))
+        Ok(contact::ContactModelKind::Foundation(_))
     ));
     // The wear smoothing is an angle within [0, 30]°.
     let text = edited(

@@ -94,10 +94,12 @@ impl ClearanceJoint {
 
     /// The contact model this joint's `contact` table names, with its defaults filled in
     /// (the calibrated layer, `wear.width`, `wear.cells`).
-    pub fn contact_model(&self) -> Result<contact::ContactModel, contact::ContactError> {
+    pub fn contact_model(&self) -> Result<contact::ContactModelKind, contact::ContactError> {
         let spec = &self.contact;
         if spec.model == ContactModelName::LineOfCentres {
-            return Ok(contact::ContactModel::LineOfCentres);
+            return Ok(contact::ContactModelKind::LineOfCentres(
+                contact::LineOfCentres,
+            ));
         }
         let width = spec
             .width
@@ -125,7 +127,7 @@ impl ClearanceJoint {
         if let Some(speed) = spec.reference_speed {
             layer = layer.with_reference_speed(speed)?;
         }
-        Ok(contact::ContactModel::Foundation(layer))
+        Ok(contact::ContactModelKind::Foundation(layer))
     }
 }
 

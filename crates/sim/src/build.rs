@@ -6,7 +6,7 @@
 //! then it samples that joint's surfaces, frozen for the run, and optionally accumulates a
 //! stage's wear. Errors name the scene field at fault.
 
-use contact::{ContactError, FrictionLawKind, JointSurface, NormalLawKind};
+use contact::{ContactError, ContactModel, FrictionLawKind, JointSurface, NormalLawKind};
 use multibody::{
     Anchor, Body, BodyId, DriveFunction, DriveTarget, ElementId, Gravity, JointId, Model,
     ModelError, RotationLock, System,
@@ -74,11 +74,19 @@ pub struct JointHandle {
     pub worn: bool,
     /// Nominal radial clearance `c0`, m.
     pub clearance: f64,
-    /// Whether it uses the elastic-foundation contact (else the line of centres).
-    pub foundation: bool,
+    /// Its contact model: what the run's validity checks and reports ask about it.
+    pub model: contact::ContactModelKind,
 }
 
 impl JointHandle {
+    /// Whether the model's validity needs the true outline overlap, measured apart from it.
+    pub fn measures_outline_overlap(&self) -> bool {
+        self.model
+            .validity_measures()
+            .iter()
+            .any(|m| m.needs_outline_overlap())
+    }
+
     /// The element among `elements` (a system's, or an observer frame's) as a probe.
     pub fn probe<'a>(
         &self,
@@ -262,6 +270,7 @@ pub fn build(scene: &Scene, surfaces: Surfaces<'_>) -> Result<Built, BuildError>
         let bearing = body_id(scene, &format!("{p}.bearing_body"), &c.bearing_body)?;
         let pin = body_id(scene, &format!("{p}.pin_body"), &c.pin_body)?;
         let round = round_joint(c, &p)?;
+        let model = round.model();
         let worn = surfaces.worn.get(slot).and_then(Option::as_ref);
         let element = match worn {
             None => system.add_element(Box::new(ClearanceForce::new(&c.name, bearing, pin, round))),
@@ -290,7 +299,7 @@ pub fn build(scene: &Scene, surfaces: Surfaces<'_>) -> Result<Built, BuildError>
             element,
             worn: worn.is_some(),
             clearance: c.clearance,
-            foundation: c.contact.model == scene::ContactModelName::Foundation,
+            model,
         });
     }
     Ok(Built { system, joints })

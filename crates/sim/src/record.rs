@@ -65,12 +65,12 @@ impl Observer for Recorder<'_> {
             let d = probe
                 .map(|p| p.contact(frame.q, frame.qd).diagnostics)
                 .unwrap_or_default();
-            // On round surfaces the overlap is δ itself, and the foundation's δ is the true
-            // overlap: measure it on worn line-of-centres joints only.
+            // On round surfaces the overlap is δ itself, and a model whose δ is the true overlap
+            // (the foundation's) does not judge it: measure it on worn joints whose model does.
             let overlap = probe
                 .filter(|_| {
                     handle.worn
-                        && !handle.foundation
+                        && handle.measures_outline_overlap()
                         && frame_index.is_multiple_of(OVERLAP_EVERY)
                         && d.penetration > -0.25 * handle.clearance
                 })
@@ -190,7 +190,7 @@ pub(super) fn simulate(
             .collect(),
         validity: joints
             .iter()
-            .map(|j| Tally::new(j.clearance, Limits::default(), j.foundation))
+            .map(|j| Tally::new(j.clearance, Limits::default(), &j.model))
             .collect(),
         progress,
         record: true,

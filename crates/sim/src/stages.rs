@@ -17,7 +17,8 @@ use super::{
     JointWearHistory, JointWearSummary, Motion, Progress, RunError, SubstepSummary, WearSummary,
     simulation_options,
 };
-use crate::build::{Surfaces, build};
+use crate::build::{BuildError, Surfaces, build};
+use contact::{ContactModel, ShapeLimits};
 use scene::Scene;
 
 /// Per-stage history, summary and final surfaces (one slot per active clearance joint).
@@ -187,10 +188,8 @@ pub(super) fn stages(
     let started = Instant::now();
     let r = &scene.run;
     let k = r.cycles_per_stage.max(1);
-    let line_of_centres = scene
-        .active_clearance_joints()
-        .any(|c| c.contact.model == scene::ContactModelName::LineOfCentres);
-    let (max_slope_change, max_curvature_change) = r.shape_change_bounds(line_of_centres);
+    let shape_limits = shape_limits(scene)?;
+    let (max_slope_change, max_curvature_change) = r.shape_change_bounds(shape_limits.is_some());
     let extrapolation =
         if let (true, Some(tolerance)) = (r.adaptive_extrapolation, r.wear_tolerance) {
             Extrapolation::Controlled {
@@ -216,9 +215,10 @@ pub(super) fn stages(
         .with_smoothing(r.wear_smoothing_deg.to_radians())
         .with_stepping(r.wear_stepping)
         .with_geometry_limits(
-            // The slope stop is the line-of-centres model's: the foundation follows any shape.
-            (r.adaptive_extrapolation && r.stop_at_validity_limits && line_of_centres)
-                .then_some(GeometryLimits::CONTACT_MODEL),
+            // The stop is the models' own: a model that follows any shape names none.
+            shape_limits
+                .filter(|_| r.adaptive_extrapolation && r.stop_at_validity_limits)
+                .map(|l| GeometryLimits::new(l.slope, l.curvature)),
         );
     // Gather wear after the start-up window only (see the module docs).
     let wear_start = r.transient_window;
@@ -441,7 +441,10 @@ pub(super) fn stages(
                 percent(max_fraction)
             )
         } else if r.adaptive_extrapolation {
-            if line_of_centres || max_slope_change.is_finite() || max_curvature_change.is_finite() {
+            if shape_limits.is_some()
+                || max_slope_change.is_finite()
+                || max_curvature_change.is_finite()
+            {
                 format!(
                     "adaptive (each sub-step changes a local clearance by at most {} %, its \
                      slope by at most {} c0/rad and its curvature by at most {} c0/rad²)",
@@ -484,4 +487,23 @@ pub(super) fn stages(
 /// `fraction` as a percentage for a sentence: 2.5 for 0.025, 5 for 0.05 (no binary residue).
 fn percent(fraction: f64) -> f64 {
     (fraction * 1e8).round() / 1e6
+}
+
+/// The tightest shape limits the active joints' contact models name (`None`: none of them
+/// limits the worn outlines' shape).
+fn shape_limits(scene: &Scene) -> Result<Option<ShapeLimits>, RunError> {
+    let mut tightest: Option<ShapeLimits> = None;
+    for c in scene.active_clearance_joints() {
+        let model = c.contact_model().map_err(|source| BuildError::Contact {
+            field: format!("clearance_joints.{}.contact", c.name),
+            source,
+        })?;
+        if let Some(l) = model.shape_limits() {
+            tightest = Some(tightest.map_or(l, |t| ShapeLimits {
+                slope: t.slope.min(l.slope),
+                curvature: t.curvature.min(l.curvature),
+            }));
+        }
+    }
+    Ok(tightest)
 }

@@ -275,15 +275,6 @@ impl GeometryLimits {
         Self { slope, curvature }
     }
 
-    /// The slope limit of the clearance joint's validity checks, 0.3. The curvature is not
-    /// limited here: the wear of one or a few chaotic cycles carries cell-scale curvature that
-    /// passes the conformity limit at sub-micrometre depths, long before a pin whose contact
-    /// spans tens of cells could feel it; conformity is measured at the contacts instead.
-    pub const CONTACT_MODEL: Self = Self {
-        slope: 0.3,
-        curvature: f64::INFINITY,
-    };
-
     /// The largest amplification of `wear` that keeps `joint` within the limits (0 when it is
     /// already at them; infinite when the wear does not change the shape).
     fn allowed(&self, joint: &WornJoint, wear: &StageWear) -> Result<f64, WearError> {

@@ -79,17 +79,21 @@ use nalgebra::Vector3;
 
 mod books;
 mod geometry;
+mod layer;
 mod nodes;
 mod stream;
+
+pub use layer::{DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, Quadrature};
 
 use books::Books;
 use geometry::{Body, Node, angle_near, cross, dot, offset};
 use stream::{NodeQueue, Output, Pending, apply, segment};
 
 use super::dual::{Dual, Real};
-use super::model::{Foundation, NodeLoad, Quadrature};
+use super::model::{ContactModel, NodeLoad, ShapeLimits, ValidityMeasure};
 use super::outline::{Noted, Pose, Remembered, Skip};
-use super::{BodyState, ClearanceJoint, ContactForces, ContactJacobian, SlidingVelocity};
+use super::pair::ContactPair;
+use super::types::{BodyState, ContactForces, ContactJacobian, SlidingVelocity};
 use crate::diagnostics::ContactDiagnostics;
 use crate::friction::FrictionLaw;
 use crate::normal::NormalLaw;
@@ -136,9 +140,7 @@ struct MemoryUse<'m> {
     computed: usize,
 }
 
-impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
-    ClearanceJoint<B, P, N, F>
-{
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactPair<B, P, N, F> {
     /// The kernel: forces on both bodies, diagnostics, and each loaded node to `visit` if any.
     fn foundation_eval<T: Real>(
         &self,
@@ -686,7 +688,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     }
 
     /// Forces of the foundation model at the given states.
-    pub(super) fn foundation_forces(
+    fn foundation_forces(
         &self,
         foundation: &Foundation,
         bearing: &BodyState,
@@ -709,7 +711,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     }
 
     /// Forces of the foundation model and their exact Jacobian (dual numbers).
-    pub(super) fn foundation_forces_and_jacobian(
+    fn foundation_forces_and_jacobian(
         &self,
         foundation: &Foundation,
         bearing: &BodyState,
@@ -755,7 +757,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
 
     /// The deepest overlap of the outlines (m; negative when apart): the foundation's event
     /// function. In free flight, the gap between the outlines' radius bounds.
-    pub(super) fn foundation_overlap(
+    fn foundation_overlap(
         &self,
         foundation: &Foundation,
         bearing_body: &BodyState,
@@ -826,6 +828,63 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             self.bounds.memory.put(m);
         }
         deepest
+    }
+}
+
+impl ContactModel for Foundation {
+    fn name(&self) -> &'static str {
+        "foundation"
+    }
+
+    fn nodes(&self) -> Option<usize> {
+        Some(self.cells)
+    }
+
+    fn forces<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        onset_velocity: Option<f64>,
+        visit: Option<&mut dyn FnMut(&NodeLoad)>,
+    ) -> ContactForces {
+        pair.foundation_forces(self, bearing_body, pin_body, onset_velocity, visit)
+    }
+
+    fn forces_and_jacobian<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        onset_velocity: Option<f64>,
+    ) -> (ContactForces, ContactJacobian) {
+        pair.foundation_forces_and_jacobian(self, bearing_body, pin_body, onset_velocity)
+    }
+
+    /// The deepest overlap of the outlines at the nodes.
+    fn penetration<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+    ) -> f64 {
+        pair.foundation_overlap(self, bearing_body, pin_body)
+    }
+
+    /// A thin layer describes shallow overlaps only, and the nodes must resolve the zones.
+    /// Unloaded overlapping frames have no limit here: on the foundation they only show the
+    /// damped law's own clamp (a pin leaving faster than `1/χ` times its onset velocity), not a
+    /// shape the model misreads.
+    fn validity_measures(&self) -> &'static [ValidityMeasure] {
+        &[
+            ValidityMeasure::OverlapRatio,
+            ValidityMeasure::ResolutionError,
+        ]
+    }
+
+    /// None: the layer follows any outline.
+    fn shape_limits(&self) -> Option<ShapeLimits> {
+        None
     }
 }
 

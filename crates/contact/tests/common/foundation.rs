@@ -3,7 +3,7 @@
 
 use super::{BEARING_RADIUS, CLEARANCE, off_centre_joint, steel};
 use contact::{
-    BodyState, ClearanceJoint, ContactModel, Foundation, FrictionLaw, Hertz, NormalLaw,
+    BodyState, ClearanceJoint, ContactModelKind, Foundation, FrictionLaw, Hertz, NormalLaw,
     RadiusSample, SurfaceProfile,
 };
 use rand::Rng;
@@ -72,7 +72,7 @@ pub fn hertz() -> Hertz {
 pub fn foundation<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
     joint: ClearanceJoint<B, P, N, F>,
 ) -> ClearanceJoint<B, P, N, F> {
-    joint.with_model(ContactModel::Foundation(Foundation::calibrated(
+    joint.with_model(ContactModelKind::Foundation(Foundation::calibrated(
         &steel(),
         &steel(),
     )))

@@ -1,6 +1,6 @@
 //! The measures of a worn geometry's validity and their limits (see [`super`]).
 
-use contact::ContactDiagnostics;
+use contact::{ContactDiagnostics, ContactModel, ValidityMeasure};
 use serde::Serialize;
 
 /// Median elastic share of the per-cycle force peaks below which a response's forces are
@@ -48,7 +48,7 @@ impl Default for Limits {
 /// What was measured for one joint in one response run, against the limits.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Validity {
-    /// The contact model measured: `foundation` or `line-of-centres`.
+    /// The contact model measured (its name: `foundation`, `line-of-centres`).
     pub model: &'static str,
     /// Every measure within its limit.
     pub inside: bool,
@@ -92,23 +92,20 @@ pub struct Validity {
 #[derive(Debug, Clone)]
 pub struct Tally {
     clearance: f64,
-    foundation: bool,
+    /// The measures the model is judged by, in the order of their verdicts.
+    measures: &'static [ValidityMeasure],
     validity: Validity,
 }
 
 impl Tally {
-    /// An empty tally for a joint of nominal clearance `clearance` (m) on the foundation
-    /// model (`foundation`) or the line of centres.
-    pub fn new(clearance: f64, limits: Limits, foundation: bool) -> Self {
+    /// An empty tally for a joint of nominal clearance `clearance` (m) on contact model
+    /// `model`, judged by the measures the model names.
+    pub fn new(clearance: f64, limits: Limits, model: &impl ContactModel) -> Self {
         Self {
             clearance,
-            foundation,
+            measures: model.validity_measures(),
             validity: Validity {
-                model: if foundation {
-                    "foundation"
-                } else {
-                    "line-of-centres"
-                },
+                model: model.name(),
                 inside: true,
                 reasons: Vec::new(),
                 loaded_frames: 0,
@@ -131,9 +128,18 @@ impl Tally {
 
     /// Adds one output frame; `overlap` is the true outline overlap where it was measured.
     pub fn frame(&mut self, d: &ContactDiagnostics, overlap: Option<f64>) {
+        let judged = |m: ValidityMeasure| self.measures.contains(&m);
+        let (overlap_ratio, resolution, slope, conformity) = (
+            judged(ValidityMeasure::OverlapRatio),
+            judged(ValidityMeasure::ResolutionError),
+            judged(ValidityMeasure::SlopeRatio),
+            judged(ValidityMeasure::Conformity),
+        );
         let v = &mut self.validity;
-        if self.foundation {
+        if overlap_ratio {
             v.max_overlap_ratio = v.max_overlap_ratio.max(d.penetration / self.clearance);
+        }
+        if resolution {
             v.max_contact_zones = v.max_contact_zones.max(d.contact_zones);
             if d.penetration > 0.01 * self.clearance && d.contact_zones > 0 {
                 v.max_resolution_error = v.max_resolution_error.max(d.resolution_error);
@@ -143,16 +149,17 @@ impl Tally {
                 );
             }
         }
-        if d.in_contact && d.normal_force > 0.0 && !self.foundation {
+        if d.in_contact && d.normal_force > 0.0 {
             v.loaded_frames += 1;
-            let slope = (d.bearing_slope - d.pin_slope).abs() / d.eccentricity;
-            let local_clearance = d.bearing_radius - d.pin_radius;
-            let conformity = (d.pin_curvature - d.bearing_curvature) / local_clearance;
-            v.max_slope_ratio = v.max_slope_ratio.max(slope);
-            v.max_conformity_ratio = v.max_conformity_ratio.max(conformity);
-        }
-        if self.foundation && d.in_contact && d.normal_force > 0.0 {
-            v.loaded_frames += 1;
+            if slope {
+                let ratio = (d.bearing_slope - d.pin_slope).abs() / d.eccentricity;
+                v.max_slope_ratio = v.max_slope_ratio.max(ratio);
+            }
+            if conformity {
+                let local_clearance = d.bearing_radius - d.pin_radius;
+                let ratio = (d.pin_curvature - d.bearing_curvature) / local_clearance;
+                v.max_conformity_ratio = v.max_conformity_ratio.max(ratio);
+            }
         }
         if d.penetration > 0.01 * self.clearance {
             v.penetrating_frames += 1;
@@ -183,82 +190,72 @@ impl Tally {
                 part as f64 / whole as f64
             }
         };
-        let foundation = [
-            (
-                v.max_overlap_ratio > l.overlap_ratio,
-                format!(
-                    "the outlines overlap by up to {:.2} of the clearance, more than a thin \
-                     layer describes (limit {})",
-                    v.max_overlap_ratio, l.overlap_ratio
+        let clearance = self.clearance;
+        let verdict = |measure: &ValidityMeasure| -> (bool, String) {
+            match measure {
+                ValidityMeasure::OverlapRatio => (
+                    v.max_overlap_ratio > l.overlap_ratio,
+                    format!(
+                        "the outlines overlap by up to {:.2} of the clearance, more than a thin \
+                             layer describes (limit {})",
+                        v.max_overlap_ratio, l.overlap_ratio
+                    ),
                 ),
-            ),
-            (
-                v.max_resolution_error > l.resolution_error,
-                format!(
-                    "contact zones as narrow as {} nodes carry the load: the nodes resolve it \
-                     to about {:.1} % (limit {:.0} %; a finer contact.cells, a multiple of \
-                     wear.cells, resolves it better)",
-                    v.narrowest_zone_cells.unwrap_or(0),
-                    100.0 * v.max_resolution_error,
-                    100.0 * l.resolution_error
+                ValidityMeasure::ResolutionError => (
+                    v.max_resolution_error > l.resolution_error,
+                    format!(
+                        "contact zones as narrow as {} nodes carry the load: the nodes resolve it \
+                             to about {:.1} % (limit {:.0} %; a finer contact.cells, a multiple of \
+                             wear.cells, resolves it better)",
+                        v.narrowest_zone_cells.unwrap_or(0),
+                        100.0 * v.max_resolution_error,
+                        100.0 * l.resolution_error
+                    ),
                 ),
-            ),
-        ];
-        let line_of_centres = [
-            (
-                v.max_slope_ratio > l.slope_ratio,
-                format!(
-                    "profile slope |R_i' − R_j'|/|e| reaches {:.2} (limit {})",
-                    v.max_slope_ratio, l.slope_ratio
+                ValidityMeasure::SlopeRatio => (
+                    v.max_slope_ratio > l.slope_ratio,
+                    format!(
+                        "profile slope |R_i' − R_j'|/|e| reaches {:.2} (limit {})",
+                        v.max_slope_ratio, l.slope_ratio
+                    ),
                 ),
-            ),
-            (
-                v.max_conformity_ratio > l.conformity_ratio,
-                format!(
-                    "the worn dent is {:.1}× as curved as the pin can follow, (R_j'' − R_i'')/c \
-                     (limit {})",
-                    v.max_conformity_ratio, l.conformity_ratio
+                ValidityMeasure::Conformity => (
+                    v.max_conformity_ratio > l.conformity_ratio,
+                    format!(
+                        "the worn dent is {:.1}× as curved as the pin can follow, (R_j'' − R_i'')/c \
+                             (limit {})",
+                        v.max_conformity_ratio, l.conformity_ratio
+                    ),
                 ),
-            ),
-            (
-                fraction(v.unloaded_penetrating_frames, v.penetrating_frames) > l.unloaded_fraction,
-                format!(
-                    "{} of {} frames with δ > 1 % of the clearance carry no force",
-                    v.unloaded_penetrating_frames, v.penetrating_frames
+                ValidityMeasure::UnloadedPenetration => (
+                    fraction(v.unloaded_penetrating_frames, v.penetrating_frames)
+                        > l.unloaded_fraction,
+                    format!(
+                        "{} of {} frames with δ > 1 % of the clearance carry no force",
+                        v.unloaded_penetrating_frames, v.penetrating_frames
+                    ),
                 ),
-            ),
-        ];
-        let line_of_centres_only = [
-            (
-                v.max_overlap_error_m > l.overlap_error * self.clearance,
-                format!(
-                    "the true overlap of the worn outlines differs from δ by up to {:.1} µm \
-                     ({:.0} % of the clearance; limit {:.0} %)",
-                    v.max_overlap_error_m * 1e6,
-                    100.0 * v.max_overlap_error_m / self.clearance,
-                    100.0 * l.overlap_error
+                ValidityMeasure::OverlapError => (
+                    v.max_overlap_error_m > l.overlap_error * clearance,
+                    format!(
+                        "the true overlap of the worn outlines differs from δ by up to {:.1} µm \
+                             ({:.0} % of the clearance; limit {:.0} %)",
+                        v.max_overlap_error_m * 1e6,
+                        100.0 * v.max_overlap_error_m / clearance,
+                        100.0 * l.overlap_error
+                    ),
                 ),
-            ),
-            (
-                fraction(v.missed_contact_frames, v.overlap_frames) > l.missed_contact_fraction,
-                format!(
-                    "in {} of {} checked frames the outlines overlap where δ < 0 (missed \
-                     contacts)",
-                    v.missed_contact_frames, v.overlap_frames
+                ValidityMeasure::MissedContacts => (
+                    fraction(v.missed_contact_frames, v.overlap_frames) > l.missed_contact_fraction,
+                    format!(
+                        "in {} of {} checked frames the outlines overlap where δ < 0 (missed \
+                             contacts)",
+                        v.missed_contact_frames, v.overlap_frames
+                    ),
                 ),
-            ),
-        ];
-        let checks: Vec<(bool, String)> = if self.foundation {
-            // Unloaded overlapping frames are still counted, but on the foundation they only
-            // show the damped law's own clamp (a pin leaving faster than 1/χ times its onset
-            // velocity), not a shape the model misreads: no limit.
-            foundation.into_iter().collect()
-        } else {
-            line_of_centres
-                .into_iter()
-                .chain(line_of_centres_only)
-                .collect()
+            }
         };
+        let checks: Vec<(bool, String)> = self.measures.iter().map(verdict).collect();
         v.reasons = checks
             .into_iter()
             .filter(|(failed, _)| *failed)
@@ -292,6 +289,11 @@ impl Validity {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use contact::{Foundation, LineOfCentres};
+
+    fn foundation() -> Foundation {
+        Foundation::with_layer(1e14, 0.01).expect("a positive layer")
+    }
 
     fn loaded(slope: f64, curvature: f64) -> ContactDiagnostics {
         ContactDiagnostics {
@@ -310,7 +312,7 @@ mod tests {
     #[test]
     fn round_contacts_are_inside_and_each_measure_can_fail() {
         let clearance = 5e-4;
-        let mut round = Tally::new(clearance, Limits::default(), false);
+        let mut round = Tally::new(clearance, Limits::default(), &LineOfCentres);
         for _ in 0..100 {
             round.frame(&loaded(0.0, 0.0), Some(2e-5));
         }
@@ -319,7 +321,7 @@ mod tests {
         assert_eq!((v.loaded_frames, v.penetrating_frames), (100, 100));
 
         // Slope 0.4 × |e| and conformity 1.2: both beyond their limits.
-        let mut steep = Tally::new(clearance, Limits::default(), false);
+        let mut steep = Tally::new(clearance, Limits::default(), &LineOfCentres);
         steep.frame(&loaded(0.4 * 5.2e-4, 1.2 * 5e-4), None);
         let v = steep.finish();
         assert!(!v.inside);
@@ -328,7 +330,7 @@ mod tests {
         assert!((v.max_conformity_ratio - 1.2).abs() < 1e-12);
 
         // A contact the line of centres misses, and a penetrating frame without force.
-        let mut missed = Tally::new(clearance, Limits::default(), false);
+        let mut missed = Tally::new(clearance, Limits::default(), &LineOfCentres);
         let free = ContactDiagnostics {
             penetration: -1e-5,
             ..ContactDiagnostics::default()
@@ -345,7 +347,7 @@ mod tests {
         assert!((v.max_overlap_error_m - 8e-5).abs() < 1e-18);
         assert_eq!(v.reasons.len(), 3, "{:?}", v.reasons);
         // Two gaps of different size are no error.
-        let mut apart = Tally::new(clearance, Limits::default(), false);
+        let mut apart = Tally::new(clearance, Limits::default(), &LineOfCentres);
         apart.frame(&free, Some(-2e-4));
         assert!(apart.finish().inside);
     }
@@ -363,7 +365,7 @@ mod tests {
             resolution_error: 0.96 / f64::from(narrowest).powi(2),
             ..ContactDiagnostics::default()
         };
-        let mut fine = Tally::new(clearance, Limits::default(), true);
+        let mut fine = Tally::new(clearance, Limits::default(), &foundation());
         fine.frame(&frame(2e-5, 1, 40), None);
         // A light touch of one node (overlap below 1 % of c) does not count as a zone.
         fine.frame(&frame(1e-6, 1, 1), None);
@@ -373,7 +375,7 @@ mod tests {
         assert_eq!(v.narrowest_zone_cells, Some(40));
         assert!((v.max_overlap_ratio - 0.04).abs() < 1e-12);
 
-        let mut coarse = Tally::new(clearance, Limits::default(), true);
+        let mut coarse = Tally::new(clearance, Limits::default(), &foundation());
         coarse.frame(&frame(2e-5, 2, 3), None);
         coarse.frame(&frame(1.5e-4, 1, 60), None);
         let v = coarse.finish();
@@ -381,7 +383,7 @@ mod tests {
         assert_eq!(v.narrowest_zone_cells, Some(3));
         assert_eq!(v.max_contact_zones, 2);
         // Slopes and missed contacts are the line of centres' measures: not applied here.
-        let mut unloaded = Tally::new(clearance, Limits::default(), true);
+        let mut unloaded = Tally::new(clearance, Limits::default(), &foundation());
         unloaded.frame(
             &ContactDiagnostics {
                 normal_force: 0.0,
@@ -399,7 +401,7 @@ mod tests {
     #[test]
     fn a_mostly_damped_force_peak_is_outside_validity() {
         for (share, inside) in [(0.3, false), (0.49, false), (0.5, true), (0.97, true)] {
-            let mut v = Tally::new(5e-4, Limits::default(), true).finish();
+            let mut v = Tally::new(5e-4, Limits::default(), &foundation()).finish();
             assert!(v.inside);
             v.judge_elastic_share(share);
             assert_eq!(v.inside, inside, "share {share}");
@@ -411,7 +413,7 @@ mod tests {
                 v.reasons
             );
         }
-        let mut v = Tally::new(5e-4, Limits::default(), true).finish();
+        let mut v = Tally::new(5e-4, Limits::default(), &foundation()).finish();
         v.judge_elastic_share(f64::NAN);
         assert!(v.inside && v.elastic_share_median.is_none());
     }

@@ -1,7 +1,7 @@
 //! The diagnostics' running sums over an evaluation's nodes: energy, powers, resultants, the
 //! deepest overlap and the contact zones, whose widths give the quadrature's resolution.
 
-use crate::joint::model::Quadrature;
+use super::layer::Quadrature;
 
 /// Running sums for the diagnostics (plain values).
 #[derive(Default)]

@@ -46,7 +46,7 @@ pub(super) struct Node<T> {
     pub(super) ray: [f64; 2],
     /// `ψ_k − θ_i` (rad, unwrapped) when it was needed for the node (else found from `ray`).
     pub(super) bearing_angle: Option<f64>,
-    /// The overlap as [`ClearanceJoint::overlap_at`] gives it (m): `g_k`, or the distance
+    /// The overlap as `ContactPair::overlap_at` gives it (m): `g_k`, or the distance
     /// below the bearing's smallest radius where the node cannot touch.
     pub(super) overlap: f64,
     /// Whether the node lies beyond the bearing's smallest radius (`overlap` is `g_k`).

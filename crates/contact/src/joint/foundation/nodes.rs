@@ -3,9 +3,9 @@
 
 use super::geometry::{Body, Node, angle_near, dot, offset};
 use crate::friction::FrictionLaw;
-use crate::joint::ClearanceJoint;
 use crate::joint::dual::Real;
 use crate::joint::outline::{BLOCK, BLOCKS, Noted, Remembered, Skip};
+use crate::joint::pair::ContactPair;
 use crate::normal::NormalLaw;
 use crate::surface::{SurfaceProfile, wrap_angle};
 
@@ -23,9 +23,7 @@ pub(super) struct Candidates {
     pub(super) outside_bound: f64,
 }
 
-impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
-    ClearanceJoint<B, P, N, F>
-{
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactPair<B, P, N, F> {
     /// The nodes that can touch, sector by sector: a pin sector whose farthest reach from the
     /// bearing centre (its largest radius, at the angle nearest the eccentricity) stays inside
     /// the smallest bearing radius where it can land is skipped. In free flight (`|e| + R_j⁺ ≤

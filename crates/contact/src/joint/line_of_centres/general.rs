@@ -25,12 +25,15 @@
 use nalgebra::{Vector2, Vector3};
 
 use super::{
-    ArmPartials, COL_THETA_I, COL_THETA_J, COL_VEL_I, COL_VEL_J, ClearanceJoint, ContactForces,
-    ContactJacobian, Geometry, JointKinematics, Loads, PositionPartials, Row, Rows2,
-    SlidingVelocity, diagnostics, moment_partials, perp, rotate_columns,
+    ArmPartials, COL_THETA_I, COL_THETA_J, COL_VEL_I, COL_VEL_J, Loads, PositionPartials, Row,
+    Rows2, diagnostics, moment_partials, perp, rotate_columns,
 };
 use crate::BodyState;
 use crate::friction::{FrictionForce, FrictionLaw};
+use crate::joint::pair::ContactPair;
+use crate::joint::types::{
+    ContactForces, ContactJacobian, Geometry, JointKinematics, SlidingVelocity,
+};
 use crate::normal::{NormalForce, NormalLaw};
 use crate::surface::SurfaceProfile;
 
@@ -53,9 +56,7 @@ pub(super) struct GeneralValues {
     friction: FrictionForce,
 }
 
-impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
-    ClearanceJoint<B, P, N, F>
-{
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactPair<B, P, N, F> {
     /// Forces of a penetrating contact on any surfaces (see the module docs).
     pub(super) fn general_values(
         &self,

@@ -1,0 +1,123 @@
+//! The built-in contact models as one value a scene can choose at run time.
+
+use serde::{Deserialize, Serialize};
+
+use super::foundation::Foundation;
+use super::line_of_centres::LineOfCentres;
+use super::model::{ContactModel, NodeLoad, ShapeLimits, ValidityMeasure};
+use super::pair::ContactPair;
+use super::types::{BodyState, ContactForces, ContactJacobian};
+use crate::friction::FrictionLaw;
+use crate::normal::NormalLaw;
+use crate::surface::SurfaceProfile;
+
+/// Declares [`ContactModelKind`] with one variant per built-in model and implements
+/// [`ContactModel`] on it by handing every call to the variant's model: a new model is one
+/// line here.
+macro_rules! contact_models {
+    ($($(#[$doc:meta])* $variant:ident($model:ty),)+) => {
+        /// Which contact model a clearance joint uses, chosen at run time; one run uses one
+        /// model for its unworn and worn responses. Each variant is a model of its own
+        /// module, and every call goes to it.
+        #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+        pub enum ContactModelKind {
+            $($(#[$doc])* $variant($model),)+
+        }
+
+        $(impl From<$model> for ContactModelKind {
+            fn from(model: $model) -> Self {
+                Self::$variant(model)
+            }
+        })+
+
+        impl ContactModel for ContactModelKind {
+            fn name(&self) -> &'static str {
+                match self {
+                    $(Self::$variant(m) => m.name(),)+
+                }
+            }
+
+            fn nodes(&self) -> Option<usize> {
+                match self {
+                    $(Self::$variant(m) => m.nodes(),)+
+                }
+            }
+
+            #[inline]
+            fn forces<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
+                &self,
+                pair: &ContactPair<B, P, N, F>,
+                bearing_body: &BodyState,
+                pin_body: &BodyState,
+                onset_velocity: Option<f64>,
+                visit: Option<&mut dyn FnMut(&NodeLoad)>,
+            ) -> ContactForces {
+                match self {
+                    $(Self::$variant(m) => {
+                        m.forces(pair, bearing_body, pin_body, onset_velocity, visit)
+                    })+
+                }
+            }
+
+            fn forces_and_jacobian<
+                B: SurfaceProfile,
+                P: SurfaceProfile,
+                N: NormalLaw,
+                F: FrictionLaw,
+            >(
+                &self,
+                pair: &ContactPair<B, P, N, F>,
+                bearing_body: &BodyState,
+                pin_body: &BodyState,
+                onset_velocity: Option<f64>,
+            ) -> (ContactForces, ContactJacobian) {
+                match self {
+                    $(Self::$variant(m) => {
+                        m.forces_and_jacobian(pair, bearing_body, pin_body, onset_velocity)
+                    })+
+                }
+            }
+
+            #[inline]
+            fn penetration<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
+                &self,
+                pair: &ContactPair<B, P, N, F>,
+                bearing_body: &BodyState,
+                pin_body: &BodyState,
+            ) -> f64 {
+                match self {
+                    $(Self::$variant(m) => m.penetration(pair, bearing_body, pin_body),)+
+                }
+            }
+
+            fn validity_measures(&self) -> &'static [ValidityMeasure] {
+                match self {
+                    $(Self::$variant(m) => m.validity_measures(),)+
+                }
+            }
+
+            fn shape_limits(&self) -> Option<ShapeLimits> {
+                match self {
+                    $(Self::$variant(m) => m.shape_limits(),)+
+                }
+            }
+        }
+    };
+}
+
+contact_models! {
+    /// One contact point on the line of centres, Hertz law on the local radii
+    /// ([`super::line_of_centres`]); energy-consistent on worn surfaces but valid only while
+    /// they stay smooth and shallow.
+    LineOfCentres(LineOfCentres),
+    /// An elastic layer over the true outlines ([`super::foundation`]).
+    Foundation(Foundation),
+}
+
+/// The line of centres, the lower crates' default: it needs no parameters (a scene's default
+/// is the foundation, whose layer is calibrated from the joint's materials and radii).
+impl Default for ContactModelKind {
+    fn default() -> Self {
+        Self::LineOfCentres(LineOfCentres)
+    }
+}
