@@ -23,6 +23,7 @@ mod dual;
 pub mod foundation;
 mod kind;
 pub mod line_of_centres;
+pub mod linear_spring;
 mod model;
 mod outline;
 mod pair;
@@ -32,6 +33,7 @@ pub use crate::material::{Material, MaterialParams};
 pub use foundation::{DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, Quadrature};
 pub use kind::ContactModelKind;
 pub use line_of_centres::LineOfCentres;
+pub use linear_spring::LinearSpring;
 pub use model::{ContactModel, NodeLoad, ShapeLimits, ValidityMeasure};
 pub use pair::ContactPair;
 pub use types::{

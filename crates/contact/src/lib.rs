@@ -96,8 +96,8 @@ pub use friction::{
 pub use joint::{
     BodyState, ClearanceJoint, ContactForces, ContactJacobian, ContactModel, ContactModelKind,
     ContactPair, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, JointKinematics,
-    JointSurface, LineOfCentres, Material, MaterialParams, NodeLoad, OutlineOverlap, Quadrature,
-    ShapeLimits, SlidingVelocity, ValidityMeasure,
+    JointSurface, LineOfCentres, LinearSpring, Material, MaterialParams, NodeLoad, OutlineOverlap,
+    Quadrature, ShapeLimits, SlidingVelocity, ValidityMeasure,
 };
 pub use normal::{
     DEFAULT_HERTZ_EXPONENT, DEFAULT_ONSET_VELOCITY_FLOOR, DampedHertzParams, Flores, Hertz,

@@ -10,7 +10,7 @@ use super::ClearanceJoint;
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
-    /// `foundation` (default) or `line-of-centres`.
+    /// `foundation` (default), `line-of-centres` or `linear-spring` (the test model).
     #[serde(default)]
     pub model: ContactModelName,
     /// Foundation: layer modulus `k`, Pa/m (pressure per metre of overlap). Default: the layer
@@ -44,6 +44,9 @@ pub struct ContactSpec {
     /// restitution at every speed (docs/model.md §10.6).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reference_speed: Option<f64>,
+    /// Linear spring: its stiffness `k`, N/m (required there, refused elsewhere).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<f64>,
 }
 
 impl ContactSpec {
@@ -80,6 +83,20 @@ pub enum ContactModelName {
     Foundation,
     /// One contact point on the line of centres.
     LineOfCentres,
+    /// A linear spring on the line of centres, `F = k δ`: the test model of the contact-model
+    /// interface (`contact::LinearSpring`), no model of a real joint.
+    LinearSpring,
+}
+
+impl ContactModelName {
+    /// The name as a scene writes it.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Self::Foundation => "foundation",
+            Self::LineOfCentres => "line-of-centres",
+            Self::LinearSpring => "linear-spring",
+        }
+    }
 }
 
 impl ClearanceJoint {
@@ -96,10 +113,13 @@ impl ClearanceJoint {
     /// (the calibrated layer, `wear.width`, `wear.cells`).
     pub fn contact_model(&self) -> Result<contact::ContactModelKind, contact::ContactError> {
         let spec = &self.contact;
-        if spec.model == ContactModelName::LineOfCentres {
-            return Ok(contact::ContactModelKind::LineOfCentres(
-                contact::LineOfCentres,
-            ));
+        match spec.model {
+            ContactModelName::LineOfCentres => return Ok(contact::LineOfCentres.into()),
+            ContactModelName::LinearSpring => {
+                let stiffness = spec.stiffness.unwrap_or(f64::NAN);
+                return Ok(contact::LinearSpring::new(stiffness)?.into());
+            }
+            ContactModelName::Foundation => {}
         }
         let width = spec
             .width
@@ -176,6 +196,11 @@ impl ClearanceJoint {
                     ),
                     N::Hertz(_) => String::new(),
                 })
+            ),
+            ContactModelName::LinearSpring => format!(
+                "linear-spring contact (k = {} N/m; no damping, no friction: the test model of \
+                 the contact-model interface)",
+                spec.stiffness.unwrap_or(f64::NAN)
             ),
             ContactModelName::Foundation => format!(
                 "elastic-foundation contact ({} nodes, {} layer), {}",

@@ -270,7 +270,25 @@ impl Validator {
     fn contact_model(&mut self, p: &str, c: &ClearanceJoint, stepping: wear::WearStepping) {
         let spec = &c.contact;
         let q = format!("{p}.contact");
-        if spec.model == ContactModelName::LineOfCentres {
+        if spec.model == ContactModelName::LinearSpring {
+            match spec.stiffness {
+                Some(k) => {
+                    self.number(&format!("{q}.stiffness"), k, true);
+                }
+                None => self.push(
+                    format!("{q}.stiffness"),
+                    "(none)",
+                    "the linear-spring model needs its stiffness (N/m)",
+                ),
+            }
+        } else if spec.stiffness.is_some() {
+            self.push(
+                format!("{q}.stiffness"),
+                "…",
+                "only the linear-spring model takes it",
+            );
+        }
+        if spec.model != ContactModelName::Foundation {
             for (field, given) in [
                 ("layer_modulus", spec.layer_modulus.is_some()),
                 ("width", spec.width.is_some()),
@@ -283,7 +301,10 @@ impl Validator {
                     self.push(
                         format!("{q}.{field}"),
                         "…",
-                        "only the foundation model takes it (model = \"line-of-centres\")",
+                        format!(
+                            "only the foundation model takes it (model = \"{}\")",
+                            spec.model.as_str()
+                        ),
                     );
                 }
             }

@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::foundation::Foundation;
 use super::line_of_centres::LineOfCentres;
+use super::linear_spring::LinearSpring;
 use super::model::{ContactModel, NodeLoad, ShapeLimits, ValidityMeasure};
 use super::pair::ContactPair;
 use super::types::{BodyState, ContactForces, ContactJacobian};
@@ -112,6 +113,9 @@ contact_models! {
     LineOfCentres(LineOfCentres),
     /// An elastic layer over the true outlines ([`super::foundation`]).
     Foundation(Foundation),
+    /// A linear spring on the line of centres ([`super::linear_spring`]): the test model of
+    /// the interface.
+    LinearSpring(LinearSpring),
 }
 
 /// The line of centres, the lower crates' default: it needs no parameters (a scene's default

@@ -50,6 +50,9 @@ impl Default for Limits {
 pub struct Validity {
     /// The contact model measured (its name: `foundation`, `line-of-centres`).
     pub model: &'static str,
+    /// The measures the model is judged by ([`ContactModel::validity_measures`]).
+    #[serde(skip)]
+    pub measures: &'static [ValidityMeasure],
     /// Every measure within its limit.
     pub inside: bool,
     /// One sentence per measure beyond its limit.
@@ -106,6 +109,7 @@ impl Tally {
             measures: model.validity_measures(),
             validity: Validity {
                 model: model.name(),
+                measures: model.validity_measures(),
                 inside: true,
                 reasons: Vec::new(),
                 loaded_frames: 0,
@@ -267,6 +271,36 @@ impl Tally {
 }
 
 impl Validity {
+    /// The model's measures in one line for reports, e.g. `line of centres: slope |c'|/|e| ≤
+    /// 0.12, conformity ≤ 0.40` (the measures with a value to show; every failed one is in
+    /// [`Validity::reasons`]).
+    pub fn measured(&self) -> String {
+        let shown: Vec<String> = self
+            .measures
+            .iter()
+            .filter_map(|measure| match measure {
+                ValidityMeasure::OverlapRatio => {
+                    Some(format!("overlap ≤ {:.3} c0", self.max_overlap_ratio))
+                }
+                ValidityMeasure::ResolutionError => Some(format!(
+                    "load error from the grid ≤ {:.2} %, narrowest loaded zone {} nodes",
+                    100.0 * self.max_resolution_error,
+                    self.narrowest_zone_cells.unwrap_or(0)
+                )),
+                ValidityMeasure::SlopeRatio => {
+                    Some(format!("slope |c'|/|e| ≤ {:.2}", self.max_slope_ratio))
+                }
+                ValidityMeasure::Conformity => {
+                    Some(format!("conformity ≤ {:.2}", self.max_conformity_ratio))
+                }
+                ValidityMeasure::UnloadedPenetration
+                | ValidityMeasure::OverlapError
+                | ValidityMeasure::MissedContacts => None,
+            })
+            .collect();
+        format!("{}: {}", self.model.replace('-', " "), shown.join(", "))
+    }
+
     /// Judges the response's force peaks by their median elastic share (any contact model): a
     /// response whose peaks are mostly the damping term of its law has no force results.
     pub fn judge_elastic_share(&mut self, share: f64) {

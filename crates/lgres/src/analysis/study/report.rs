@@ -349,20 +349,7 @@ fn validity_lines(md: &mut String, scenes: &[&str], results: &StudyResults) {
             } else {
                 format!("**OUTSIDE** ({})", v.reasons.join("; "))
             };
-            let measures = if v.model == "foundation" {
-                format!(
-                    "foundation: overlap ≤ {:.3} c0, load error from the grid ≤ {:.2} %, \
-                     narrowest loaded zone {} nodes",
-                    v.max_overlap_ratio,
-                    100.0 * v.max_resolution_error,
-                    v.narrowest_zone_cells.unwrap_or(0)
-                )
-            } else {
-                format!(
-                    "line of centres: slope |c'|/|e| ≤ {:.2}, conformity ≤ {:.2}",
-                    v.max_slope_ratio, v.max_conformity_ratio
-                )
-            };
+            let measures = v.measured();
             lines.push(format!(
                 "- `{scene}` worn response, joint {}: {verdict}; {measures}",
                 j.name
