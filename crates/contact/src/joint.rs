@@ -6,13 +6,14 @@
 //! materials and laws) and a [`ContactModelKind`] (module `kind`), and hands every evaluation
 //! to the model. What a model is, the [`ContactModel`] trait, is in `model`; each model is a
 //! module implementing it: [`line_of_centres`] (one contact point, Hertz law on the local
-//! radii; with its worn-surface kernel `general`) and [`foundation`] (an elastic layer over
-//! the true outlines: `layer`, `geometry`, `nodes`, `stream`, `books`). Below them: `types`
-//! (the values an evaluation takes and gives: [`BodyState`], [`JointSurface`],
-//! [`JointKinematics`], [`ContactForces`]), `outline` (the outlines' radius bounds and the
-//! overlap memory) and `dual` (the dual numbers of the foundation's Jacobian). Each imports
-//! only downwards: `types`, `outline`, `dual` → `pair` → `model` → the models → `kind` → this
-//! module. docs/architecture.md lists what adding a model takes.
+//! radii; with its worn-surface kernel `general`), [`foundation`] (an elastic layer over the
+//! true outlines: `layer`, `evaluate`, `geometry`, `nodes`, `stream`, `books`) and
+//! [`linear_spring`] (the test model of the interface). Below them: `types` (the values an
+//! evaluation takes and gives: [`BodyState`], [`JointSurface`], [`JointKinematics`],
+//! [`ContactForces`]), `outline` (the outlines' radius bounds and the overlap memory) and
+//! `dual` (the dual numbers of the foundation's Jacobian). Each imports only downwards:
+//! `types`, `outline`, `dual` → `pair` → `model` → the models → `kind` → this module.
+//! docs/architecture.md lists what adding a model takes.
 
 use crate::error::ContactError;
 use crate::friction::{FrictionLaw, FrictionLawKind};

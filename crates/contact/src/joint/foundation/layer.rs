@@ -50,7 +50,7 @@ pub enum Quadrature {
     /// trapezoid's is `O(h²)`, on the same nodes. Needs an even node count. A node next to a
     /// zone edge may get a small negative weight: it then carries its elastic part only (no
     /// damping, no friction), so the energy stays exact. Wear deposits
-    /// ([`NodeLoad::normal_force`]) get the trapezoid's even loads scaled to the force's total
+    /// ([`crate::NodeLoad::normal_force`]) get the trapezoid's even loads scaled to the force's total
     /// (the negative weights' pull included), so a cell's deposit follows its own node and
     /// the Archard volume the load carried.
     #[default]

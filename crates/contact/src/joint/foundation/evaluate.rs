@@ -1,0 +1,228 @@
+//! The foundation as a contact model: its forces, their exact Jacobian (the kernel on dual
+//! numbers) and its event function, the deepest overlap at the nodes.
+
+use nalgebra::Vector3;
+
+use super::geometry::{Body, offset};
+use super::layer::Foundation;
+use crate::friction::FrictionLaw;
+use crate::joint::dual::Dual;
+use crate::joint::model::{ContactModel, NodeLoad, ShapeLimits, ValidityMeasure};
+use crate::joint::outline::{Pose, Skip};
+use crate::joint::pair::ContactPair;
+use crate::joint::types::{BodyState, ContactForces, ContactJacobian};
+use crate::normal::NormalLaw;
+use crate::surface::SurfaceProfile;
+
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactPair<B, P, N, F> {
+    /// Forces of the foundation model at the given states.
+    fn foundation_forces(
+        &self,
+        foundation: &Foundation,
+        bearing: &BodyState,
+        pin: &BodyState,
+        onset_velocity: Option<f64>,
+        visit: Option<&mut dyn FnMut(&NodeLoad)>,
+    ) -> ContactForces {
+        let out = self.foundation_eval(
+            foundation,
+            state_array(bearing),
+            state_array(pin),
+            onset_velocity,
+            visit,
+        );
+        ContactForces {
+            bearing: Vector3::from(out.bearing),
+            pin: Vector3::from(out.pin),
+            diagnostics: out.diagnostics,
+        }
+    }
+
+    /// Forces of the foundation model and their exact Jacobian (dual numbers).
+    fn foundation_forces_and_jacobian(
+        &self,
+        foundation: &Foundation,
+        bearing: &BodyState,
+        pin: &BodyState,
+        onset_velocity: Option<f64>,
+    ) -> (ContactForces, ContactJacobian) {
+        let seed = |state: &BodyState, offset: usize| -> [Dual; 6] {
+            let values = state_array(state);
+            // Positions are columns 0–2 (bearing) and 3–5 (pin), velocities 6–8 and 9–11.
+            std::array::from_fn(|k| {
+                let column = if k < 3 {
+                    offset + k
+                } else {
+                    6 + offset + k - 3
+                };
+                Dual::variable(values[k], column)
+            })
+        };
+        let out = self.foundation_eval(
+            foundation,
+            seed(bearing, 0),
+            seed(pin, 3),
+            onset_velocity,
+            None,
+        );
+        let mut jacobian = ContactJacobian::zeros();
+        for (row, value) in out.bearing.iter().chain(&out.pin).enumerate() {
+            for (column, partial) in value.partials.iter().enumerate() {
+                jacobian[(row, column)] = *partial;
+            }
+        }
+        let forces = ContactForces {
+            bearing: Vector3::new(
+                out.bearing[0].value,
+                out.bearing[1].value,
+                out.bearing[2].value,
+            ),
+            pin: Vector3::new(out.pin[0].value, out.pin[1].value, out.pin[2].value),
+            diagnostics: out.diagnostics,
+        };
+        (forces, jacobian)
+    }
+
+    /// The deepest overlap of the outlines (m; negative when apart): the foundation's event
+    /// function. In free flight, the gap between the outlines' radius bounds.
+    fn foundation_overlap(
+        &self,
+        foundation: &Foundation,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+    ) -> f64 {
+        let bearing = Body::new(state_array(bearing_body));
+        let pin = Body::new(state_array(pin_body));
+        let bearing_centre_arm = bearing.rotate([self.bearing_centre.x, self.bearing_centre.y]);
+        let pin_centre_arm = pin.rotate([self.pin_centre.x, self.pin_centre.y]);
+        let e = offset(&pin, &pin_centre_arm, &bearing, &bearing_centre_arm);
+        let cells = foundation.cells;
+        // The nodes that may overlap (the runs' outer nodes, which cannot, are sampled too).
+        let candidates = self.candidates(cells, e, (pin_body.theta, bearing_body.theta), 1);
+        let mut deepest = candidates.outside_bound;
+        // The overlap memory skips the nodes that cannot beat the deepest so far (read only).
+        let memory = self
+            .bounds
+            .bearing_slope
+            .and_then(|_| self.bounds.memory.take())
+            .filter(|m| m.overlap.len() == cells);
+        let skip = memory.as_deref().and_then(|m| {
+            let now = Pose::new(e, bearing.theta_sin_cos, bearing_body.theta, pin_body.theta);
+            Some((Skip::new(m, self.bounds.drift(m.pose, now)?), m))
+        });
+        let floor = skip.map_or(f64::NEG_INFINITY, |(skip, _)| skip.floor);
+        let runs = &candidates.runs[..candidates.count];
+        let n = cells as i64;
+        let overlap_of = |cell: usize, deepest: f64, gap_bound: f64| {
+            self.overlap_at(
+                cell,
+                &bearing,
+                &pin,
+                &bearing_centre_arm,
+                bearing_body.theta,
+                deepest,
+                gap_bound,
+            )
+        };
+        // The memory's deepest node first: when it still overlaps, every node whose bound does
+        // not beat it is passed over below without being placed. (The maximum over the
+        // candidate runs does not depend on the order in which their nodes come.)
+        if let Some(cell) = skip.and_then(|(_, m)| m.deepest_cell)
+            && runs
+                .iter()
+                .any(|&(first, last)| (cell as i64 - first).rem_euclid(n) <= last - first)
+            && let Some(g) = overlap_of(cell, deepest, f64::INFINITY)
+        {
+            deepest = deepest.max(g);
+        }
+        for k in runs.iter().flat_map(|&(first, last)| first..=last) {
+            let cell = k.rem_euclid(n) as usize;
+            let gap_bound = skip.map_or(f64::INFINITY, |(skip, m)| skip.gap_bound(m, cell));
+            let gap_bound = if gap_bound < floor {
+                f64::NEG_INFINITY
+            } else {
+                gap_bound
+            };
+            // Once something overlaps, a node beyond the smallest radius cannot beat it past its
+            // bound, and one within it not at all (`overlap_at` would say `None` either way).
+            if deepest > 0.0 && gap_bound <= deepest {
+                continue;
+            }
+            if let Some(g) = overlap_of(cell, deepest, gap_bound) {
+                deepest = deepest.max(g);
+            }
+        }
+        if let Some(m) = memory {
+            self.bounds.memory.put(m);
+        }
+        deepest
+    }
+}
+
+impl ContactModel for Foundation {
+    fn name(&self) -> &'static str {
+        "foundation"
+    }
+
+    fn nodes(&self) -> Option<usize> {
+        Some(self.cells)
+    }
+
+    fn forces<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        onset_velocity: Option<f64>,
+        visit: Option<&mut dyn FnMut(&NodeLoad)>,
+    ) -> ContactForces {
+        pair.foundation_forces(self, bearing_body, pin_body, onset_velocity, visit)
+    }
+
+    fn forces_and_jacobian<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        onset_velocity: Option<f64>,
+    ) -> (ContactForces, ContactJacobian) {
+        pair.foundation_forces_and_jacobian(self, bearing_body, pin_body, onset_velocity)
+    }
+
+    /// The deepest overlap of the outlines at the nodes.
+    fn penetration<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+    ) -> f64 {
+        pair.foundation_overlap(self, bearing_body, pin_body)
+    }
+
+    /// A thin layer describes shallow overlaps only, and the nodes must resolve the zones.
+    /// Unloaded overlapping frames have no limit here: on the foundation they only show the
+    /// damped law's own clamp (a pin leaving faster than `1/χ` times its onset velocity), not a
+    /// shape the model misreads.
+    fn validity_measures(&self) -> &'static [ValidityMeasure] {
+        &[
+            ValidityMeasure::OverlapRatio,
+            ValidityMeasure::ResolutionError,
+        ]
+    }
+
+    /// None: the layer follows any outline.
+    fn shape_limits(&self) -> Option<ShapeLimits> {
+        None
+    }
+}
+
+fn state_array(state: &BodyState) -> [f64; 6] {
+    [
+        state.x,
+        state.y,
+        state.theta,
+        state.vx,
+        state.vy,
+        state.omega,
+    ]
+}
