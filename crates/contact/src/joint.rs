@@ -35,11 +35,11 @@ pub use foundation::{DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Founda
 pub use kind::ContactModelKind;
 pub use line_of_centres::LineOfCentres;
 pub use linear_spring::LinearSpring;
-pub use model::{ContactModel, NodeLoad, ShapeLimits, ValidityMeasure};
+pub use model::{ContactKernel, ContactModel, NodeLoad, ShapeLimits, ValidityMeasure, Visit};
 pub use pair::ContactPair;
 pub use types::{
-    BodyState, ContactForces, ContactJacobian, JointKinematics, JointSurface, OutlineOverlap,
-    SlidingVelocity,
+    BodyState, ContactForces, ContactJacobian, JointKinematics, JointState, JointSurface,
+    OutlineOverlap, SlidingVelocity,
 };
 
 /// A clearance revolute joint between a bearing on body *i* and a pin on body *j*.
@@ -100,13 +100,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         onset_velocity: Option<f64>,
         visit: &mut dyn FnMut(&NodeLoad),
     ) -> ContactForces {
-        self.model.forces(
-            &self.pair,
-            bearing_body,
-            pin_body,
-            onset_velocity,
-            Some(visit),
-        )
+        let at = JointState::new(bearing_body, pin_body, onset_velocity);
+        self.model.forces(&self.pair, at, Some(visit))
     }
 
     /// The same joint with friction driven by `sliding` (default [`SlidingVelocity::Material`]).
@@ -170,7 +165,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     /// outlines at its nodes.
     #[inline]
     pub fn penetration(&self, bearing_body: &BodyState, pin_body: &BodyState) -> f64 {
-        self.model.penetration(&self.pair, bearing_body, pin_body)
+        let at = JointState::new(bearing_body, pin_body, None);
+        self.model.penetration(&self.pair, at)
     }
 
     /// Full kinematics of the line of centres at the given states.
@@ -189,8 +185,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_body: &BodyState,
         onset_velocity: Option<f64>,
     ) -> ContactForces {
-        self.model
-            .forces(&self.pair, bearing_body, pin_body, onset_velocity, None)
+        let at = JointState::new(bearing_body, pin_body, onset_velocity);
+        self.model.forces(&self.pair, at, None)
     }
 
     /// Generalized forces and their exact partials (layout: [`ContactJacobian`]).
@@ -205,8 +201,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_body: &BodyState,
         onset_velocity: Option<f64>,
     ) -> (ContactForces, ContactJacobian) {
-        self.model
-            .forces_and_jacobian(&self.pair, bearing_body, pin_body, onset_velocity)
+        let at = JointState::new(bearing_body, pin_body, onset_velocity);
+        self.model.forces_and_jacobian(&self.pair, at)
     }
 
     /// The true overlap of the two outlines: the largest distance by which a point of the pin's

@@ -94,10 +94,11 @@ pub use friction::{
     FrictionLawParams, Frictionless,
 };
 pub use joint::{
-    BodyState, ClearanceJoint, ContactForces, ContactJacobian, ContactModel, ContactModelKind,
-    ContactPair, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, JointKinematics,
-    JointSurface, LineOfCentres, LinearSpring, Material, MaterialParams, NodeLoad, OutlineOverlap,
-    Quadrature, ShapeLimits, SlidingVelocity, ValidityMeasure,
+    BodyState, ClearanceJoint, ContactForces, ContactJacobian, ContactKernel, ContactModel,
+    ContactModelKind, ContactPair, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation,
+    JointKinematics, JointState, JointSurface, LineOfCentres, LinearSpring, Material,
+    MaterialParams, NodeLoad, OutlineOverlap, Quadrature, ShapeLimits, SlidingVelocity,
+    ValidityMeasure,
 };
 pub use normal::{
     DEFAULT_HERTZ_EXPONENT, DEFAULT_ONSET_VELOCITY_FLOOR, DampedHertzParams, Flores, Hertz,

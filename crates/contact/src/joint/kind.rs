@@ -5,16 +5,16 @@ use serde::{Deserialize, Serialize};
 use super::foundation::Foundation;
 use super::line_of_centres::LineOfCentres;
 use super::linear_spring::LinearSpring;
-use super::model::{ContactModel, NodeLoad, ShapeLimits, ValidityMeasure};
+use super::model::{ContactKernel, ContactModel, ShapeLimits, ValidityMeasure, Visit};
 use super::pair::ContactPair;
-use super::types::{BodyState, ContactForces, ContactJacobian};
+use super::types::{ContactForces, ContactJacobian, JointState};
 use crate::friction::FrictionLaw;
 use crate::normal::NormalLaw;
 use crate::surface::SurfaceProfile;
 
 /// Declares [`ContactModelKind`] with one variant per built-in model and implements
-/// [`ContactModel`] on it by handing every call to the variant's model: a new model is one
-/// line here.
+/// [`ContactModel`] and [`ContactKernel`] on it by handing every call to the variant's model:
+/// a new model is one line here.
 macro_rules! contact_models {
     ($($(#[$doc:meta])* $variant:ident($model:ty),)+) => {
         /// Which contact model a clearance joint uses, chosen at run time; one run uses one
@@ -44,53 +44,6 @@ macro_rules! contact_models {
                 }
             }
 
-            #[inline]
-            fn forces<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-                &self,
-                pair: &ContactPair<B, P, N, F>,
-                bearing_body: &BodyState,
-                pin_body: &BodyState,
-                onset_velocity: Option<f64>,
-                visit: Option<&mut dyn FnMut(&NodeLoad)>,
-            ) -> ContactForces {
-                match self {
-                    $(Self::$variant(m) => {
-                        m.forces(pair, bearing_body, pin_body, onset_velocity, visit)
-                    })+
-                }
-            }
-
-            fn forces_and_jacobian<
-                B: SurfaceProfile,
-                P: SurfaceProfile,
-                N: NormalLaw,
-                F: FrictionLaw,
-            >(
-                &self,
-                pair: &ContactPair<B, P, N, F>,
-                bearing_body: &BodyState,
-                pin_body: &BodyState,
-                onset_velocity: Option<f64>,
-            ) -> (ContactForces, ContactJacobian) {
-                match self {
-                    $(Self::$variant(m) => {
-                        m.forces_and_jacobian(pair, bearing_body, pin_body, onset_velocity)
-                    })+
-                }
-            }
-
-            #[inline]
-            fn penetration<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-                &self,
-                pair: &ContactPair<B, P, N, F>,
-                bearing_body: &BodyState,
-                pin_body: &BodyState,
-            ) -> f64 {
-                match self {
-                    $(Self::$variant(m) => m.penetration(pair, bearing_body, pin_body),)+
-                }
-            }
-
             fn validity_measures(&self) -> &'static [ValidityMeasure] {
                 match self {
                     $(Self::$variant(m) => m.validity_measures(),)+
@@ -100,6 +53,34 @@ macro_rules! contact_models {
             fn shape_limits(&self) -> Option<ShapeLimits> {
                 match self {
                     $(Self::$variant(m) => m.shape_limits(),)+
+                }
+            }
+        }
+
+        impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
+            ContactKernel<B, P, N, F> for ContactModelKind
+        {
+            #[inline]
+            fn forces(&self, pair: &ContactPair<B, P, N, F>, at: JointState, visit: Visit) -> ContactForces {
+                match self {
+                    $(Self::$variant(m) => m.forces(pair, at, visit),)+
+                }
+            }
+
+            fn forces_and_jacobian(
+                &self,
+                pair: &ContactPair<B, P, N, F>,
+                at: JointState,
+            ) -> (ContactForces, ContactJacobian) {
+                match self {
+                    $(Self::$variant(m) => m.forces_and_jacobian(pair, at),)+
+                }
+            }
+
+            #[inline]
+            fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64 {
+                match self {
+                    $(Self::$variant(m) => m.penetration(pair, at),)+
                 }
             }
         }

@@ -39,13 +39,14 @@
 
 use nalgebra::{Matrix2, SMatrix, Vector2, Vector3};
 
-use super::model::{ContactModel, NodeLoad, ShapeLimits, ValidityMeasure};
+use super::model::{ContactKernel, ContactModel, ShapeLimits, ValidityMeasure, Visit};
 use super::pair::ContactPair;
 use super::types::{
-    BodyState, ContactForces, ContactJacobian, Geometry, JointKinematics, SlidingVelocity,
+    BodyState, ContactForces, ContactJacobian, Geometry, JointKinematics, JointState,
+    SlidingVelocity,
 };
 use crate::diagnostics::ContactDiagnostics;
-use crate::friction::FrictionLaw;
+use crate::friction::{FrictionForce, FrictionLaw};
 use crate::normal::{NormalForce, NormalLaw};
 use crate::surface::SurfaceProfile;
 
@@ -76,36 +77,6 @@ impl ContactModel for LineOfCentres {
         None
     }
 
-    fn forces<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        onset_velocity: Option<f64>,
-        _visit: Option<&mut dyn FnMut(&NodeLoad)>,
-    ) -> ContactForces {
-        pair.line_forces(bearing_body, pin_body, onset_velocity)
-    }
-
-    fn forces_and_jacobian<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        onset_velocity: Option<f64>,
-    ) -> (ContactForces, ContactJacobian) {
-        pair.line_forces_and_jacobian(bearing_body, pin_body, onset_velocity)
-    }
-
-    fn penetration<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-    ) -> f64 {
-        pair.geometry(bearing_body, pin_body).penetration
-    }
-
     fn validity_measures(&self) -> &'static [ValidityMeasure] {
         &[
             ValidityMeasure::SlopeRatio,
@@ -125,6 +96,32 @@ impl ContactModel for LineOfCentres {
             slope: 0.3,
             curvature: f64::INFINITY,
         })
+    }
+}
+
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactKernel<B, P, N, F>
+    for LineOfCentres
+{
+    fn forces(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        at: JointState,
+        visit: Visit,
+    ) -> ContactForces {
+        let _ = visit;
+        pair.line_forces(at.bearing, at.pin, at.onset_velocity)
+    }
+
+    fn forces_and_jacobian(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        at: JointState,
+    ) -> (ContactForces, ContactJacobian) {
+        pair.line_forces_and_jacobian(at.bearing, at.pin, at.onset_velocity)
+    }
+
+    fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64 {
+        pair.geometry(at.bearing, at.pin).penetration
     }
 }
 
@@ -164,12 +161,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         }
         let stiffness = self.stiffness(kin.bearing.radius, kin.pin.radius);
         let onset = onset_velocity.unwrap_or(kin.normal_velocity);
-        let normal =
-            self.normal_law
-                .evaluate(stiffness, kin.penetration, kin.normal_velocity, onset);
-        let friction = self
-            .friction_law
-            .evaluate(kin.tangential_velocity, normal.force);
+        let (normal, friction) = self.laws(stiffness, &kin, onset);
         assemble(&kin, bearing_body, pin_body, &normal, friction.force)
     }
 
@@ -214,13 +206,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         let d_normal_velocity: Row = n.transpose() * d_rel_vel + d_phi * kin.tangential_velocity;
         let d_tangential_velocity: Row = t.transpose() * d_rel_vel - d_phi * kin.normal_velocity;
 
-        // Laws.
-        let normal =
-            self.normal_law
-                .evaluate(stiffness, kin.penetration, kin.normal_velocity, onset);
-        let friction = self
-            .friction_law
-            .evaluate(kin.tangential_velocity, normal.force);
+        let (normal, friction) = self.laws(stiffness, &kin, onset);
         let d_normal_force = d_penetration * normal.d_penetration
             + d_normal_velocity * normal.d_velocity
             + d_stiffness * normal.d_stiffness;
@@ -244,6 +230,24 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
 
         let forces = assemble(&kin, bearing_body, pin_body, &normal, friction.force);
         (forces, jacobian)
+    }
+
+    /// The normal law at the contact's stiffness, penetration and rate, and the friction law
+    /// under the normal force it gives.
+    #[inline]
+    fn laws(
+        &self,
+        stiffness: f64,
+        kin: &JointKinematics,
+        onset: f64,
+    ) -> (NormalForce, FrictionForce) {
+        let normal =
+            self.normal_law
+                .evaluate(stiffness, kin.penetration, kin.normal_velocity, onset);
+        let friction = self
+            .friction_law
+            .evaluate(kin.tangential_velocity, normal.force);
+        (normal, friction)
     }
 
     /// Stiffness `K` through the effective radius, and its partials.

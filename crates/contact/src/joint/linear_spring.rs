@@ -13,9 +13,9 @@
 
 use nalgebra::{Matrix2, Vector2};
 
-use super::model::{ContactModel, NodeLoad, ShapeLimits, ValidityMeasure};
+use super::model::{ContactKernel, ContactModel, ShapeLimits, ValidityMeasure, Visit};
 use super::pair::ContactPair;
-use super::types::{BodyState, ContactForces, ContactJacobian};
+use super::types::{BodyState, ContactForces, ContactJacobian, JointState};
 use crate::diagnostics::ContactDiagnostics;
 use crate::error::{ContactError, positive};
 use crate::friction::FrictionLaw;
@@ -44,10 +44,10 @@ impl LinearSpring {
     fn evaluate<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
         &self,
         pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
+        at: JointState,
         jacobian: Option<&mut ContactJacobian>,
     ) -> ContactForces {
+        let (bearing_body, pin_body) = (at.bearing, at.pin);
         let kin = pair.kinematics(bearing_body, pin_body);
         let arm = |body: &BodyState, centre: [f64; 2]| {
             let (s, c) = body.theta.sin_cos();
@@ -141,38 +141,6 @@ impl ContactModel for LinearSpring {
         None
     }
 
-    fn forces<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        _onset_velocity: Option<f64>,
-        _visit: Option<&mut dyn FnMut(&NodeLoad)>,
-    ) -> ContactForces {
-        self.evaluate(pair, bearing_body, pin_body, None)
-    }
-
-    fn forces_and_jacobian<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        _onset_velocity: Option<f64>,
-    ) -> (ContactForces, ContactJacobian) {
-        let mut jacobian = ContactJacobian::zeros();
-        let forces = self.evaluate(pair, bearing_body, pin_body, Some(&mut jacobian));
-        (forces, jacobian)
-    }
-
-    fn penetration<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-    ) -> f64 {
-        pair.kinematics(bearing_body, pin_body).penetration
-    }
-
     /// Exact on round surfaces only: judged by the profile slope at its contacts.
     fn validity_measures(&self) -> &'static [ValidityMeasure] {
         &[ValidityMeasure::SlopeRatio]
@@ -180,6 +148,34 @@ impl ContactModel for LinearSpring {
 
     fn shape_limits(&self) -> Option<ShapeLimits> {
         None
+    }
+}
+
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactKernel<B, P, N, F>
+    for LinearSpring
+{
+    fn forces(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        at: JointState,
+        visit: Visit,
+    ) -> ContactForces {
+        let _ = visit;
+        self.evaluate(pair, at, None)
+    }
+
+    fn forces_and_jacobian(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        at: JointState,
+    ) -> (ContactForces, ContactJacobian) {
+        let mut jacobian = ContactJacobian::zeros();
+        let forces = self.evaluate(pair, at, Some(&mut jacobian));
+        (forces, jacobian)
+    }
+
+    fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64 {
+        pair.kinematics(at.bearing, at.pin).penetration
     }
 }
 

@@ -5,10 +5,7 @@
 use std::fmt::Debug;
 
 use super::pair::ContactPair;
-use super::types::{BodyState, ContactForces, ContactJacobian, SlidingVelocity};
-use crate::friction::FrictionLaw;
-use crate::normal::NormalLaw;
-use crate::surface::SurfaceProfile;
+use super::types::{ContactForces, ContactJacobian, JointState, SlidingVelocity};
 
 /// A contact model of a clearance joint: how the pin's and the bearing's outlines load each
 /// other. A model is a value (its parameters) and one module of this crate implementing this
@@ -16,9 +13,10 @@ use crate::surface::SurfaceProfile;
 /// at run time. What a run, its validity checks and its reports need to know of a model they
 /// ask it here, never by its name.
 ///
-/// The forces must be the exact gradient of an elastic energy plus the law's damping and
-/// friction, so that an elastic frictionless joint conserves energy; the Jacobian must be the
-/// exact partials of the same forces (a test compares it with finite differences).
+/// Its evaluations are [`ContactKernel`]'s. The forces must be the exact gradient of an
+/// elastic energy plus the law's damping and friction, so that an elastic frictionless joint
+/// conserves energy; the Jacobian must be the exact partials of the same forces (a test
+/// compares it with finite differences).
 pub trait ContactModel: Copy + Debug + PartialEq + Send + Sync {
     /// The model's name in scenes, summaries and reports (kebab-case).
     fn name(&self) -> &'static str;
@@ -28,36 +26,6 @@ pub trait ContactModel: Copy + Debug + PartialEq + Send + Sync {
     /// diagnostics.
     fn nodes(&self) -> Option<usize>;
 
-    /// Generalized forces on both bodies; every loaded node to `visit` when the model has
-    /// nodes. `onset_velocity` is `δ̇⁻` of the current contact (`None`: it has just begun and
-    /// the current rate counts).
-    fn forces<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        onset_velocity: Option<f64>,
-        visit: Option<&mut dyn FnMut(&NodeLoad)>,
-    ) -> ContactForces;
-
-    /// The forces and their exact partials ([`ContactJacobian`]'s layout).
-    fn forces_and_jacobian<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        onset_velocity: Option<f64>,
-    ) -> (ContactForces, ContactJacobian);
-
-    /// The event function: a signed depth (m) that crosses zero where contact begins and
-    /// ends, positive in contact. Cheap: it is evaluated at every step.
-    fn penetration<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-    ) -> f64;
-
     /// The measures by which a response of this model is judged valid, in the order their
     /// verdicts are reported.
     fn validity_measures(&self) -> &'static [ValidityMeasure];
@@ -66,6 +34,30 @@ pub trait ContactModel: Copy + Debug + PartialEq + Send + Sync {
     /// Wear stepping stops a stage where the next sub-step would leave it.
     fn shape_limits(&self) -> Option<ShapeLimits>;
 }
+
+/// What a [`ContactModel`] evaluates on a pair of outlines of types `B`, `P` with laws `N`,
+/// `F`: the forces, their exact partials and the event function. A model implements it for
+/// every pair it can evaluate (the built-in ones for any profiles and laws).
+pub trait ContactKernel<B, P, N, F>: ContactModel {
+    /// Generalized forces on both bodies at `at`; every loaded node to `visit` when the model
+    /// has nodes.
+    fn forces(&self, pair: &ContactPair<B, P, N, F>, at: JointState, visit: Visit)
+    -> ContactForces;
+
+    /// The forces and their exact partials ([`ContactJacobian`]'s layout).
+    fn forces_and_jacobian(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        at: JointState,
+    ) -> (ContactForces, ContactJacobian);
+
+    /// The event function: a signed depth (m) that crosses zero where contact begins and
+    /// ends, positive in contact. Cheap: it is evaluated at every step.
+    fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64;
+}
+
+/// Where a model's forces hand each loaded node, if anywhere.
+pub type Visit<'v> = Option<&'v mut dyn FnMut(&NodeLoad)>;
 
 /// A measure of whether a contact model describes the contacts of a response, from the
 /// diagnostics of its frames ([`crate::ContactDiagnostics`]). The run accumulates them and judges

@@ -65,6 +65,30 @@ impl BodyState {
     }
 }
 
+/// The state a contact model is evaluated at: both bodies, and the onset velocity `δ̇⁻` of the
+/// current contact (`None`: it has just begun, and the current normal velocity counts; see
+/// [`crate::ImpactMemory`]).
+#[derive(Clone, Copy, Debug)]
+pub struct JointState<'a> {
+    /// The bearing's body.
+    pub bearing: &'a BodyState,
+    /// The pin's body.
+    pub pin: &'a BodyState,
+    /// `δ̇⁻` of the current contact (m/s).
+    pub onset_velocity: Option<f64>,
+}
+
+impl<'a> JointState<'a> {
+    /// The state of the bearing's and the pin's bodies, with the current contact's `δ̇⁻`.
+    pub fn new(bearing: &'a BodyState, pin: &'a BodyState, onset_velocity: Option<f64>) -> Self {
+        Self {
+            bearing,
+            pin,
+            onset_velocity,
+        }
+    }
+}
+
 /// One side of a joint: where its centre sits on its body, its shape and its material.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointSurface<S> {

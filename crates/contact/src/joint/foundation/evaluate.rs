@@ -7,10 +7,12 @@ use super::geometry::{Body, offset};
 use super::layer::Foundation;
 use crate::friction::FrictionLaw;
 use crate::joint::dual::Dual;
-use crate::joint::model::{ContactModel, NodeLoad, ShapeLimits, ValidityMeasure};
+use crate::joint::model::{
+    ContactKernel, ContactModel, NodeLoad, ShapeLimits, ValidityMeasure, Visit,
+};
 use crate::joint::outline::{Pose, Skip};
 use crate::joint::pair::ContactPair;
-use crate::joint::types::{BodyState, ContactForces, ContactJacobian};
+use crate::joint::types::{BodyState, ContactForces, ContactJacobian, JointState};
 use crate::normal::NormalLaw;
 use crate::surface::SurfaceProfile;
 
@@ -168,37 +170,6 @@ impl ContactModel for Foundation {
         Some(self.cells)
     }
 
-    fn forces<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        onset_velocity: Option<f64>,
-        visit: Option<&mut dyn FnMut(&NodeLoad)>,
-    ) -> ContactForces {
-        pair.foundation_forces(self, bearing_body, pin_body, onset_velocity, visit)
-    }
-
-    fn forces_and_jacobian<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        onset_velocity: Option<f64>,
-    ) -> (ContactForces, ContactJacobian) {
-        pair.foundation_forces_and_jacobian(self, bearing_body, pin_body, onset_velocity)
-    }
-
-    /// The deepest overlap of the outlines at the nodes.
-    fn penetration<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-    ) -> f64 {
-        pair.foundation_overlap(self, bearing_body, pin_body)
-    }
-
     /// A thin layer describes shallow overlaps only, and the nodes must resolve the zones.
     /// Unloaded overlapping frames have no limit here: on the foundation they only show the
     /// damped law's own clamp (a pin leaving faster than `1/χ` times its onset velocity), not a
@@ -225,4 +196,30 @@ fn state_array(state: &BodyState) -> [f64; 6] {
         state.vy,
         state.omega,
     ]
+}
+
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactKernel<B, P, N, F>
+    for Foundation
+{
+    fn forces(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        at: JointState,
+        visit: Visit,
+    ) -> ContactForces {
+        pair.foundation_forces(self, at.bearing, at.pin, at.onset_velocity, visit)
+    }
+
+    fn forces_and_jacobian(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        at: JointState,
+    ) -> (ContactForces, ContactJacobian) {
+        pair.foundation_forces_and_jacobian(self, at.bearing, at.pin, at.onset_velocity)
+    }
+
+    fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64 {
+        // The deepest overlap of the outlines at the nodes.
+        pair.foundation_overlap(self, at.bearing, at.pin)
+    }
 }
