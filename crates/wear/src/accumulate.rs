@@ -320,15 +320,24 @@ impl StageWear {
         }
     }
 
-    /// Adds `other`'s depths to this record, cell by cell: `other` must be a record of the same
-    /// joint (same grids), e.g. another trajectory of an ensemble on the same surfaces.
-    pub fn add(&mut self, other: &StageWear) {
-        for (mine, theirs) in [
+    /// Each of this record's four grids (depths and relaxations, bearing and pin) beside
+    /// `other`'s of the same kind.
+    fn grids_beside<'a>(
+        &'a mut self,
+        other: &'a StageWear,
+    ) -> [(&'a mut Vec<f64>, &'a Vec<f64>); 4] {
+        [
             (&mut self.bearing, &other.bearing),
             (&mut self.pin, &other.pin),
             (&mut self.bearing_relaxation, &other.bearing_relaxation),
             (&mut self.pin_relaxation, &other.pin_relaxation),
-        ] {
+        ]
+    }
+
+    /// Adds `other`'s depths to this record, cell by cell: `other` must be a record of the same
+    /// joint (same grids), e.g. another trajectory of an ensemble on the same surfaces.
+    pub fn add(&mut self, other: &StageWear) {
+        for (mine, theirs) in self.grids_beside(other) {
             for (h, o) in mine.iter_mut().zip(theirs) {
                 *h += o;
             }
@@ -357,12 +366,7 @@ impl StageWear {
     /// Removes `other`'s depths from this record, cell by cell (clamped at 0 against round-off):
     /// with `other` the first half of the same run, what remains is the second half.
     pub fn subtract(&mut self, other: &StageWear) {
-        for (mine, theirs) in [
-            (&mut self.bearing, &other.bearing),
-            (&mut self.pin, &other.pin),
-            (&mut self.bearing_relaxation, &other.bearing_relaxation),
-            (&mut self.pin_relaxation, &other.pin_relaxation),
-        ] {
+        for (mine, theirs) in self.grids_beside(other) {
             for (h, o) in mine.iter_mut().zip(theirs) {
                 *h = (*h - o).max(0.0);
             }
