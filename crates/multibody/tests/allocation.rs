@@ -6,7 +6,7 @@ use std::alloc::{GlobalAlloc, Layout, System as SystemAllocator};
 use std::cell::Cell;
 
 use common::{SliderCrank, SpringDamper, with_gravity};
-use multibody::{Baumgarte, BodyId};
+use multibody::{Baumgarte, BodyId, Equations};
 use nalgebra::DMatrix;
 
 thread_local! {

@@ -3,7 +3,7 @@
 mod common;
 
 use common::{FourBar, SpringDamper, with_gravity};
-use multibody::{Baumgarte, BodyId, DriveTarget, Harmonic, JointId};
+use multibody::{Baumgarte, BodyId, DriveTarget, Equations, Harmonic, JointId};
 use nalgebra::DMatrix;
 
 #[test]

@@ -12,13 +12,14 @@ use nalgebra::DMatrix;
 
 use crate::error::{EvaluationError, SimulationError};
 use crate::force::ForceElement;
-use crate::formulation::{Equations, Formulation};
+use crate::formulation::{Formulation, Integrated};
 use crate::iteration::SecondOrderLu;
 use crate::joint_coordinates::{JointEvaluator, Tree};
 use crate::radau::{Radau5, RadauLimits, VectorFunction};
 use crate::sparse_iteration::SparseSecondOrderLu;
 use crate::state::State;
-use crate::system::{Evaluator, System};
+use crate::system::System;
+use crate::system::evaluator::Evaluator;
 use crate::trajectory::Trajectory;
 
 use super::options::{Integrator, LinearSolverKind, SimulationOptions};
@@ -40,7 +41,7 @@ struct Run<'s, 'o, 'c> {
     evaluator: Evaluator<'s>,
     /// The integrated formulation's equations, for restarts and for mapping its states to
     /// Cartesian ones (not the integrator's instance).
-    equations: Box<dyn Equations + 's>,
+    equations: Box<dyn Integrated + 's>,
     /// Scratch of that mapping, length `2n`.
     mapped: Vec<f64>,
     /// Scratch: the power of each driver at a quadrature node.
@@ -76,7 +77,7 @@ impl<'s, 'o, 'c> Run<'s, 'o, 'c> {
         system: &'s System,
         options: &'s SimulationOptions,
         shared: &'c Shared<'s>,
-        mut equations: Box<dyn Equations + 's>,
+        mut equations: Box<dyn Integrated + 's>,
         initial: (f64, &[f64]),
         observer: &'o mut dyn Observer,
         output_times: Vec<f64>,
@@ -169,7 +170,7 @@ impl System {
         let output_times = options.output_times(initial.t)?;
         let tree = (options.formulation == Formulation::JointCoordinates)
             .then(|| Tree::new(self.bodies().len(), self.joints(), self.constraints()));
-        let equations = || -> Box<dyn Equations + '_> {
+        let equations = || -> Box<dyn Integrated + '_> {
             match &tree {
                 None => Box::new(self.evaluator(options.baumgarte)),
                 Some(tree) => Box::new(JointEvaluator::new(self, tree, options.baumgarte)),

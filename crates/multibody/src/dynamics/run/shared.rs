@@ -15,14 +15,14 @@ use nalgebra::DMatrix;
 
 use crate::error::EvaluationError;
 use crate::force::ForceElement;
-use crate::formulation::Equations;
+use crate::formulation::Integrated;
 
 use super::super::options::JacobianMethod;
 use super::super::report::SolverStatistics;
 
 /// The dense Jacobian of the last `(t, y)` diffsol asked about.
 pub(super) struct JacobianCache<'s> {
-    evaluator: Box<dyn Equations + 's>,
+    evaluator: Box<dyn Integrated + 's>,
     method: JacobianMethod,
     t: f64,
     y: Vec<f64>,
@@ -33,7 +33,7 @@ pub(super) struct JacobianCache<'s> {
 
 impl<'s> JacobianCache<'s> {
     /// An empty cache of `evaluator`'s Jacobians of `size × size`.
-    fn new(evaluator: Box<dyn Equations + 's>, method: JacobianMethod, size: usize) -> Self {
+    fn new(evaluator: Box<dyn Integrated + 's>, method: JacobianMethod, size: usize) -> Self {
         Self {
             evaluator,
             method,
@@ -106,10 +106,10 @@ impl<'s> JacobianCache<'s> {
 /// first evaluation failure since the last accepted step (the integrator only sees NaN).
 pub(super) struct Shared<'s> {
     pub(super) elements: &'s RefCell<Vec<Box<dyn ForceElement>>>,
-    rhs: RefCell<Box<dyn Equations + 's>>,
+    rhs: RefCell<Box<dyn Integrated + 's>>,
     pub(super) jacobian: RefCell<JacobianCache<'s>>,
     /// The event functions' map to Cartesian coordinates, with its scratch (length `2n`).
-    roots: RefCell<(Box<dyn Equations + 's>, Vec<f64>)>,
+    roots: RefCell<(Box<dyn Integrated + 's>, Vec<f64>)>,
     pub(super) singular: RefCell<Option<(f64, EvaluationError)>>,
 }
 
@@ -117,7 +117,7 @@ impl<'s> Shared<'s> {
     /// Three instances from `equations`: the right-hand side's, the Jacobian's, the roots'.
     pub(super) fn new(
         elements: &'s RefCell<Vec<Box<dyn ForceElement>>>,
-        equations: impl Fn() -> Box<dyn Equations + 's>,
+        equations: impl Fn() -> Box<dyn Integrated + 's>,
         method: JacobianMethod,
         size: usize,
         coordinates: usize,
