@@ -294,12 +294,20 @@ impl<R: ReducedLu + Default> diffsol_la::LinearSolver<NalgebraMat<f64>> for Bloc
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A deterministic, well-conditioned pseudo-random matrix entry.
-    fn entry(i: usize, j: usize, seed: f64) -> f64 {
+    pub(crate) fn entry(i: usize, j: usize, seed: f64) -> f64 {
         ((i as f64 + 1.3) * (j as f64 + 0.7) * seed).sin()
+    }
+
+    /// Zeroes row `n` (the first of the lower blocks) of a `2n × 2n` block matrix: its
+    /// `S = Q − (b/a) P` gets a zero row, a singular iteration matrix.
+    pub(crate) fn zero_first_lower_row(matrix: &mut DMatrix<f64>, n: usize) {
+        for j in 0..2 * n {
+            matrix[(n, j)] = 0.0;
+        }
     }
 
     /// `[[I, −c I], [−c A, I − c B]]` for a pseudo-random `A`, `B` (n = 15 as in the LGRES).
@@ -378,11 +386,7 @@ mod tests {
     fn a_singular_matrix_is_an_error_at_the_solve() {
         let n = 3;
         let mut matrix = iteration_matrix(n, 1e-3);
-        // S = Q − (b/a) P: make its first row zero.
-        for j in 0..n {
-            matrix[(n, j)] = 0.0;
-            matrix[(n, n + j)] = 0.0;
-        }
+        zero_first_lower_row(&mut matrix, n);
         let mut solver = SecondOrderLu::default();
         solver.factor(&matrix);
         assert_eq!(solver.factored(), Factored::No);

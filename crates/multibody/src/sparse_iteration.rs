@@ -272,11 +272,8 @@ impl SparseSecondOrderLu {
 mod tests {
     use super::*;
     use crate::iteration::Factored;
+    use crate::iteration::tests::{entry, zero_first_lower_row};
     use crate::linalg::DenseLu;
-
-    fn entry(i: usize, j: usize, seed: f64) -> f64 {
-        ((i as f64 + 1.3) * (j as f64 + 0.7) * seed).sin()
-    }
 
     /// `[[I, −c I], [−c A, I − c B]]` with `A`, `B` block-tridiagonal (blocks of 3).
     fn banded_iteration_matrix(n: usize, c: f64) -> DMatrix<f64> {
@@ -336,10 +333,7 @@ mod tests {
     fn a_singular_reduced_matrix_is_an_error_at_the_solve() {
         let n = 6;
         let mut matrix = banded_iteration_matrix(n, 1e-3);
-        for j in 0..n {
-            matrix[(n, j)] = 0.0;
-            matrix[(n, n + j)] = 0.0;
-        }
+        zero_first_lower_row(&mut matrix, n);
         let mut solver = SparseSecondOrderLu::default();
         solver.factor(&matrix);
         let mut rhs = vec![1.0; 2 * n];
