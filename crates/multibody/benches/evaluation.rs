@@ -11,7 +11,7 @@ use common::bench_median;
 use criterion::{Criterion, criterion_group, criterion_main};
 use lgres_scene::Lgres;
 use multibody::{
-    Anchor, Baumgarte, Body, BodyId, ForceElement, ForcePartials, Gravity, Model, System,
+    Anchor, Baumgarte, Body, BodyId, Equations, ForceElement, ForcePartials, Gravity, Model, System,
 };
 use nalgebra::DMatrix;
 

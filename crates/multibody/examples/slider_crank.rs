@@ -8,8 +8,8 @@
 use std::time::Instant;
 
 use multibody::{
-    Anchor, Baumgarte, Body, BodyId, ForceElement, ForcePartials, Frame, Gravity, JacobianMethod,
-    Model, Observer, RotationLock, SimulationOptions, SimulationResult, System,
+    Anchor, Baumgarte, Body, BodyId, Equations, ForceElement, ForcePartials, Frame, Gravity,
+    JacobianMethod, Model, Observer, RotationLock, SimulationOptions, SimulationResult, System,
 };
 use nalgebra::DMatrix;
 

@@ -72,6 +72,22 @@ pub struct ForcePartials<'a> {
     pub(crate) d_dqd: &'a mut DMatrix<f64>,
 }
 
+/// Every element's partials at `(t, q, q̇)` into `d_dq` and `d_dqd`, zeroed first: the
+/// `∂G/∂q`, `∂G/∂q̇` that both formulations' exact Jacobians chain.
+pub(crate) fn element_partials(
+    elements: &[Box<dyn ForceElement>],
+    (t, q, qd): (f64, &[f64], &[f64]),
+    d_dq: &mut DMatrix<f64>,
+    d_dqd: &mut DMatrix<f64>,
+) {
+    d_dq.as_mut_slice().fill(0.0);
+    d_dqd.as_mut_slice().fill(0.0);
+    let mut partials = ForcePartials { d_dq, d_dqd };
+    for element in elements {
+        element.add_partials(t, q, qd, &mut partials);
+    }
+}
+
 impl ForcePartials<'_> {
     /// Adds `value` to `∂G_row/∂q_column`. Indices are coordinate indices (`3 × body +
     /// coordinate`, see [`BodyId::coordinate`]); out-of-range indices are a bug in the element

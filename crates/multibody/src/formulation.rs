@@ -1,7 +1,8 @@
 //! The choice of coordinates the equations of motion are integrated in, and the interface the
 //! integration loop drives either formulation through.
 //!
-//! Each formulation implements [`Equations`] next to its evaluator: the Cartesian one in
+//! Each formulation implements [`Equations`] (public: the right-hand side and its Jacobians)
+//! and `Integrated` (what the loop needs besides) next to its evaluator: the Cartesian one in
 //! `system` ([`crate::Evaluator`]), the joint-coordinate one in `joint_coordinates::evaluator`.
 //! What they share is here too (the forward-difference Jacobian, the first-order form
 //! `ẋ = (v, a)`). This module builds only on `error`, `force` and `state`, so both evaluators
@@ -9,7 +10,7 @@
 
 use nalgebra::DMatrix;
 
-use crate::error::EvaluationError;
+use crate::error::{EvaluationError, check_len};
 use crate::force::ForceElement;
 use crate::state::{AbsoluteTolerances, State};
 
@@ -41,16 +42,16 @@ impl Formulation {
     }
 }
 
-/// One formulation's equations `ẋ = f(t, x)` as the integration loop needs them.
-pub(crate) trait Equations {
-    /// Length of the integrated state `x`.
+/// Equations of motion in first-order form `ẋ = f(t, x)` with their exact Jacobian, as the
+/// integrators evaluate them: [`crate::Evaluator`] (from [`crate::System::evaluator`]) is the
+/// Cartesian formulation's, `x = (q, q̇)`. Each evaluation takes the force elements, which the
+/// system owns, and works in the implementor's preallocated storage.
+pub trait Equations {
+    /// Length of the state `x`.
     fn size(&self) -> usize;
-    /// `x` of an assembled Cartesian state.
-    fn initial_state(&mut self, state: &State) -> Vec<f64>;
-    /// Absolute tolerances of `x`.
-    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64>;
-    /// The Cartesian `(q, q̇)` of `x` at `t`: `x` itself, or `scratch` (length `2n`) filled.
-    fn cartesian<'a>(&mut self, t: f64, x: &'a [f64], scratch: &'a mut [f64]) -> &'a [f64];
+    /// `ẋ = f(t, x)`. A singular system (dependent constraints, a degenerate mass matrix)
+    /// yields NaN accelerations, so that an integrator rejects the step, and an `Err` naming
+    /// the cause.
     fn rhs(
         &mut self,
         elements: &[Box<dyn ForceElement>],
@@ -58,6 +59,8 @@ pub(crate) trait Equations {
         x: &[f64],
         dx: &mut [f64],
     ) -> Result<(), EvaluationError>;
+    /// The exact Jacobian `∂f/∂x` (`size × size`) at `(t, x)`; NaN and an `Err` where
+    /// [`Equations::rhs`] fails.
     fn jacobian(
         &mut self,
         elements: &[Box<dyn ForceElement>],
@@ -65,6 +68,8 @@ pub(crate) trait Equations {
         x: &[f64],
         jacobian: &mut DMatrix<f64>,
     ) -> Result<(), EvaluationError>;
+    /// The forward-difference Jacobian (`size + 1` right-hand sides), the reference the exact
+    /// one is measured against.
     fn finite_difference_jacobian(
         &mut self,
         elements: &[Box<dyn ForceElement>],
@@ -74,6 +79,17 @@ pub(crate) trait Equations {
     ) -> Result<(), EvaluationError>;
     /// Right-hand sides and Jacobians evaluated so far.
     fn evaluations(&self) -> (usize, usize);
+}
+
+/// What the integration loop needs of a formulation besides its [`Equations`]: the map between
+/// its integrated state and the Cartesian one, its tolerances, and what it can report cheaper.
+pub(crate) trait Integrated: Equations {
+    /// `x` of an assembled Cartesian state.
+    fn initial_state(&mut self, state: &State) -> Vec<f64>;
+    /// Absolute tolerances of `x`.
+    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64>;
+    /// The Cartesian `(q, q̇)` of `x` at `t`: `x` itself, or `scratch` (length `2n`) filled.
+    fn cartesian<'a>(&mut self, t: f64, x: &'a [f64], scratch: &'a mut [f64]) -> &'a [f64];
     /// The constraint equations that can drift (`None`: all); the others hold by construction
     /// up to round-off, so the drift report skips them.
     fn drifting(&self) -> Option<&[usize]> {
@@ -143,6 +159,42 @@ impl ForwardDifferences {
         }
         result
     }
+}
+
+/// Checks the state `x` and the Jacobian's storage of a call to equations of size `size`.
+pub(crate) fn check_jacobian_call(
+    size: usize,
+    x: &[f64],
+    jacobian: &DMatrix<f64>,
+) -> Result<(), EvaluationError> {
+    check_len("x", x, size)?;
+    check_len("Jacobian entries", jacobian.as_slice(), size * size)
+}
+
+/// Starts the Jacobian of a first-order form `ẋ = (v, a)` with `x = (p, v)`: the top half is
+/// `[0, I]` whatever the forces, the bottom half zeroed for the caller to fill.
+pub(crate) fn kinematic_rows(jacobian: &mut DMatrix<f64>, half: usize) {
+    jacobian.as_mut_slice().fill(0.0);
+    for i in 0..half {
+        jacobian[(i, half + i)] = 1.0;
+    }
+}
+
+/// [`Equations::finite_difference_jacobian`] of `equations`, whose scratch `scratch` picks
+/// out: the scratch is taken out for the call, since the differences evaluate `equations`.
+pub(crate) fn finite_difference_jacobian<E: Equations + ?Sized>(
+    equations: &mut E,
+    scratch: fn(&mut E) -> &mut ForwardDifferences,
+    elements: &[Box<dyn ForceElement>],
+    t: f64,
+    x: &[f64],
+    jacobian: &mut DMatrix<f64>,
+) -> Result<(), EvaluationError> {
+    check_jacobian_call(equations.size(), x, jacobian)?;
+    let mut differences = std::mem::take(scratch(equations));
+    let result = differences.jacobian(|v, dv| equations.rhs(elements, t, v, dv), x, jacobian);
+    *scratch(equations) = differences;
+    result
 }
 
 /// `ẏ = (v, a)` of a second-order system from its velocities and the accelerations of a

@@ -22,7 +22,9 @@
 //! are written once here; they differ only in how `S` is stored, factored and multiplied
 //! ([`ReducedLu`]).
 
-use diffsol::{LaError, LaLinearOp, Matrix, MatrixCommon, NalgebraMat, NalgebraVec, Vector};
+use diffsol::{
+    LaError, LaLinearOp, Matrix, MatrixCommon, NalgebraContext, NalgebraMat, NalgebraVec, Vector,
+};
 use nalgebra::DMatrix;
 
 use crate::linalg::DenseLu;
@@ -43,7 +45,7 @@ pub(crate) enum Factored {
 
 /// The reduced matrix's side of a block-eliminating solver: how `S = Q − (b/a) P` is formed
 /// and factored, and how a solve eliminates `P`.
-pub(crate) trait ReducedLu {
+pub trait ReducedLu {
     /// Keeps `P` and factors `S = Q − ratio·P` of the block matrix `matrix` (`2n × 2n`, with
     /// the block form); `false` when `S` is singular or cannot be analysed.
     fn factor(&mut self, matrix: &DMatrix<f64>, ratio: f64) -> bool;
@@ -55,11 +57,11 @@ pub(crate) trait ReducedLu {
     }
 }
 
-/// The core both diffsol linear solvers delegate to: the iteration matrix as diffsol last gave
-/// it, its factors (`R` for the reduced form, a dense LU for the full one) and which of them
-/// hold.
+/// Both diffsol linear solvers ([`SecondOrderLu`], [`crate::SparseSecondOrderLu`]): the
+/// iteration matrix as diffsol last gave it, its factors (`R` for the reduced form, a dense LU
+/// for the full one) and which of them hold.
 #[derive(Debug, Clone)]
-pub(crate) struct BlockLu<R> {
+pub struct BlockLu<R> {
     matrix: Option<NalgebraMat<f64>>,
     reduced: R,
     full: DenseLu,
@@ -175,55 +177,11 @@ impl<R: ReducedLu> BlockLu<R> {
             }
         }
     }
-
-    /// [`diffsol_la::LinearSolver::set_linearisation`].
-    pub(crate) fn set_linearisation<C>(&mut self, op: &C)
-    where
-        C: LaLinearOp<
-                T = f64,
-                V = NalgebraVec<f64>,
-                M = NalgebraMat<f64>,
-                C = diffsol::NalgebraContext,
-            >,
-    {
-        let Some(mut matrix) = self.matrix.take() else {
-            self.factored = Factored::No;
-            return;
-        };
-        op.matrix_inplace(&mut matrix);
-        self.factor(matrix.inner());
-        self.matrix = Some(matrix);
-    }
-
-    /// [`diffsol_la::LinearSolver::set_sparsity`].
-    pub(crate) fn set_sparsity<C>(&mut self, op: &C)
-    where
-        C: LaLinearOp<
-                T = f64,
-                V = NalgebraVec<f64>,
-                M = NalgebraMat<f64>,
-                C = diffsol::NalgebraContext,
-            >,
-    {
-        self.matrix = Some(NalgebraMat::new_from_sparsity(
-            op.nrows(),
-            op.ncols(),
-            op.sparsity(),
-            *op.context(),
-        ));
-        self.factored = Factored::No;
-    }
-
-    /// [`diffsol_la::LinearSolver::solve_in_place`].
-    pub(crate) fn solve_in_place(&self, b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
-        let size = self.matrix.as_ref().map_or(0, |m| m.nrows());
-        self.solve_slice(right_hand_side(b, size)?)
-    }
 }
 
 /// The dense reduced matrix: `S` factored by LU, `P` kept dense.
 #[derive(Debug, Clone)]
-pub(crate) struct DenseReduced {
+pub struct DenseReduced {
     /// `P`, the lower-left block.
     lower_left: DMatrix<f64>,
     /// `S`, before factoring.
@@ -290,55 +248,66 @@ impl ReducedLu for DenseReduced {
 /// diffsol linear solver (dense, `nalgebra` storage) for iteration matrices of `(q, q̇)`
 /// systems: see the module docs. Only unbatched matrices (`nbatch = 1`) are supported, which
 /// is what this crate's integrators build.
-#[derive(Debug, Clone, Default)]
-pub struct SecondOrderLu {
-    core: BlockLu<DenseReduced>,
-}
+pub type SecondOrderLu = BlockLu<DenseReduced>;
 
-impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SecondOrderLu {
+/// diffsol's linear-solver interface, once for both reduced factorizations: the matrix is
+/// taken in at its sparsity, refactored at each linearisation, and solved with
+/// [`BlockLu::solve_slice`].
+impl<R: ReducedLu + Default> diffsol_la::LinearSolver<NalgebraMat<f64>> for BlockLu<R> {
     fn set_linearisation<C>(&mut self, op: &C)
     where
-        C: LaLinearOp<
-                T = f64,
-                V = NalgebraVec<f64>,
-                M = NalgebraMat<f64>,
-                C = diffsol::NalgebraContext,
-            >,
+        C: LaLinearOp<T = f64, V = NalgebraVec<f64>, M = NalgebraMat<f64>, C = NalgebraContext>,
     {
-        self.core.set_linearisation(op);
+        let Some(mut matrix) = self.matrix.take() else {
+            self.factored = Factored::No;
+            return;
+        };
+        op.matrix_inplace(&mut matrix);
+        self.factor(matrix.inner());
+        self.matrix = Some(matrix);
     }
 
     fn set_sparsity<C>(&mut self, op: &C)
     where
-        C: LaLinearOp<
-                T = f64,
-                V = NalgebraVec<f64>,
-                M = NalgebraMat<f64>,
-                C = diffsol::NalgebraContext,
-            >,
+        C: LaLinearOp<T = f64, V = NalgebraVec<f64>, M = NalgebraMat<f64>, C = NalgebraContext>,
     {
-        self.core.set_sparsity(op);
+        self.matrix = Some(NalgebraMat::new_from_sparsity(
+            op.nrows(),
+            op.ncols(),
+            op.sparsity(),
+            *op.context(),
+        ));
+        self.factored = Factored::No;
     }
 
     fn solve_in_place(&self, b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
-        self.core.solve_in_place(b)
+        let size = self.matrix.as_ref().map_or(0, |m| m.nrows());
+        self.solve_slice(right_hand_side(b, size)?)
     }
 
     fn solve_transpose_in_place(&self, _b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
         // Only adjoint sensitivities need it, and this crate does not use them.
         Err(LaError::Other(
-            "SecondOrderLu does not solve with the transpose".into(),
+            "the second-order LU solvers do not solve with the transpose".into(),
         ))
     }
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A deterministic, well-conditioned pseudo-random matrix entry.
-    fn entry(i: usize, j: usize, seed: f64) -> f64 {
+    pub(crate) fn entry(i: usize, j: usize, seed: f64) -> f64 {
         ((i as f64 + 1.3) * (j as f64 + 0.7) * seed).sin()
+    }
+
+    /// Zeroes row `n` (the first of the lower blocks) of a `2n × 2n` block matrix: its
+    /// `S = Q − (b/a) P` gets a zero row, a singular iteration matrix.
+    pub(crate) fn zero_first_lower_row(matrix: &mut DMatrix<f64>, n: usize) {
+        for j in 0..2 * n {
+            matrix[(n, j)] = 0.0;
+        }
     }
 
     /// `[[I, −c I], [−c A, I − c B]]` for a pseudo-random `A`, `B` (n = 15 as in the LGRES).
@@ -359,14 +328,14 @@ mod tests {
 
     fn solve_both(matrix: &DMatrix<f64>, rhs: &[f64]) -> (Vec<f64>, Vec<f64>, Factored) {
         let mut solver = SecondOrderLu::default();
-        solver.core.factor(matrix);
+        solver.factor(matrix);
         let mut reduced = rhs.to_vec();
-        solver.core.solve_slice(&mut reduced).expect("factored");
+        solver.solve_slice(&mut reduced).expect("factored");
         let mut full = DenseLu::new(matrix.nrows());
         full.factor(matrix, 0.0).expect("nonsingular");
         let mut reference = rhs.to_vec();
         full.solve_in_place(&mut reference);
-        (reduced, reference, solver.core.factored())
+        (reduced, reference, solver.factored())
     }
 
     #[test]
@@ -417,15 +386,11 @@ mod tests {
     fn a_singular_matrix_is_an_error_at_the_solve() {
         let n = 3;
         let mut matrix = iteration_matrix(n, 1e-3);
-        // S = Q − (b/a) P: make its first row zero.
-        for j in 0..n {
-            matrix[(n, j)] = 0.0;
-            matrix[(n, n + j)] = 0.0;
-        }
+        zero_first_lower_row(&mut matrix, n);
         let mut solver = SecondOrderLu::default();
-        solver.core.factor(&matrix);
-        assert_eq!(solver.core.factored(), Factored::No);
+        solver.factor(&matrix);
+        assert_eq!(solver.factored(), Factored::No);
         let mut rhs = vec![1.0; 2 * n];
-        assert!(solver.core.solve_slice(&mut rhs).is_err());
+        assert!(solver.solve_slice(&mut rhs).is_err());
     }
 }

@@ -159,7 +159,7 @@ pub use dynamics::{
 };
 pub use error::{AssemblyError, EvaluationError, KinematicsError, ModelError, SimulationError};
 pub use force::{ElementId, ForceElement, ForcePartials, Gravity};
-pub use formulation::Formulation;
+pub use formulation::{Equations, Formulation};
 pub use iteration::SecondOrderLu;
 pub use model::{
     Anchor, Body, BodyId, Coordinate, DriveTarget, Driver, DriverId, Joint, JointId, Model,
@@ -167,5 +167,7 @@ pub use model::{
 };
 pub use sparse_iteration::SparseSecondOrderLu;
 pub use state::{AbsoluteTolerances, State};
-pub use system::{Baumgarte, Evaluator, PartialEntry, PartialsCheck, System};
+pub use system::evaluator::Evaluator;
+pub use system::partials::{PartialEntry, PartialsCheck};
+pub use system::{Baumgarte, System};
 pub use trajectory::Trajectory;

@@ -508,160 +508,6 @@ impl<'a> Radau5<'a> {
         }
     }
 
-    /// Simplified Newton on the transformed stage increments `F = T⁻¹ Z`; on success `z`
-    /// holds the stage increments `Z`.
-    fn newton(&mut self, h: f64) -> Newton {
-        let Some(factors) = self.factors.as_ref() else {
-            return Newton::Failed(0.5);
-        };
-        let n = self.y.len();
-        let fac1 = self.gamma / h;
-        let alphn = self.alpha / h;
-        let betan = self.beta / h;
-        let s = &mut self.scratch;
-        let [z1, z2, z3] = &mut s.z;
-        let [f1, f2, f3] = &mut s.f;
-        if self.cold_start || self.h_old == 0.0 {
-            for v in [&mut *z1, &mut *z2, &mut *z3, &mut *f1, &mut *f2, &mut *f3] {
-                v.fill(0.0);
-            }
-        } else {
-            let c3q = h / self.h_old;
-            let [k1, k2, k3] = &self.cont;
-            for (c, z) in [(C1 * c3q, &mut *z1), (C2 * c3q, &mut *z2), (c3q, &mut *z3)] {
-                for i in 0..n {
-                    z[i] = c * (k1[i] + (c - C2M1) * (k2[i] + (c - C1M1) * k3[i]));
-                }
-            }
-            for i in 0..n {
-                let (a, b, c) = (z1[i], z2[i], z3[i]);
-                f1[i] = TI11 * a + TI12 * b + TI13 * c;
-                f2[i] = TI21 * a + TI22 * b + TI23 * c;
-                f3[i] = TI31 * a + TI32 * b + TI33 * c;
-            }
-        }
-        self.faccon = self.faccon.max(f64::EPSILON).powf(0.8);
-        let mut theta = JACOBIAN_REUSE_RATE;
-        let mut previous = 0.0;
-        let mut theta_previous = 0.0;
-        let mut iterations = 0;
-        loop {
-            if iterations >= MAX_NEWTON {
-                self.theta = theta;
-                return Newton::Failed(0.5);
-            }
-            for (c, z) in [(C1, &mut *z1), (C2, &mut *z2), (1.0, &mut *z3)] {
-                s.stage.copy_from(&self.y);
-                s.stage += &*z;
-                (self.rhs)(s.stage.as_slice(), &[], self.t + c * h, z.as_mut_slice());
-            }
-            for i in 0..n {
-                let (a, b, c) = (z1[i], z2[i], z3[i]);
-                let a1 = TI11 * a + TI12 * b + TI13 * c;
-                let a2 = TI21 * a + TI22 * b + TI23 * c;
-                let a3 = TI31 * a + TI32 * b + TI33 * c;
-                s.real[i] = a1 - f1[i] * fac1;
-                s.complex[i] = Complex::new(
-                    a2 - f2[i] * alphn + f3[i] * betan,
-                    a3 - f3[i] * alphn - f2[i] * betan,
-                );
-            }
-            let solved =
-                factors.real.solve_mut(&mut s.real) && factors.complex.solve_mut(&mut s.complex);
-            iterations += 1;
-            self.statistics.nonlinear_iterations += 1;
-            let mut sum = 0.0;
-            for i in 0..n {
-                let w = s.scale[i];
-                z1[i] = s.real[i];
-                z2[i] = s.complex[i].re;
-                z3[i] = s.complex[i].im;
-                sum += (z1[i] / w).powi(2) + (z2[i] / w).powi(2) + (z3[i] / w).powi(2);
-            }
-            let dyno = (sum / (3 * n.max(1)) as f64).sqrt();
-            if !solved || !dyno.is_finite() {
-                self.theta = theta;
-                return Newton::Failed(0.5);
-            }
-            if iterations > 1 && iterations < MAX_NEWTON {
-                let rate = dyno / previous;
-                theta = if iterations == 2 {
-                    rate
-                } else {
-                    (rate * theta_previous).sqrt()
-                };
-                theta_previous = rate;
-                if theta < 0.99 {
-                    self.faccon = theta / (1.0 - theta);
-                    let predicted =
-                        self.faccon * dyno * theta.powi((MAX_NEWTON - 1 - iterations) as i32)
-                            / self.newton_tolerance;
-                    if predicted >= 1.0 {
-                        let q = predicted.clamp(1e-4, 20.0);
-                        self.theta = theta;
-                        return Newton::Failed(
-                            0.8 * q.powf(-1.0 / (4 + MAX_NEWTON - 1 - iterations) as f64),
-                        );
-                    }
-                } else {
-                    self.theta = theta;
-                    return Newton::Failed(0.5);
-                }
-            }
-            previous = dyno.max(f64::EPSILON);
-            for i in 0..n {
-                f1[i] += z1[i];
-                f2[i] += z2[i];
-                f3[i] += z3[i];
-                z1[i] = T11 * f1[i] + T12 * f2[i] + T13 * f3[i];
-                z2[i] = T21 * f1[i] + T22 * f2[i] + T23 * f3[i];
-                z3[i] = T31 * f1[i] + f2[i];
-            }
-            if self.faccon * dyno <= self.newton_tolerance {
-                self.theta = theta;
-                return Newton::Converged(iterations);
-            }
-        }
-    }
-
-    /// The filtered embedded error estimate (weighted RMS); after a rejection or on a first
-    /// step an estimate above 1 is filtered once more (RADAU5's ESTRAD).
-    fn error_estimate(&mut self, h: f64, rejected: bool) -> f64 {
-        let Some(factors) = self.factors.as_ref() else {
-            return f64::INFINITY;
-        };
-        let s = &mut self.scratch;
-        let [z1, z2, z3] = &s.z;
-        let (e1, e2, e3) = (DD1 / h, DD2 / h, DD3 / h);
-        // f2 serves as scratch for the combination of the stages.
-        let combination = &mut s.f[1];
-        for i in 0..self.y.len() {
-            combination[i] = e1 * z1[i] + e2 * z2[i] + e3 * z3[i];
-            s.real[i] = combination[i] + self.dy[i];
-        }
-        let mut error = if factors.real.solve_mut(&mut s.real) {
-            norm_of(&s.real, &s.scale)
-        } else {
-            f64::INFINITY
-        };
-        if error >= 1.0 && (self.first || rejected) {
-            s.stage.copy_from(&self.y);
-            s.stage += &s.real;
-            (self.rhs)(s.stage.as_slice(), &[], self.t, s.real.as_mut_slice());
-            s.real += &*combination;
-            error = if factors.real.solve_mut(&mut s.real) {
-                norm_of(&s.real, &s.scale)
-            } else {
-                f64::INFINITY
-            };
-        }
-        if error.is_nan() {
-            f64::INFINITY
-        } else {
-            error.max(1e-10)
-        }
-    }
-
     fn accept(&mut self, h: f64, h_new: f64, at_stop: bool) -> RadauStop {
         let s = &self.scratch;
         let [z1, z2, z3] = &s.z;
@@ -709,84 +555,6 @@ impl<'a> Radau5<'a> {
             RadauStop::Step
         }
     }
-
-    /// Sign changes of the root functions over the last step, located on the dense output
-    /// by the Illinois-modified secant method of SUNDIALS (as diffsol does).
-    fn check_roots(&mut self) -> Option<RadauStop> {
-        let (g, _) = self.roots?;
-        let mut g1 = std::mem::take(&mut self.scratch.g1);
-        let mut gmid = std::mem::take(&mut self.scratch.gmid);
-        let mut ymid = std::mem::take(&mut self.scratch.ymid);
-        g(self.y.as_slice(), &[], self.t, &mut g1);
-        let result = match sign_change(&self.g0, &g1) {
-            (zero, None) => {
-                std::mem::swap(&mut self.g0, &mut g1);
-                zero.then(|| RadauStop::Root(self.t, closest_to_zero(&self.g0)))
-            }
-            (_, Some(mut index)) => {
-                let (mut t0, mut t1) = (self.t_old, self.t);
-                let tol = 100.0 * f64::EPSILON * (t1.abs() + (t1 - t0).abs());
-                let mut alpha = 1.0;
-                let mut side = [false, true];
-                let mut i = 0;
-                let mut found = None;
-                while (t1 - t0).abs() > tol {
-                    let (a, b) = (g1[index], self.g0[index]);
-                    let mut mid = t1 - (t1 - t0) * a / (a - alpha * b);
-                    let fraction = |span: f64| {
-                        let fracint = span / tol;
-                        if fracint > 5.0 { 0.1 } else { 0.5 / fracint }
-                    };
-                    if (mid - t0).abs() < 0.5 * tol {
-                        mid = t0 + fraction((t1 - t0).abs()) * (t1 - t0);
-                    }
-                    if (t1 - mid).abs() < 0.5 * tol {
-                        mid = t1 - fraction((t1 - t0).abs()) * (t1 - t0);
-                    }
-                    if self.interpolate(mid, &mut ymid).is_err() {
-                        break;
-                    }
-                    g(&ymid, &[], mid, &mut gmid);
-                    let (zero, lower) = sign_change(&self.g0, &gmid);
-                    if let Some(k) = lower {
-                        t1 = mid;
-                        index = k;
-                        std::mem::swap(&mut g1, &mut gmid);
-                    } else if zero {
-                        found = Some(mid);
-                        break;
-                    } else {
-                        t0 = mid;
-                        std::mem::swap(&mut self.g0, &mut gmid);
-                    }
-                    side[i % 2] = lower.is_some();
-                    if i >= 2 {
-                        alpha = if side[0] != side[1] {
-                            1.0
-                        } else if side[0] {
-                            0.5 * alpha
-                        } else {
-                            2.0 * alpha
-                        };
-                    }
-                    i += 1;
-                }
-                g(self.y.as_slice(), &[], self.t, &mut self.g0);
-                Some(RadauStop::Root(found.unwrap_or(t1), index))
-            }
-        };
-        self.scratch.g1 = g1;
-        self.scratch.gmid = gmid;
-        self.scratch.ymid = ymid;
-        result
-    }
-}
-
-enum Newton {
-    /// Converged after this many iterations.
-    Converged(usize),
-    /// Diverged or too slow: retry with the step scaled by this factor.
-    Failed(f64),
 }
 
 /// Weighted RMS norm.
@@ -800,31 +568,16 @@ fn norm_of(v: &DVector<f64>, scale: &DVector<f64>) -> f64 {
         .sqrt()
 }
 
-/// Whether some `g1` is exactly zero, and the function with a sign change whose crossing is
-/// closest to the step's end (SUNDIALS' rule).
-fn sign_change(g0: &[f64], g1: &[f64]) -> (bool, Option<usize>) {
-    let mut zero = false;
-    let mut best = (0.0, None);
-    for (i, (&a, &b)) in g0.iter().zip(g1).enumerate() {
-        if b == 0.0 {
-            zero = true;
-        }
-        if a * b < 0.0 {
-            let q = (b / (b - a)).abs();
-            if q > best.0 {
-                best = (q, Some(i));
-            }
-        }
-    }
-    (zero, best.1)
+/// How a step's Newton iteration ended (`newton`).
+enum Newton {
+    /// Converged after this many iterations.
+    Converged(usize),
+    /// Diverged or too slow: retry with the step scaled by this factor.
+    Failed(f64),
 }
 
-fn closest_to_zero(g: &[f64]) -> usize {
-    g.iter()
-        .enumerate()
-        .min_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
-        .map_or(0, |(i, _)| i)
-}
+mod newton;
+mod roots;
 
 #[cfg(test)]
 mod tests;

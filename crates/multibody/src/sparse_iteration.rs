@@ -15,7 +15,7 @@
 //! This module is the sparse [`ReducedLu`]; the block form's check, the full LU without it and
 //! diffsol's plumbing are `iteration`'s [`BlockLu`], shared with the dense solver.
 
-use diffsol::{LaError, LaLinearOp, NalgebraMat, NalgebraVec};
+use diffsol::LaError;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::lu::{LuRef, NumericLu, SymbolicLu, factorize_symbolic_lu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
@@ -153,7 +153,7 @@ impl SparseFactors {
 /// The sparse reduced matrix: `P` in compressed columns, `S` factored by faer with its
 /// symbolic analysis kept.
 #[derive(Debug, Default)]
-pub(crate) struct SparseReduced {
+pub struct SparseReduced {
     /// `P` in compressed columns: its pattern and values.
     lower_left: Pattern,
     lower_values: Vec<f64>,
@@ -259,51 +259,12 @@ impl ReducedLu for SparseReduced {
 /// factored by faer's sparse LU (sequential) and its symbolic analysis reused; see the module
 /// docs. Selected by [`crate::LinearSolverKind::SparseFaer`]. A matrix without the block form
 /// gets the dense LU.
-#[derive(Debug, Default)]
-pub struct SparseSecondOrderLu {
-    core: BlockLu<SparseReduced>,
-}
+pub type SparseSecondOrderLu = BlockLu<SparseReduced>;
 
 impl SparseSecondOrderLu {
     /// Symbolic analyses so far: 1 when every factorization reused the first one.
     pub fn symbolic_analyses(&self) -> usize {
-        self.core.reduced().analyses
-    }
-}
-
-impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SparseSecondOrderLu {
-    fn set_linearisation<C>(&mut self, op: &C)
-    where
-        C: LaLinearOp<
-                T = f64,
-                V = NalgebraVec<f64>,
-                M = NalgebraMat<f64>,
-                C = diffsol::NalgebraContext,
-            >,
-    {
-        self.core.set_linearisation(op);
-    }
-
-    fn set_sparsity<C>(&mut self, op: &C)
-    where
-        C: LaLinearOp<
-                T = f64,
-                V = NalgebraVec<f64>,
-                M = NalgebraMat<f64>,
-                C = diffsol::NalgebraContext,
-            >,
-    {
-        self.core.set_sparsity(op);
-    }
-
-    fn solve_in_place(&self, b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
-        self.core.solve_in_place(b)
-    }
-
-    fn solve_transpose_in_place(&self, _b: &mut NalgebraVec<f64>) -> Result<(), LaError> {
-        Err(LaError::Other(
-            "SparseSecondOrderLu does not solve with the transpose".into(),
-        ))
+        self.reduced().analyses
     }
 }
 
@@ -311,11 +272,8 @@ impl diffsol_la::LinearSolver<NalgebraMat<f64>> for SparseSecondOrderLu {
 mod tests {
     use super::*;
     use crate::iteration::Factored;
+    use crate::iteration::tests::{entry, zero_first_lower_row};
     use crate::linalg::DenseLu;
-
-    fn entry(i: usize, j: usize, seed: f64) -> f64 {
-        ((i as f64 + 1.3) * (j as f64 + 0.7) * seed).sin()
-    }
 
     /// `[[I, −c I], [−c A, I − c B]]` with `A`, `B` block-tridiagonal (blocks of 3).
     fn banded_iteration_matrix(n: usize, c: f64) -> DMatrix<f64> {
@@ -337,11 +295,11 @@ mod tests {
         let mut solver = SparseSecondOrderLu::default();
         for c in [1e-6, 1e-4, 1e-2] {
             let matrix = banded_iteration_matrix(n, c);
-            solver.core.factor(&matrix);
-            assert_eq!(solver.core.factored(), Factored::Reduced { a: 1.0, b: -c });
+            solver.factor(&matrix);
+            assert_eq!(solver.factored(), Factored::Reduced { a: 1.0, b: -c });
             let rhs: Vec<f64> = (0..2 * n).map(|i| entry(i, 3, 0.83)).collect();
             let mut x = rhs.clone();
-            solver.core.solve_slice(&mut x).expect("factored");
+            solver.solve_slice(&mut x).expect("factored");
             let mut dense = DenseLu::new(2 * n);
             dense.factor(&matrix, 0.0).expect("nonsingular");
             let mut reference = rhs.clone();
@@ -361,11 +319,11 @@ mod tests {
         // A nonzero outside the pattern widens it, and the result is still right.
         let mut matrix = banded_iteration_matrix(n, 1e-3);
         matrix[(n, 2 * n - 1)] = 0.5;
-        solver.core.factor(&matrix);
+        solver.factor(&matrix);
         assert_eq!(solver.symbolic_analyses(), 2);
         let rhs: Vec<f64> = (0..2 * n).map(|i| entry(i, 1, 0.5)).collect();
         let mut x = rhs.clone();
-        solver.core.solve_slice(&mut x).expect("factored");
+        solver.solve_slice(&mut x).expect("factored");
         let residual = &matrix * nalgebra::DVector::from_column_slice(&x)
             - nalgebra::DVector::from_column_slice(&rhs);
         assert!(residual.amax() < 1e-9, "residual {}", residual.amax());
@@ -375,15 +333,11 @@ mod tests {
     fn a_singular_reduced_matrix_is_an_error_at_the_solve() {
         let n = 6;
         let mut matrix = banded_iteration_matrix(n, 1e-3);
-        for j in 0..n {
-            matrix[(n, j)] = 0.0;
-            matrix[(n, n + j)] = 0.0;
-        }
+        zero_first_lower_row(&mut matrix, n);
         let mut solver = SparseSecondOrderLu::default();
-        solver.core.factor(&matrix);
+        solver.factor(&matrix);
         let mut rhs = vec![1.0; 2 * n];
-        let failed =
-            solver.core.factored() == Factored::No || solver.core.solve_slice(&mut rhs).is_err();
+        let failed = solver.factored() == Factored::No || solver.solve_slice(&mut rhs).is_err();
         assert!(failed);
     }
 }

@@ -5,8 +5,8 @@ mod common;
 use std::alloc::{GlobalAlloc, Layout, System as SystemAllocator};
 use std::cell::Cell;
 
-use common::{SliderCrank, SpringDamper, with_gravity};
-use multibody::{Baumgarte, BodyId};
+use common::{SliderCrank, SpringDamper, with_gravity_and_spring};
+use multibody::{Baumgarte, Equations};
 use nalgebra::DMatrix;
 
 thread_local! {
@@ -31,14 +31,7 @@ static GLOBAL: Counting = Counting;
 #[test]
 fn rhs_and_jacobian_do_not_allocate() {
     let (model, _) = SliderCrank::STANDARD.model(0.9);
-    let mut system = with_gravity(model);
-    system.add_element(Box::new(SpringDamper {
-        body: BodyId(1),
-        point: [0.1, 0.0],
-        anchor: [0.2, 0.3],
-        stiffness: 80.0,
-        damping: 3.0,
-    }));
+    let system = with_gravity_and_spring(model, SpringDamper::SOFT);
     let (q, qd) = system.initial_guess();
     let y: Vec<f64> = q.iter().chain(&qd).copied().collect();
     let mut dy = vec![0.0; y.len()];

@@ -2,8 +2,10 @@
 
 mod common;
 
-use common::{FourBar, SpringDamper, with_gravity};
-use multibody::{Baumgarte, BodyId, DriveTarget, Harmonic, JointId};
+use common::{FourBar, SpringDamper, with_gravity_and_spring};
+use multibody::{
+    Baumgarte, DriveTarget, Equations, ForceElement, ForcePartials, Harmonic, JointId,
+};
 use nalgebra::DMatrix;
 
 #[test]
@@ -11,14 +13,7 @@ fn exact_jacobian_matches_central_differences() {
     let mechanism = FourBar::STANDARD;
     let (model, _) = mechanism.model(0.7);
     // A free four-bar with a spring-damper (nonzero ∂G/∂q and ∂G/∂q̇) on the coupler.
-    let mut system = with_gravity(model);
-    system.add_element(Box::new(SpringDamper {
-        body: BodyId(1),
-        point: [0.1, 0.05],
-        anchor: [0.3, 0.6],
-        stiffness: 150.0,
-        damping: 7.0,
-    }));
+    let system = with_gravity_and_spring(model, SpringDamper::STIFF);
     let (q, qd) = system.initial_guess();
     // A state off the constraint manifold and moving, so every term (Baumgarte, γ, ∂γ) counts.
     let mut y: Vec<f64> = q.iter().chain(&qd).copied().collect();
@@ -85,14 +80,7 @@ fn exact_jacobian_matches_with_a_moving_driver_and_prismatic_joint() {
             }),
         )
         .expect("valid");
-    let mut system = with_gravity(model);
-    system.add_element(Box::new(SpringDamper {
-        body: BodyId(1),
-        point: [0.1, 0.0],
-        anchor: [0.2, 0.3],
-        stiffness: 80.0,
-        damping: 3.0,
-    }));
+    let system = with_gravity_and_spring(model, SpringDamper::SOFT);
     let (q, qd) = system.initial_guess();
     let n = q.len();
     let y: Vec<f64> = q
@@ -126,36 +114,21 @@ fn exact_jacobian_matches_with_a_moving_driver_and_prismatic_joint() {
 /// A spring-damper that forgets its partials: the kind of element `check_partials` exists for.
 struct ForgetfulSpring(SpringDamper);
 
-impl multibody::ForceElement for ForgetfulSpring {
+impl ForceElement for ForgetfulSpring {
     fn name(&self) -> &str {
         "forgetful spring"
     }
     fn add_forces(&self, t: f64, q: &[f64], qd: &[f64], forces: &mut [f64]) {
         self.0.add_forces(t, q, qd, forces);
     }
-    fn add_partials(
-        &self,
-        _t: f64,
-        _q: &[f64],
-        _qd: &[f64],
-        _partials: &mut multibody::ForcePartials<'_>,
-    ) {
-    }
+    fn add_partials(&self, _t: f64, _q: &[f64], _qd: &[f64], _partials: &mut ForcePartials<'_>) {}
 }
 
 #[test]
 fn check_partials_passes_exact_elements_and_catches_a_forgotten_one() {
     let (model, _) = FourBar::STANDARD.model(0.7);
-    let spring = || SpringDamper {
-        body: BodyId(1),
-        point: [0.1, 0.05],
-        anchor: [0.3, 0.6],
-        stiffness: 150.0,
-        damping: 7.0,
-    };
-    let mut system = with_gravity(model);
-    system.add_element(Box::new(spring()));
-    system.add_element(Box::new(ForgetfulSpring(spring())));
+    let mut system = with_gravity_and_spring(model, SpringDamper::STIFF);
+    system.add_element(Box::new(ForgetfulSpring(SpringDamper::STIFF)));
     let (q, mut qd) = system.initial_guess();
     for (i, v) in qd.iter_mut().enumerate() {
         *v += 0.5 * (i as f64).cos();

@@ -5,8 +5,12 @@
 
 mod common;
 
+use common::assembled;
 use common::lgres_scene::Lgres;
-use multibody::{AbsoluteTolerances, Formulation, Gravity, OutputTimes, SimulationOptions, System};
+use multibody::{
+    AbsoluteTolerances, Formulation, Gravity, OutputTimes, SimulationOptions, SimulationResult,
+    System, Trajectory,
+};
 
 /// The scene's mechanism with the clearance joints A and B made ideal revolutes, driven at
 /// `rpm`; also the scene's body names and poses (x, y in m, θ in degrees).
@@ -27,6 +31,30 @@ fn lgres(rpm: f64) -> (System, Vec<String>, Vec<[f64; 3]>) {
     let mut system = System::new(model).expect("valid model");
     system.add_element(Box::new(gravity));
     (system, names, poses)
+}
+
+/// The assembled start, a run from it with `options`, and the kinematic solution at the run's
+/// output times: what the driven-dynamics tests compare.
+fn dynamics_and_kinematics(
+    system: &mut System,
+    options: &SimulationOptions,
+) -> (SimulationResult, Trajectory) {
+    let start = assembled(system);
+    let result = system
+        .simulate(&start, options, &mut ())
+        .expect("integrates");
+    let solution = system
+        .kinematics(&result.trajectory.times, &start.q)
+        .expect("kinematics");
+    (result, solution)
+}
+
+/// Largest `|a_i − b_i|`.
+fn max_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -92,51 +120,29 @@ fn one_period_sweeps_the_reported_ranges() {
     );
     // Back where it started after one period.
     let last = times.len() - 1;
-    let closure = solution
-        .q(last)
-        .iter()
-        .zip(solution.q(0))
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max);
+    let closure = max_difference(solution.q(last), solution.q(0));
     assert!(closure < 1e-9, "{closure}");
 }
 
 #[test]
 fn driven_dynamics_follows_the_kinematics() {
     let (mut system, ..) = lgres(105.0);
-    let (q, qd) = system.initial_guess();
-    let start = system.assemble(0.0, &q, &qd).expect("assembles");
     let options = SimulationOptions::until(60.0 / 105.0)
         .with_rtol(1e-8)
         .with_atol(AbsoluteTolerances::uniform(1e-10))
         .with_output(OutputTimes::Every(0.01));
-    let result = system
-        .simulate(&start, &options, &mut ())
-        .expect("integrates");
-    let solution = system
-        .kinematics(&result.trajectory.times, &start.q)
-        .expect("kinematics");
+    let (result, solution) = dynamics_and_kinematics(&mut system, &options);
     // With no degree of freedom left, the integrated motion can differ from the constraint
     // solution only by drift, which Baumgarte keeps at the integration tolerance.
     for frame in 0..result.trajectory.len() {
-        let dq = solution
-            .q(frame)
-            .iter()
-            .zip(result.trajectory.q(frame))
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let dq = max_difference(solution.q(frame), result.trajectory.q(frame));
         assert!(dq < 1e-8, "t = {}: {dq:e}", result.trajectory.times[frame]);
         // The multipliers (joint reactions, drive force) agree to the same relative order.
         let scale = solution
             .lambda(frame)
             .iter()
             .fold(1.0_f64, |a, l| a.max(l.abs()));
-        let dl = solution
-            .lambda(frame)
-            .iter()
-            .zip(result.trajectory.lambda(frame))
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
+        let dl = max_difference(solution.lambda(frame), result.trajectory.lambda(frame));
         assert!(
             dl < 1e-5 * scale,
             "t = {}: λ differs by {dl:e} of {scale}",
@@ -164,29 +170,15 @@ fn driven_dynamics_follows_the_kinematics() {
 #[test]
 fn both_formulations_follow_the_kinematics_to_a_nanometre() {
     let (mut system, ..) = lgres(60.0);
-    let (q, qd) = system.initial_guess();
-    let start = system.assemble(0.0, &q, &qd).expect("assembles");
     let mut options = SimulationOptions::until(1.0);
     options.rtol = 1e-10;
     options.atol = AbsoluteTolerances::uniform(1e-12);
     options.output = OutputTimes::Every(0.01);
     for formulation in [Formulation::Cartesian, Formulation::JointCoordinates] {
         options.formulation = formulation;
-        let result = system
-            .simulate(&start, &options, &mut ())
-            .expect("integrates");
-        let solution = system
-            .kinematics(&result.trajectory.times, &start.q)
-            .expect("kinematics");
+        let (result, solution) = dynamics_and_kinematics(&mut system, &options);
         let dq = (0..result.trajectory.len())
-            .flat_map(|f| {
-                solution
-                    .q(f)
-                    .iter()
-                    .zip(result.trajectory.q(f))
-                    .map(|(a, b)| (a - b).abs())
-                    .collect::<Vec<_>>()
-            })
+            .map(|f| max_difference(solution.q(f), result.trajectory.q(f)))
             .fold(0.0, f64::max);
         println!(
             "{formulation:?}: ideal LGRES vs kinematics over one period, max |Δq| {dq:e} ({} steps)",

@@ -5,7 +5,7 @@ mod common;
 
 use std::f64::consts::PI;
 
-use common::{FourBar, Replay, SliderCrank, angle_driver, with_gravity};
+use common::{FourBar, Replay, SliderCrank, angle_driver, assembled, with_gravity};
 use multibody::{
     AbsoluteTolerances, ConstraintOwner, DriverId, Model, OutputTimes, Ramp, SimulationOptions,
     System, Trajectory,
@@ -86,8 +86,7 @@ fn tight(t_end: f64) -> SimulationOptions {
 fn check_dynamics_against_kinematics(build: impl Fn() -> (Model, multibody::JointId)) {
     let (model, _) = build();
     let mut system = with_gravity(model);
-    let (q, qd) = system.initial_guess();
-    let start = system.assemble(0.0, &q, &qd).expect("assembles");
+    let start = assembled(&system);
     let result = system
         .simulate(&start, &tight(2.0), &mut ())
         .expect("integrates");
@@ -157,8 +156,7 @@ fn every_integrator_runs_the_free_slider_crank() {
     let reference = {
         let (model, _) = SliderCrank::STANDARD.model(PI / 3.0);
         let mut system = with_gravity(model);
-        let (q, qd) = system.initial_guess();
-        let start = system.assemble(0.0, &q, &qd).expect("assembles");
+        let start = assembled(&system);
         system
             .simulate(&start, &tight(0.5), &mut ())
             .expect("integrates")
@@ -172,8 +170,7 @@ fn every_integrator_runs_the_free_slider_crank() {
     ] {
         let (model, _) = SliderCrank::STANDARD.model(PI / 3.0);
         let mut system = with_gravity(model);
-        let (q, qd) = system.initial_guess();
-        let start = system.assemble(0.0, &q, &qd).expect("assembles");
+        let start = assembled(&system);
         let mut options = tight(0.5);
         options.integrator = integrator;
         let result = system

@@ -4,10 +4,10 @@ mod common;
 
 use std::f64::consts::PI;
 
-use common::{G, pendulum, with_gravity};
+use common::{G, assembled, bar, pendulum, pin, with_gravity};
 use multibody::{
-    AbsoluteTolerances, Anchor, Body, BodyId, ConstraintOwner, ForceElement, Gravity, JointId,
-    Model, OutputTimes, SimulationOptions, System,
+    AbsoluteTolerances, Anchor, BodyId, ConstraintOwner, ForceElement, ForcePartials, Gravity,
+    JointId, Model, OutputTimes, SimulationOptions, System,
 };
 
 fn tight(t_end: f64) -> SimulationOptions {
@@ -32,8 +32,7 @@ fn upward_crossings(times: &[f64], signal: impl Fn(usize) -> f64) -> Vec<f64> {
 fn small_angle_period_and_energy() {
     let (mass, length, amplitude) = (2.0, 1.0, 0.01);
     let mut system = with_gravity(pendulum(mass, length, -PI / 2.0 + amplitude));
-    let (q, qd) = system.initial_guess();
-    let start = system.assemble(0.0, &q, &qd).expect("assembles");
+    let start = assembled(&system);
     let result = system
         .simulate(&start, &tight(5.0), &mut ())
         .expect("integrates");
@@ -60,8 +59,7 @@ fn small_angle_period_and_energy() {
 fn hanging_body_reaction_equals_weight() {
     let mass = 3.5;
     let mut system = with_gravity(pendulum(mass, 0.8, -PI / 2.0));
-    let (q, qd) = system.initial_guess();
-    let start = system.assemble(0.0, &q, &qd).expect("assembles");
+    let start = assembled(&system);
     let mut options = SimulationOptions::until(0.5);
     options.output = OutputTimes::Every(0.1);
     let result = system
@@ -90,31 +88,23 @@ fn double_pendulum_energy_drift_is_bounded() {
     let length = 1.0;
     let mut model = Model::new();
     // Both links released horizontal: a chaotic, energetic motion.
-    let first = model
-        .add_body(Body::new("upper", 1.0, 1.0 / 12.0, [0.5, 0.0, 0.0]))
-        .expect("valid");
-    let second = model
-        .add_body(Body::new("lower", 1.0, 1.0 / 12.0, [1.5, 0.0, 0.0]))
-        .expect("valid");
-    model
-        .add_revolute(
-            "O",
-            Anchor::ground(0.0, 0.0),
-            Anchor::on(first, -0.5 * length, 0.0),
-        )
-        .expect("valid");
-    model
-        .add_revolute(
-            "A",
-            Anchor::on(first, 0.5 * length, 0.0),
-            Anchor::on(second, -0.5 * length, 0.0),
-        )
-        .expect("valid");
+    let first = bar(&mut model, "upper", 1.0, length, [0.5, 0.0, 0.0]);
+    let second = bar(&mut model, "lower", 1.0, length, [1.5, 0.0, 0.0]);
+    let (upper_end, lower_end) = (
+        Anchor::on(first, -0.5 * length, 0.0),
+        Anchor::on(first, 0.5 * length, 0.0),
+    );
+    pin(&mut model, "O", Anchor::ground(0.0, 0.0), upper_end);
+    pin(
+        &mut model,
+        "A",
+        lower_end,
+        Anchor::on(second, -0.5 * length, 0.0),
+    );
     let gravity = Gravity::new(&model, [0.0, -G]);
     let mut system = System::new(model).expect("valid");
     system.add_element(Box::new(gravity));
-    let (q, qd) = system.initial_guess();
-    let start = system.assemble(0.0, &q, &qd).expect("assembles");
+    let start = assembled(&system);
     let mut options = tight(10.0);
     options.output = OutputTimes::Every(1e-2);
     let result = system
@@ -146,14 +136,7 @@ impl ForceElement for BottomPassage {
         "bottom passage"
     }
     fn add_forces(&self, _t: f64, _q: &[f64], _qd: &[f64], _forces: &mut [f64]) {}
-    fn add_partials(
-        &self,
-        _t: f64,
-        _q: &[f64],
-        _qd: &[f64],
-        _partials: &mut multibody::ForcePartials<'_>,
-    ) {
-    }
+    fn add_partials(&self, _t: f64, _q: &[f64], _qd: &[f64], _partials: &mut ForcePartials<'_>) {}
     fn on_accepted_step(&mut self, _t0: f64, _t: f64, _q: &[f64], _qd: &[f64]) {
         self.steps += 1;
     }
@@ -176,8 +159,7 @@ fn events_land_on_the_bottom_passage_and_hooks_see_every_step() {
         steps: 0,
         passages: Vec::new(),
     }));
-    let (q, qd) = system.initial_guess();
-    let start = system.assemble(0.0, &q, &qd).expect("assembles");
+    let start = assembled(&system);
     let result = system
         .simulate(&start, &tight(3.0), &mut ())
         .expect("integrates");
@@ -202,8 +184,7 @@ fn events_land_on_the_bottom_passage_and_hooks_see_every_step() {
 fn max_step_bounds_every_step_without_changing_the_answer() {
     let run = |max_step: Option<f64>| {
         let mut system = with_gravity(pendulum(1.0, 1.0, -PI / 2.0 + 1.0));
-        let (q, qd) = system.initial_guess();
-        let start = system.assemble(0.0, &q, &qd).expect("assembles");
+        let start = assembled(&system);
         let mut options = tight(2.0);
         options.max_step = max_step;
         system
@@ -234,8 +215,7 @@ fn max_step_bounds_every_step_without_changing_the_answer() {
 #[test]
 fn max_steps_stops_the_run_with_a_named_error_at_the_budget() {
     let mut system = with_gravity(pendulum(1.0, 1.0, -PI / 2.0 + 1.0));
-    let (q, qd) = system.initial_guess();
-    let start = system.assemble(0.0, &q, &qd).expect("assembles");
+    let start = assembled(&system);
     let mut options = tight(2.0);
     let full = system
         .simulate(&start, &options, &mut ())
@@ -260,8 +240,7 @@ fn max_steps_stops_the_run_with_a_named_error_at_the_budget() {
 #[test]
 fn max_wall_time_stops_the_run_with_a_named_error() {
     let mut system = with_gravity(pendulum(1.0, 1.0, -PI / 2.0 + 1.0));
-    let (q, qd) = system.initial_guess();
-    let start = system.assemble(0.0, &q, &qd).expect("assembles");
+    let start = assembled(&system);
     let mut options = tight(2.0);
     // A spent budget stops the run before its first step (deterministic, no timing).
     options.max_wall_time = Some(std::time::Duration::ZERO);

@@ -17,8 +17,11 @@ use nalgebra::DMatrix;
 
 use crate::constraints::LocalDerivatives;
 use crate::error::{EvaluationError, check_len};
-use crate::force::{ForceElement, ForcePartials};
-use crate::formulation::{Equations, ForwardDifferences, first_order};
+use crate::force::{ForceElement, element_partials};
+use crate::formulation::{
+    Equations, ForwardDifferences, Integrated, check_jacobian_call, finite_difference_jacobian,
+    first_order, kinematic_rows,
+};
 use crate::linalg::{DenseCholesky, dependent_rows};
 use crate::state::{AbsoluteTolerances, State};
 use crate::system::{Baumgarte, System};
@@ -173,6 +176,28 @@ impl<'s> JointEvaluator<'s> {
         }
     }
 
+    /// Places the tree at `z, ż, z̈` (set by [`Self::coordinates`]): `q, q̇` into `y` (length
+    /// `2n`) when given, else into this evaluator's own; `c` (`q̈` but the free accelerations'
+    /// part), the joint axes and the bodies' angles into its own either way.
+    fn place(&mut self, y: Option<&mut [f64]>) {
+        let (q, qd) = match y {
+            Some(y) => y.split_at_mut(self.n),
+            None => (self.q.as_mut_slice(), self.qd.as_mut_slice()),
+        };
+        self.tree.place(
+            &self.z,
+            &self.zd,
+            &self.zdd,
+            &mut Placement {
+                q,
+                qd,
+                qdd: &mut self.qdd,
+                axes: &mut self.axes,
+                trig: &mut self.trig,
+            },
+        );
+    }
+
     /// Kinematics, forces and the reduced solve at `(t, x)`: `z̈`, `λ`, `q̈` and the residual.
     fn solve(
         &mut self,
@@ -194,18 +219,7 @@ impl<'s> JointEvaluator<'s> {
     ) -> Result<(), EvaluationError> {
         let (n, nf, ml) = (self.n, self.nf, self.ml);
         self.coordinates(t, x);
-        self.tree.place(
-            &self.z,
-            &self.zd,
-            &self.zdd,
-            &mut Placement {
-                q: &mut self.q,
-                qd: &mut self.qd,
-                qdd: &mut self.qdd,
-                axes: &mut self.axes,
-                trig: &mut self.trig,
-            },
-        );
+        self.place(None);
         for (k, &c) in self.tree.free.iter().enumerate() {
             self.tree
                 .column(c, &self.q, &self.axes, &mut self.jac[k * n..(k + 1) * n]);
@@ -405,56 +419,11 @@ impl<'s> JointEvaluator<'s> {
     }
 }
 
-/// The joint-coordinate formulation's equations, as the integration loop drives them.
+/// The joint-coordinate formulation's equations: `x = (z_free, ż_free)`.
 impl Equations for JointEvaluator<'_> {
     /// Length of the integrated state `(z_free, ż_free)`.
     fn size(&self) -> usize {
         2 * self.nf
-    }
-
-    /// The free coordinates and rates of an assembled Cartesian state.
-    fn initial_state(&mut self, state: &State) -> Vec<f64> {
-        self.tree
-            .read(&state.q, &state.qd, &mut self.z, &mut self.zd);
-        let free = &self.tree.free;
-        free.iter()
-            .map(|&c| self.z[c])
-            .chain(free.iter().map(|&c| self.zd[c]))
-            .collect()
-    }
-
-    /// Absolute tolerances of `(z, ż)`: angles for rotations, lengths for slides.
-    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64> {
-        let pick = |c: &usize, velocity: bool| match (self.tree.motion(*c), velocity) {
-            (Motion::Rotation { .. }, false) => atol.angle,
-            (Motion::Rotation { .. }, true) => atol.angular_velocity,
-            (Motion::Translation, false) => atol.position,
-            (Motion::Translation, true) => atol.velocity,
-        };
-        let free = &self.tree.free;
-        free.iter()
-            .map(|c| pick(c, false))
-            .chain(free.iter().map(|c| pick(c, true)))
-            .collect()
-    }
-
-    /// The Cartesian `(q, q̇)` of the integrated state `x` at `t`, into `y` (length `2n`).
-    fn cartesian<'a>(&mut self, t: f64, x: &'a [f64], y: &'a mut [f64]) -> &'a [f64] {
-        self.coordinates(t, x);
-        let (q, qd) = y.split_at_mut(self.n);
-        self.tree.place(
-            &self.z,
-            &self.zd,
-            &self.zdd,
-            &mut Placement {
-                q,
-                qd,
-                qdd: &mut self.qdd,
-                axes: &mut self.axes,
-                trig: &mut self.trig,
-            },
-        );
-        y
     }
 
     /// `ẋ = (ż, z̈)`; NaN and an error on a singular system.
@@ -486,25 +455,14 @@ impl Equations for JointEvaluator<'_> {
     ) -> Result<(), EvaluationError> {
         self.jacobian_evaluations += 1;
         let (n, nf, ml) = (self.n, self.nf, self.ml);
-        check_len("x", x, 2 * nf)?;
-        check_len("Jacobian entries", jacobian.as_slice(), 4 * nf * nf)?;
-        jacobian.as_mut_slice().fill(0.0);
-        for i in 0..nf {
-            jacobian[(i, nf + i)] = 1.0;
-        }
+        check_jacobian_call(2 * nf, x, jacobian)?;
+        kinematic_rows(jacobian, nf);
         if let Err(e) = self.solve(elements, t, x) {
             jacobian.fill(f64::NAN);
             return Err(e);
         }
-        self.d_dq.as_mut_slice().fill(0.0);
-        self.d_dqd.as_mut_slice().fill(0.0);
-        let mut partials = ForcePartials {
-            d_dq: &mut self.d_dq,
-            d_dqd: &mut self.d_dqd,
-        };
-        for element in elements {
-            element.add_partials(t, &self.q, &self.qd, &mut partials);
-        }
+        let state = (t, self.q.as_slice(), self.qd.as_slice());
+        element_partials(elements, state, &mut self.d_dq, &mut self.d_dqd);
         let Baumgarte { alpha, beta } = self.baumgarte;
         let constraints = self.system.constraints();
         // A = ∂G/∂q − Σ λ_k H_k, and the kept equations' rows, with w = q̈ + 2αq̇.
@@ -618,20 +576,54 @@ impl Equations for JointEvaluator<'_> {
         jacobian: &mut DMatrix<f64>,
     ) -> Result<(), EvaluationError> {
         self.jacobian_evaluations += 1;
-        check_len("x", x, 2 * self.nf)?;
-        check_len(
-            "Jacobian entries",
-            jacobian.as_slice(),
-            4 * self.nf * self.nf,
-        )?;
-        let mut differences = std::mem::take(&mut self.forward_differences);
-        let result = differences.jacobian(|v, dv| self.rhs(elements, t, v, dv), x, jacobian);
-        self.forward_differences = differences;
-        result
+        finite_difference_jacobian(
+            self,
+            |evaluator| &mut evaluator.forward_differences,
+            elements,
+            t,
+            x,
+            jacobian,
+        )
     }
 
     fn evaluations(&self) -> (usize, usize) {
         (self.rhs_evaluations, self.jacobian_evaluations)
+    }
+}
+
+/// The integration loop's view: the map between the tree's free coordinates and Cartesian ones.
+impl Integrated for JointEvaluator<'_> {
+    /// The free coordinates and rates of an assembled Cartesian state.
+    fn initial_state(&mut self, state: &State) -> Vec<f64> {
+        self.tree
+            .read(&state.q, &state.qd, &mut self.z, &mut self.zd);
+        let free = &self.tree.free;
+        free.iter()
+            .map(|&c| self.z[c])
+            .chain(free.iter().map(|&c| self.zd[c]))
+            .collect()
+    }
+
+    /// Absolute tolerances of `(z, ż)`: angles for rotations, lengths for slides.
+    fn tolerances(&self, atol: &AbsoluteTolerances) -> Vec<f64> {
+        let pick = |c: &usize, velocity: bool| match (self.tree.motion(*c), velocity) {
+            (Motion::Rotation { .. }, false) => atol.angle,
+            (Motion::Rotation { .. }, true) => atol.angular_velocity,
+            (Motion::Translation, false) => atol.position,
+            (Motion::Translation, true) => atol.velocity,
+        };
+        let free = &self.tree.free;
+        free.iter()
+            .map(|c| pick(c, false))
+            .chain(free.iter().map(|c| pick(c, true)))
+            .collect()
+    }
+
+    /// The Cartesian `(q, q̇)` of the integrated state `x` at `t`, into `y` (length `2n`).
+    fn cartesian<'a>(&mut self, t: f64, x: &'a [f64], y: &'a mut [f64]) -> &'a [f64] {
+        self.coordinates(t, x);
+        self.place(Some(&mut *y));
+        y
     }
 
     /// The equations that can drift: loop closures and unprescribed drivers.

@@ -9,7 +9,7 @@ use nalgebra::DMatrix;
 use super::{JointEvaluator, Tree};
 use crate::drive::{Harmonic, Ramp};
 use crate::force::{ForceElement, ForcePartials, Gravity};
-use crate::formulation::Equations;
+use crate::formulation::{Equations, Integrated};
 use crate::model::{Anchor, Body, Coordinate, DriveTarget, Model, RotationLock};
 use crate::{Formulation, OutputTimes, SimulationOptions, System};
 

@@ -5,10 +5,22 @@ pub mod lgres_scene;
 
 use multibody::{
     Anchor, Body, BodyId, DriveFunction, DriveTarget, ElementId, ForceElement, ForcePartials,
-    Gravity, JointId, Model, RotationLock, System,
+    Gravity, JointId, Model, RotationLock, State, System,
 };
 
 pub const G: f64 = 9.81;
+
+/// Adds a uniform bar of `mass` and `length` (centroidal inertia `m l² / 12`) at `pose`.
+pub fn bar(model: &mut Model, name: &str, mass: f64, length: f64, pose: [f64; 3]) -> BodyId {
+    model
+        .add_body(Body::new(name, mass, mass * length * length / 12.0, pose))
+        .expect("valid body")
+}
+
+/// Adds a revolute joint making the anchors `i` and `j` coincide.
+pub fn pin(model: &mut Model, name: &str, i: Anchor, j: Anchor) -> JointId {
+    model.add_revolute(name, i, j).expect("valid joint")
+}
 
 /// Slider-crank: crank length `r` pinned at the origin, rod length `l`, slider on the x axis
 /// (rotation locked). Bodies: crank, rod, slider. Returns the model and the crank joint.
@@ -42,46 +54,29 @@ impl SliderCrank {
     pub fn model(&self, phi: f64) -> (Model, JointId) {
         let q = self.positions(phi);
         let mut model = Model::new();
-        let crank = model
-            .add_body(Body::new(
-                "crank",
-                1.0,
-                1.0 * self.r * self.r / 12.0,
-                [q[0], q[1], q[2]],
-            ))
-            .expect("valid body");
-        let rod = model
-            .add_body(Body::new(
-                "rod",
-                2.0,
-                2.0 * self.l * self.l / 12.0,
-                [q[3], q[4], q[5]],
-            ))
-            .expect("valid body");
+        let crank = bar(&mut model, "crank", 1.0, self.r, [q[0], q[1], q[2]]);
+        let rod = bar(&mut model, "rod", 2.0, self.l, [q[3], q[4], q[5]]);
         let slider = model
             .add_body(Body::new("slider", 3.0, 0.01, [q[6], q[7], q[8]]))
             .expect("valid body");
-        let pivot = model
-            .add_revolute(
-                "O",
-                Anchor::ground(0.0, 0.0),
-                Anchor::on(crank, -0.5 * self.r, 0.0),
-            )
-            .expect("valid joint");
-        model
-            .add_revolute(
-                "A",
-                Anchor::on(crank, 0.5 * self.r, 0.0),
-                Anchor::on(rod, -0.5 * self.l, 0.0),
-            )
-            .expect("valid joint");
-        model
-            .add_revolute(
-                "B",
-                Anchor::on(rod, 0.5 * self.l, 0.0),
-                Anchor::on(slider, 0.0, 0.0),
-            )
-            .expect("valid joint");
+        let pivot = pin(
+            &mut model,
+            "O",
+            Anchor::ground(0.0, 0.0),
+            Anchor::on(crank, -0.5 * self.r, 0.0),
+        );
+        pin(
+            &mut model,
+            "A",
+            Anchor::on(crank, 0.5 * self.r, 0.0),
+            Anchor::on(rod, -0.5 * self.l, 0.0),
+        );
+        pin(
+            &mut model,
+            "B",
+            Anchor::on(rod, 0.5 * self.l, 0.0),
+            Anchor::on(slider, 0.0, 0.0),
+        );
         model
             .add_prismatic(
                 "guide",
@@ -148,47 +143,34 @@ impl FourBar {
     /// lengths that cannot assemble).
     pub fn model_at(&self, q: &[f64]) -> (Model, JointId) {
         let mut model = Model::new();
-        let mut bar = |name: &str, length: f64, mass: f64, k: usize| {
-            model
-                .add_body(Body::new(
-                    name,
-                    mass,
-                    mass * length * length / 12.0,
-                    [q[k], q[k + 1], q[k + 2]],
-                ))
-                .expect("valid body")
-        };
-        let crank = bar("crank", self.a, 1.0, 0);
-        let coupler = bar("coupler", self.b, 2.0, 3);
-        let rocker = bar("rocker", self.c, 1.5, 6);
-        let pivot = model
-            .add_revolute(
-                "O2",
-                Anchor::ground(0.0, 0.0),
-                Anchor::on(crank, -0.5 * self.a, 0.0),
-            )
-            .expect("valid joint");
-        model
-            .add_revolute(
-                "A",
-                Anchor::on(crank, 0.5 * self.a, 0.0),
-                Anchor::on(coupler, -0.5 * self.b, 0.0),
-            )
-            .expect("valid joint");
-        model
-            .add_revolute(
-                "B",
-                Anchor::on(coupler, 0.5 * self.b, 0.0),
-                Anchor::on(rocker, 0.5 * self.c, 0.0),
-            )
-            .expect("valid joint");
-        model
-            .add_revolute(
-                "O4",
-                Anchor::ground(self.d, 0.0),
-                Anchor::on(rocker, -0.5 * self.c, 0.0),
-            )
-            .expect("valid joint");
+        let pose = |k: usize| [q[k], q[k + 1], q[k + 2]];
+        let crank = bar(&mut model, "crank", 1.0, self.a, pose(0));
+        let coupler = bar(&mut model, "coupler", 2.0, self.b, pose(3));
+        let rocker = bar(&mut model, "rocker", 1.5, self.c, pose(6));
+        let pivot = pin(
+            &mut model,
+            "O2",
+            Anchor::ground(0.0, 0.0),
+            Anchor::on(crank, -0.5 * self.a, 0.0),
+        );
+        pin(
+            &mut model,
+            "A",
+            Anchor::on(crank, 0.5 * self.a, 0.0),
+            Anchor::on(coupler, -0.5 * self.b, 0.0),
+        );
+        pin(
+            &mut model,
+            "B",
+            Anchor::on(coupler, 0.5 * self.b, 0.0),
+            Anchor::on(rocker, 0.5 * self.c, 0.0),
+        );
+        pin(
+            &mut model,
+            "O4",
+            Anchor::ground(self.d, 0.0),
+            Anchor::on(rocker, -0.5 * self.c, 0.0),
+        );
         (model, pivot)
     }
 }
@@ -197,25 +179,18 @@ impl FourBar {
 /// `theta` (−π/2 = straight down).
 pub fn pendulum(mass: f64, length: f64, theta: f64) -> Model {
     let mut model = Model::new();
-    let rod = model
-        .add_body(Body::new(
-            "rod",
-            mass,
-            mass * length * length / 12.0,
-            [
-                0.5 * length * theta.cos(),
-                0.5 * length * theta.sin(),
-                theta,
-            ],
-        ))
-        .expect("valid body");
-    model
-        .add_revolute(
-            "pin",
-            Anchor::ground(0.0, 0.0),
-            Anchor::on(rod, -0.5 * length, 0.0),
-        )
-        .expect("valid joint");
+    let pose = [
+        0.5 * length * theta.cos(),
+        0.5 * length * theta.sin(),
+        theta,
+    ];
+    let rod = bar(&mut model, "rod", mass, length, pose);
+    pin(
+        &mut model,
+        "pin",
+        Anchor::ground(0.0, 0.0),
+        Anchor::on(rod, -0.5 * length, 0.0),
+    );
     model
 }
 
@@ -224,6 +199,19 @@ pub fn with_gravity(model: Model) -> System {
     let gravity = Gravity::new(&model, [0.0, -G]);
     let mut system = System::new(model).expect("valid model");
     system.add_element(Box::new(gravity));
+    system
+}
+
+/// `system`'s initial guess assembled at `t = 0`.
+pub fn assembled(system: &System) -> State {
+    let (q, qd) = system.initial_guess();
+    system.assemble(0.0, &q, &qd).expect("assembles")
+}
+
+/// [`with_gravity`] and `spring`: a system whose forces have partials in both q and q̇.
+pub fn with_gravity_and_spring(model: Model, spring: SpringDamper) -> System {
+    let mut system = with_gravity(model);
+    system.add_element(Box::new(spring));
     system
 }
 
@@ -239,6 +227,24 @@ pub struct SpringDamper {
 }
 
 impl SpringDamper {
+    /// A stiff spring-damper on body 1 (the four-bar's coupler), anchored far from it.
+    pub const STIFF: Self = Self {
+        body: BodyId(1),
+        point: [0.1, 0.05],
+        anchor: [0.3, 0.6],
+        stiffness: 150.0,
+        damping: 7.0,
+    };
+
+    /// A softer one on body 1 (the slider-crank's rod or the four-bar's coupler).
+    pub const SOFT: Self = Self {
+        body: BodyId(1),
+        point: [0.1, 0.0],
+        anchor: [0.2, 0.3],
+        stiffness: 80.0,
+        damping: 3.0,
+    };
+
     /// Lever arm `a = A(θ)s`, force `F` and `∂a/∂θ = a⊥`.
     fn evaluate(&self, q: &[f64], qd: &[f64]) -> ([f64; 2], [f64; 2]) {
         let k = 3 * self.body.0;
