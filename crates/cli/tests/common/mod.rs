@@ -1,10 +1,11 @@
-//! Helpers shared by the `wearsim` binary's test files.
+//! Helpers shared by the `wearsim` binary's test files. Each test file compiles this module on
+//! its own and uses part of it, hence `dead_code` allowed.
+#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// `wearsim args`, run to the end. (Not every test file uses every helper.)
-#[allow(dead_code)]
+/// `wearsim args`, run to the end.
 pub fn wearsim(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wearsim"))
         .args(args)
@@ -13,7 +14,6 @@ pub fn wearsim(args: &[&str]) -> Output {
 }
 
 /// A command's standard error as text.
-#[allow(dead_code)]
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
@@ -34,4 +34,24 @@ pub fn listing(dir: &Path) -> Vec<String> {
         .collect();
     v.sort();
     v
+}
+
+/// A copy of the default scene with `from` replaced by `to`, in a temporary file.
+pub fn edited_scene(tag: &str, from: &str, to: &str) -> PathBuf {
+    let text = lgres::scenes::source("lgres").unwrap();
+    assert!(text.contains(from));
+    let path = std::env::temp_dir().join(format!("wearsim-{tag}-{}.toml", std::process::id()));
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    path
+}
+
+/// `wearsim run SCENE --out OUT`.
+pub fn run_into(scene: &str, out: &Path) -> Output {
+    wearsim(&["run", scene, "--out", out.to_str().unwrap()])
+}
+
+pub fn write_scene(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("scene.toml");
+    std::fs::write(&path, text).unwrap();
+    path
 }
