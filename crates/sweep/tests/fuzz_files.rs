@@ -512,16 +512,7 @@ fn fuzz_sweep_files(cases: u32, seed: u8) -> Counts {
 fn fuzzed_sweep_files_are_refused_by_field_or_give_finite_bounded_samples() {
     let started = Instant::now();
     let c = fuzz_sweep_files(5000, 41);
-    let accepted = c.starting("accepted");
-    let refused: usize = c.0.values().sum::<usize>() - accepted;
-    eprintln!(
-        "sweep files: {} cases, {accepted} accepted, {refused} refused, in {:.1} s",
-        c.0.values().sum::<usize>(),
-        started.elapsed().as_secs_f64()
-    );
-    for (kind, n) in &c.0 {
-        eprintln!("  {n:4}  {kind}");
-    }
+    let (accepted, refused) = c.report("sweep files", started);
     // The mutants must reach both sides of the door, and the bounds.
     assert!(accepted >= 200 && refused >= 500, "{c:?}");
     for kind in [

@@ -411,16 +411,8 @@ fn fuzz_resume(cases: u32, seed: u8) -> Counts {
 fn fuzzed_resume_tables_are_refused_by_row_or_keep_only_finished_rows() {
     let started = Instant::now();
     let c = fuzz_resume(8000, 43);
-    let accepted = c.starting("accepted");
-    let refused = c.starting("refused");
-    eprintln!(
-        "resume tables: {} cases, {accepted} accepted, {refused} refused, in {:.1} s",
-        accepted + refused,
-        started.elapsed().as_secs_f64()
-    );
-    for (kind, n) in &c.0 {
-        eprintln!("  {n:4}  {kind}");
-    }
+    // Every kind is "accepted (…)" or "refused: …".
+    let (accepted, refused) = c.report("resume tables", started);
     assert!(accepted >= 200 && refused >= 500, "{c:?}");
     for kind in [
         "refused: sample twice",

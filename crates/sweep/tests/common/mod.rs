@@ -6,10 +6,11 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+use sweep::{Sweep, SweepError};
 
 /// A random sweep of the slider-crank with all three distributions.
 pub const RANDOM: &str = r#"
@@ -44,12 +45,27 @@ pub fn repo() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// A fresh scratch folder.
-pub fn scratch(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("sweep-fuzz-{tag}-{}", std::process::id()));
+/// A temporary folder path named after `tag` and this test process, with nothing at it (a
+/// sweep creates its output folder itself).
+pub fn fresh_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("sweep-{tag}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// A fresh, empty scratch folder.
+pub fn scratch(tag: &str) -> PathBuf {
+    let d = fresh_dir(tag);
     std::fs::create_dir_all(&d).unwrap();
     d
+}
+
+/// How sweep file `text` is refused (a test failure if it is accepted).
+pub fn refusal(text: &str) -> SweepError {
+    match Sweep::from_str(text, "t") {
+        Err(e) => e,
+        Ok(_) => panic!("accepted:\n{text}"),
+    }
 }
 
 /// A proptest runner with a fixed seed and no failure files.
@@ -84,6 +100,22 @@ impl Counts {
             .filter(|(k, _)| k.starts_with(prefix))
             .map(|(_, n)| n)
             .sum()
+    }
+
+    /// Prints the counts of door `door` since `started` (seen with `--nocapture`) and returns
+    /// how many cases were accepted and refused (every kind not starting "accepted").
+    pub fn report(&self, door: &str, started: Instant) -> (usize, usize) {
+        let total: usize = self.0.values().sum();
+        let accepted = self.starting("accepted");
+        let refused = total - accepted;
+        eprintln!(
+            "{door}: {total} cases, {accepted} accepted, {refused} refused, in {:.1} s",
+            started.elapsed().as_secs_f64()
+        );
+        for (kind, n) in &self.0 {
+            eprintln!("  {n:4}  {kind}");
+        }
+        (accepted, refused)
     }
 }
 
