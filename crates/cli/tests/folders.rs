@@ -5,7 +5,9 @@
 use std::process::Command;
 
 mod common;
-use common::{listing, run_into, scratch, stderr, wearsim, write_scene};
+use common::{
+    assert_exit, listing, quick_precision, run_into, scratch, stderr, wearsim, write_scene,
+};
 mod lock_holder;
 use lock_holder::LockHolder;
 
@@ -55,8 +57,7 @@ fn folder_with_foreign_files_is_refused_and_kept() {
     std::fs::create_dir_all(out.join("sub")).unwrap();
     std::fs::write(out.join("notes.txt"), "mine").unwrap();
     let o = run_into("lgres-ideal", &out);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("does not write"), "{}", stderr(&o));
+    assert_exit(&o, 2, "does not write");
     assert_eq!(listing(&out), ["notes.txt", "sub"]);
     assert_eq!(listing(&dir), ["out"]);
     std::fs::remove_dir_all(&dir).unwrap();
@@ -70,8 +71,7 @@ fn second_run_into_a_locked_folder_is_refused() {
     std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
     let held = LockHolder::take(&dir.join(".out.lock"));
     let o = run_into("lgres-ideal", &out);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
+    assert_exit(&o, 1, "another wearsim run");
     let holder = format!("process {}", std::process::id());
     assert!(stderr(&o).contains(&holder), "{}", stderr(&o));
     assert!(!out.exists());
@@ -146,8 +146,7 @@ fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
     std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
     let held = LockHolder::take(&dir.join(".out.lock"));
     let o = study(&out).wait_with_output().unwrap();
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
+    assert_exit(&o, 1, "another wearsim run");
     unchanged("locked");
     drop(held);
     std::fs::remove_file(dir.join(".out.lock")).unwrap();
@@ -166,8 +165,7 @@ fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
     // A file the study does not write, inside a scene folder: refused, folder kept.
     std::fs::write(out.join("lgres").join("notes.txt"), "mine").unwrap();
     let o = study(&out).wait_with_output().unwrap();
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("lgres/notes.txt"), "{}", stderr(&o));
+    assert_exit(&o, 2, "lgres/notes.txt");
     assert_eq!(listing(&out.join("lgres")), ["notes.txt", "summary.json"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -176,28 +174,12 @@ fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
 fn precision_into_a_locked_folder_is_refused_and_releases_its_lock() {
     let dir = scratch("precision-lock");
     let out = dir.join("out");
-    let precision = |out: &std::path::Path| {
-        wearsim(&[
-            "precision",
-            "lgres",
-            "--methods",
-            "bdf",
-            "--rtols",
-            "1e-3",
-            "--repeats",
-            "1",
-            "--duration",
-            "0.02",
-            "--out",
-            out.to_str().unwrap(),
-        ])
-    };
+    let precision = |out: &std::path::Path| wearsim(&quick_precision(out.to_str().unwrap()));
     // Held as a live run holds it (an advisory lock on the file).
     std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
     let held = LockHolder::take(&dir.join(".out.lock"));
     let o = precision(&out);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
+    assert_exit(&o, 1, "another wearsim run");
     assert!(!out.exists());
     drop(held);
     std::fs::remove_file(dir.join(".out.lock")).unwrap();
@@ -243,11 +225,9 @@ fn bad_out_folders_and_analysis_flags_are_bad_input() {
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
 
     let o = wearsim(&["precision", "--duration", "1e300"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("duration"), "{}", stderr(&o));
+    assert_exit(&o, 2, "duration");
     let o = wearsim(&["precision", "--repeats", "0"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("--repeats"), "{}", stderr(&o));
+    assert_exit(&o, 2, "--repeats");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -2,7 +2,7 @@
 //! penetration ending a run, clearance limits reached, a sweep's rows and its bad fields).
 
 mod common;
-use common::{listing, run_into, scratch, stderr, wearsim, write_scene};
+use common::{assert_exit, listing, run_into, scratch, stderr, wearsim, write_scene};
 
 #[test]
 fn transient_window_longer_than_the_run_prints_n_a() {
@@ -63,15 +63,9 @@ fn budgets_and_penetration_end_runs_with_exit_1_naming_the_cause() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert!(stderr(&o).contains("solver.max_steps"), "{}", stderr(&o));
+    assert_exit(&o, 1, "solver.max_steps");
     let o = wearsim(&["check", "slider-crank", "--max-wall-time", "-1"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("solver.max_wall_time"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit(&o, 2, "solver.max_wall_time");
 
     let scene = write_scene(
         &dir,
@@ -81,8 +75,7 @@ fn budgets_and_penetration_end_runs_with_exit_1_naming_the_cause() {
          [run]\ncycles = 1\nperiod = 0.2\nwear_stages = 0\n",
     );
     let o = run_into(scene.to_str().unwrap(), &out);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert!(stderr(&o).contains("peak penetration"), "{}", stderr(&o));
+    assert_exit(&o, 1, "peak penetration");
     assert_eq!(listing(&dir), ["scene.toml"], "nothing written on failure");
     std::fs::remove_dir_all(&dir).unwrap();
 }

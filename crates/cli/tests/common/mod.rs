@@ -26,6 +26,33 @@ pub fn scratch(tag: &str) -> PathBuf {
     dir
 }
 
+/// `o` ended with exit code `code` and its standard error says `needle` (a failure shows the
+/// standard error).
+#[track_caller]
+pub fn assert_exit(o: &Output, code: i32, needle: &str) {
+    assert_eq!(o.status.code(), Some(code), "{}", stderr(o));
+    assert!(stderr(o).contains(needle), "{}", stderr(o));
+}
+
+/// The arguments of the quickest `precision` run into `out`: one method, one tolerance, one
+/// repeat of 0.02 s of the LGRES.
+pub fn quick_precision(out: &str) -> [&str; 12] {
+    [
+        "precision",
+        "lgres",
+        "--methods",
+        "bdf",
+        "--rtols",
+        "1e-3",
+        "--repeats",
+        "1",
+        "--duration",
+        "0.02",
+        "--out",
+        out,
+    ]
+}
+
 /// Names in `dir` (hidden ones included), sorted.
 pub fn listing(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
@@ -50,8 +77,14 @@ pub fn run_into(scene: &str, out: &Path) -> Output {
     wearsim(&["run", scene, "--out", out.to_str().unwrap()])
 }
 
-pub fn write_scene(dir: &Path, text: &str) -> PathBuf {
-    let path = dir.join("scene.toml");
+/// `text` as a file `name` in `dir`.
+pub fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
     path
+}
+
+/// `text` as `scene.toml` in `dir`.
+pub fn write_scene(dir: &Path, text: &str) -> PathBuf {
+    write_file(dir, "scene.toml", text)
 }
