@@ -67,12 +67,13 @@
 //!
 //! # Layout and the lower crates' types
 //! The data types are in `types`, loading and `extends` in `extends`, a scene given by name or
-//! path in `named`, the named scenes in `builtins`, the per-field checks in `validate`, the numeric limits in [`limits`] and the
-//! rules for names that become file names in [`file_names`]. Contact laws, materials, the sliding choice,
-//! the integrator and driven coordinates are `contact`'s and `multibody`'s own serde types,
-//! re-exported here; `contact` also reads the spellings of older scene files
-//! (`law = "hertz-lankarani-nikravesh"`, `impact_velocity_floor`, `v0`, `v1`) and checks their
-//! ranges, which validation reports under the parameter's field path.
+//! path in `named`, the named scenes in `builtins`, the per-field checks in `validate`, the
+//! numeric limits in [`limits`] and the rules for names that become file names in
+//! [`file_names`]. Contact laws, materials, the sliding choice, the integrator and driven
+//! coordinates are `contact`'s and `multibody`'s own serde types, re-exported here; `contact`
+//! also reads the spellings of older scene files (`law = "hertz-lankarani-nikravesh"`,
+//! `impact_velocity_floor`, `v0`, `v1`) and checks their ranges, which validation reports under
+//! the parameter's field path.
 
 #![warn(missing_docs)]
 
