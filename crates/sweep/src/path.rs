@@ -229,6 +229,14 @@ fn tagged(variant: &str, value: Value) -> Value {
     Value::Object(m)
 }
 
+/// `value` as an enum variant's content (`{variant: value}`) if it is one, else as it is.
+fn tagged_if(variant: Option<&str>, value: Value) -> Value {
+    match variant {
+        Some(v) => tagged(v, value),
+        None => value,
+    }
+}
+
 /// The integer methods of [`KeepNonFinite`]: every integer as serde_json writes it.
 macro_rules! integers {
     ($($method:ident: $t:ty),* $(,)?) => {
@@ -379,11 +387,7 @@ impl Seq {
     }
 
     fn done(self) -> Value {
-        let items = Value::Array(self.items);
-        match self.variant {
-            Some(v) => tagged(v, items),
-            None => items,
-        }
+        tagged_if(self.variant, Value::Array(self.items))
     }
 }
 
@@ -425,11 +429,7 @@ impl Object {
     }
 
     fn done(self) -> Value {
-        let map = Value::Object(self.map);
-        match self.variant {
-            Some(v) => tagged(v, map),
-            None => map,
-        }
+        tagged_if(self.variant, Value::Object(self.map))
     }
 }
 

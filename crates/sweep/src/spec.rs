@@ -75,16 +75,6 @@ fn bad(
     }
 }
 
-/// `Ok` if `extreme`, the farthest draw a distribution makes, is a finite number; else the
-/// refusal `refuse` builds (its message says which draw overflows).
-fn within_range(extreme: f64, refuse: impl FnOnce() -> SweepError) -> Result<(), SweepError> {
-    if extreme.is_finite() {
-        Ok(())
-    } else {
-        Err(refuse())
-    }
-}
-
 /// Parse the file text (`origin` names it in errors).
 pub(crate) fn parse(text: &str, origin: &str) -> Result<File, SweepError> {
     let de = toml::Deserializer::parse(text).map_err(|source| SweepError::Toml {
@@ -240,15 +230,15 @@ impl VaryFile {
                 let mean = finite(f("mean"), self.mean, "mean")?;
                 let sd = positive_finite(f("sd"), self.sd, "sd")?;
                 let z = Sampler::largest_z();
-                within_range(mean.abs() + sd * z, || {
-                    bad(
+                if !(mean.abs() + sd * z).is_finite() {
+                    return Err(bad(
                         f("sd"),
                         sd,
                         format!(
                             "draws reach mean ± {z:.2}·sd (mean = {mean}), beyond the largest number"
                         ),
-                    )
-                })?;
+                    ));
+                }
                 Sampler::Normal { mean, sd }
             }
             (None, Some("log-normal")) => {
@@ -256,15 +246,15 @@ impl VaryFile {
                 let median = positive_finite(f("median"), self.median, "median")?;
                 let sigma = positive_finite(f("sigma"), self.sigma, "sigma (of ln x)")?;
                 let z = Sampler::largest_z();
-                within_range(median * (sigma * z).exp(), || {
-                    bad(
+                if !(median * (sigma * z).exp()).is_finite() {
+                    return Err(bad(
                         f("sigma"),
                         sigma,
                         format!(
                             "draws reach median·exp({z:.2}·sigma) (median = {median}), beyond the largest number"
                         ),
-                    )
-                })?;
+                    ));
+                }
                 Sampler::LogNormal { median, sigma }
             }
             (None, Some(other)) => {

@@ -1,10 +1,10 @@
 //! Input robustness: non-finite metrics are never `ok` (neither run nor resumed), and a value
 //! written into an integer scene field must be a whole number in the field's range.
 
-use sweep::{LocalOptions, Mode, Row, Sampler, Status, Sweep, SweepError};
+use sweep::{Mode, Row, Sampler, Status, Sweep, SweepError};
 
 mod common;
-use common::{fresh_dir, refusal};
+use common::{fresh_dir, refusal, resume};
 
 /// One sample, one metric (a quick slider-crank run).
 const ONE: &str = r#"
@@ -77,18 +77,7 @@ fn resume_runs_again_an_ok_row_whose_metric_is_not_finite() {
     assert!(kept.is_empty(), "{kept:?}");
     // A finite ok row and a failed row are done; only the NaN one runs again.
     write_csv(&s, &out, &[(0, "-inf", "ok"), (1, "2.5e-5", "ok")]);
-    let mut ran = Vec::new();
-    let rows = sweep::run_local(
-        &s,
-        &out,
-        &LocalOptions {
-            jobs: 1,
-            resume: true,
-        },
-        None,
-        &mut |r, _, _| ran.push(r.sample),
-    )
-    .unwrap();
+    let (rows, ran) = resume(&s, &out);
     assert_eq!(ran, vec![0]);
     assert_eq!(rows.len(), 2);
     assert_eq!(rows[0].status, Status::Ok, "{}", rows[0].error);

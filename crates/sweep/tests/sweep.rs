@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use sweep::{LocalOptions, Mode, Status, Sweep, SweepError};
 
 mod common;
-use common::{fresh_dir, refusal};
+use common::{fresh_dir, refusal, resume};
 
 const GRID: &str = r#"
 scene = "slider-crank"
@@ -253,18 +253,7 @@ fn threads_one_by_one_and_resume_give_the_same_file() {
     // Resume: keep two rows, run the other three only.
     rows.retain(|r| r.sample % 2 == 1);
     sweep::table::write_rows(&s, &rows, &b.join("samples.csv")).unwrap();
-    let mut ran = Vec::new();
-    sweep::run_local(
-        &s,
-        &b,
-        &LocalOptions {
-            jobs: 1,
-            resume: true,
-        },
-        None,
-        &mut |r, _, _| ran.push(r.sample),
-    )
-    .unwrap();
+    let (_, mut ran) = resume(&s, &b);
     ran.sort_unstable();
     assert_eq!(ran, vec![0, 2, 4]);
     assert_eq!(without_wall_time(&text(&a)), without_wall_time(&text(&b)));

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
-use sweep::{Sweep, SweepError};
+use sweep::{LocalOptions, Row, Sweep, SweepError};
 
 /// A random sweep of the slider-crank with all three distributions.
 pub const RANDOM: &str = r#"
@@ -58,6 +58,24 @@ pub fn scratch(tag: &str) -> PathBuf {
     let d = fresh_dir(tag);
     std::fs::create_dir_all(&d).unwrap();
     d
+}
+
+/// Resumes `sweep` into `out` on one thread: every row of the sweep, and the samples that ran
+/// (in the order they finished).
+pub fn resume(sweep: &Sweep, out: &Path) -> (Vec<Row>, Vec<usize>) {
+    let mut ran = Vec::new();
+    let rows = sweep::run_local(
+        sweep,
+        out,
+        &LocalOptions {
+            jobs: 1,
+            resume: true,
+        },
+        None,
+        &mut |r, _, _| ran.push(r.sample),
+    )
+    .unwrap();
+    (rows, ran)
 }
 
 /// How sweep file `text` is refused (a test failure if it is accepted).
