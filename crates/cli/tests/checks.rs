@@ -14,13 +14,19 @@ fn check_default_scene_succeeds() {
     assert!(out.contains(": 4"), "{out}");
 }
 
-#[test]
-fn bad_value_exits_2_naming_the_field() {
-    let path = edited_scene("bad", "clearance = 0.0005", "clearance = -0.0005");
+/// `wearsim check` on the default scene with `from` replaced by `to`, which must exit 2; its
+/// standard error.
+fn check_edited(tag: &str, from: &str, to: &str) -> String {
+    let path = edited_scene(tag, from, to);
     let o = wearsim(&["check", path.to_str().unwrap()]);
     std::fs::remove_file(&path).unwrap();
     assert_eq!(o.status.code(), Some(2));
-    let e = stderr(&o);
+    stderr(&o)
+}
+
+#[test]
+fn bad_value_exits_2_naming_the_field() {
+    let e = check_edited("bad", "clearance = 0.0005", "clearance = -0.0005");
     assert!(
         e.contains("clearance_joints[0].clearance = -0.0005: must be positive"),
         "{e}"
@@ -30,11 +36,7 @@ fn bad_value_exits_2_naming_the_field() {
 
 #[test]
 fn unknown_key_is_rejected_with_its_line() {
-    let path = edited_scene("unknown", "mass = 6.32", "mass = 6.32\ncolour = \"red\"");
-    let o = wearsim(&["check", path.to_str().unwrap()]);
-    std::fs::remove_file(&path).unwrap();
-    assert_eq!(o.status.code(), Some(2));
-    let e = stderr(&o);
+    let e = check_edited("unknown", "mass = 6.32", "mass = 6.32\ncolour = \"red\"");
     assert!(e.contains("colour") && e.contains("line"), "{e}");
 }
 
