@@ -19,7 +19,7 @@
 
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use numpy::{PyArray1, PyArray2};
 use pyo3::create_exception;
