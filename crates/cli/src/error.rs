@@ -1,7 +1,7 @@
 //! Why `wearsim` stopped, and the exit code each reason gives (2 bad input, 1 could not run).
 
 use lgres::io::output::OutputError;
-use scene::SceneError;
+use scene::{LoadError, NotFound, SceneError};
 use sim::RunError;
 
 /// Why `wearsim` stopped.
@@ -11,8 +11,8 @@ pub(crate) enum CliError {
     #[error(transparent)]
     Scene(#[from] SceneError),
     /// Neither a built-in name nor an existing file.
-    #[error("no built-in scene and no file named {0:?} (see `wearsim scenes`)")]
-    NoSuchScene(String),
+    #[error("{0} (see `wearsim scenes`)")]
+    NoSuchScene(#[from] NotFound),
     /// The run failed, or its scene does not assemble.
     #[error(transparent)]
     Run(#[from] RunError),
@@ -46,6 +46,15 @@ pub(crate) enum CliError {
         /// Where the setting goes instead, if anywhere (starts with "; ").
         hint: &'static str,
     },
+}
+
+impl From<LoadError> for CliError {
+    fn from(e: LoadError) -> Self {
+        match e {
+            LoadError::NotFound(e) => e.into(),
+            LoadError::Scene(e) => e.into(),
+        }
+    }
 }
 
 impl CliError {

@@ -155,17 +155,7 @@ fn in_scene(spec: &str, e: RunError) -> CliError {
 
 /// Load a built-in scene by name, else a file; apply command-line overrides and re-validate.
 fn load(spec: &str, o: &Overrides) -> Result<Loaded, CliError> {
-    let (name, mut scene) = if scenes::source(spec).is_some() {
-        (spec.to_string(), scenes::builtin(spec)?)
-    } else if Path::new(spec).is_file() {
-        let path = Path::new(spec);
-        let stem = path
-            .file_stem()
-            .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned());
-        (stem, scene::load_path(path, lgres::scenes::BUILTINS)?)
-    } else {
-        return Err(CliError::NoSuchScene(spec.to_string()));
-    };
+    let (name, mut scene) = scene::load_named::<Scene>(spec, None, scenes::BUILTINS)?;
     let overrides = o.run_overrides();
     let origin = if overrides == sim::overrides::RunOverrides::default() {
         spec.to_string()

@@ -4,20 +4,13 @@
 
 #![cfg(unix)]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 mod common;
-use common::{listing, scratch, stderr, wearsim};
+use common::{assert_exit, listing, quick_precision, scratch, stderr, wearsim, write_file};
 mod lock_holder;
 use lock_holder::LockHolder;
-
-/// `text` as a scene file `name` in `dir`.
-fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
-    let path = dir.join(name);
-    std::fs::write(&path, text).unwrap();
-    path
-}
 
 /// Runs `wearsim args` with standard output (and, if `stderr_too`, standard error) a pipe
 /// whose reading end is already closed: every write fails with a broken pipe.
@@ -85,8 +78,7 @@ fn a_lock_held_by_a_live_run_is_refused_even_before_its_pid_is_written() {
     // A live owner that has created its lock file but not yet written its pid.
     let lock = LockHolder::take(&dir.join(".out.lock"));
     let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
-    assert!(stderr(&o).contains("another wearsim run"), "{}", stderr(&o));
+    assert_exit(&o, 1, "another wearsim run");
     assert!(!out.exists());
     assert_eq!(
         listing(&dir),
@@ -191,19 +183,9 @@ fn check_refuses_the_issues_trajectories_and_cycles_per_stage() {
         "extends = \"lgres\"\n[run]\ntrajectories = 3\ncycles_per_stage = 2\n",
     );
     let o = wearsim(&["check", scene.to_str().unwrap(), "--cycles-per-stage", "2"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("run.trajectories = 3"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit(&o, 2, "run.trajectories = 3");
     let o = wearsim(&["check", "lgres", "--cycles-per-stage", "20000"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("run.cycles_per_stage"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit(&o, 2, "run.cycles_per_stage");
     assert!(
         stderr(&o).contains("in scene lgres as run (K = 20000"),
         "{}",
@@ -253,8 +235,7 @@ fn settings_without_a_bound_on_work_are_refused_naming_the_field() {
         assert!(stderr(&o).contains(field), "{patch}: {}", stderr(&o));
     }
     let o = wearsim(&["study", "wear-stages", "--stage-cycles", "1e20"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("stage-cycles = 1e20"), "{}", stderr(&o));
+    assert_exit(&o, 2, "stage-cycles = 1e20");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -409,8 +390,7 @@ fn out_through_a_symlink_writes_the_linked_folder_and_keeps_the_link() {
     let dangling = dir.join("dangling");
     std::os::unix::fs::symlink(dir.join("nowhere"), &dangling).unwrap();
     let o = wearsim(&["run", "lgres-ideal", "--out", dangling.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("symbolic link"), "{}", stderr(&o));
+    assert_exit(&o, 2, "symbolic link");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -426,16 +406,10 @@ fn messages_write_extreme_numbers_short() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(stderr(&o).contains("1e300 s is longer"), "{}", stderr(&o));
+    assert_exit(&o, 2, "1e300 s is longer");
     assert!(stderr(&o).len() < 300, "{}", stderr(&o));
     let o = wearsim(&["study", "wear-stages", "--stage-cycles", "1e-300"]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    assert!(
-        stderr(&o).contains("stage-cycles = 1e-300"),
-        "{}",
-        stderr(&o)
-    );
+    assert_exit(&o, 2, "stage-cycles = 1e-300");
     assert_eq!(listing(&dir), Vec::<String>::new(), "nothing written");
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -470,24 +444,7 @@ fn every_command_survives_closed_pipes() {
         (vec!["scenes"], CLOSED_PIPE, false),
         (vec!["check", bad], 2, false),
         (vec!["study", "clearance", "--stage-cycles", "0"], 2, false),
-        (
-            vec![
-                "precision",
-                "lgres",
-                "--methods",
-                "bdf",
-                "--rtols",
-                "1e-3",
-                "--repeats",
-                "1",
-                "--duration",
-                "0.02",
-                "--out",
-                out,
-            ],
-            CLOSED_PIPE,
-            true,
-        ),
+        (quick_precision(out).to_vec(), CLOSED_PIPE, true),
         (vec!["sweep", sweep, "--out", out], CLOSED_PIPE, true),
     ]);
     for (args, code, both) in &cases {

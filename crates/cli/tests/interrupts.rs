@@ -49,9 +49,12 @@ fn moments() -> Vec<f64> {
         .collect()
 }
 
-/// Interrupts `args` (which write into `out` inside `dir`) at the fixed moments, after one
-/// uninterrupted run whose folder is the "previous" output; `whole` checks a finished folder.
-fn fuzz_interrupts(dir: &Path, out: &Path, args: &[&str], whole: &dyn Fn(&Path)) -> (u32, u32) {
+/// Interrupts `args` (which write into `out` inside `dir`, removed first) at the fixed moments,
+/// after one uninterrupted run whose folder is the "previous" output; `whole` checks a
+/// finished folder. Prints how many of the moments stopped `command` and how many came after
+/// it had finished.
+fn fuzz_interrupts(command: &str, dir: &Path, out: &Path, args: &[&str], whole: &dyn Fn(&Path)) {
+    let _ = std::fs::remove_dir_all(out);
     let (code, length) = interrupted(args, Duration::from_secs(3600));
     assert_eq!(code, Some(0), "{args:?} runs uninterrupted");
     whole(out);
@@ -72,7 +75,7 @@ fn fuzz_interrupts(dir: &Path, out: &Path, args: &[&str], whole: &dyn Fn(&Path))
         // Either untouched (the previous run's whole output) or the new one, whole.
         whole(out);
     }
-    (stopped, finished)
+    eprintln!("{command}: {stopped} interrupted, {finished} finished first");
 }
 
 #[test]
@@ -88,21 +91,21 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
         assert!(summary.trim_end().ends_with('}'), "summary.json cut short");
     };
-    let (stopped, finished) = fuzz_interrupts(
+    fuzz_interrupts(
+        "run",
         &dir,
         &out,
         &["run", "slider-crank", "--cycles", "1", "--out", o],
         &run_whole,
     );
-    eprintln!("run: {stopped} interrupted, {finished} finished first");
 
     let precision_whole = |out: &Path| {
         let names = listing(out);
         assert!(names.iter().any(|n| n.ends_with(".csv")), "{names:?}");
         assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
     };
-    let _ = std::fs::remove_dir_all(&out);
-    let (stopped, finished) = fuzz_interrupts(
+    fuzz_interrupts(
+        "precision",
         &dir,
         &out,
         &[
@@ -123,7 +126,6 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         ],
         &precision_whole,
     );
-    eprintln!("precision: {stopped} interrupted, {finished} finished first");
 
     // A quick study (a stage stands for 1e4 cycles) with two scene runs at once, so the
     // signal also lands while both write their folders and while the report is drawn.
@@ -138,8 +140,8 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         let page = std::fs::read_to_string(out.join("report.html")).unwrap();
         assert!(page.ends_with("</html>\n"), "report.html cut short");
     };
-    let _ = std::fs::remove_dir_all(&out);
-    let (stopped, finished) = fuzz_interrupts(
+    fuzz_interrupts(
+        "study",
         &dir,
         &out,
         &[
@@ -158,7 +160,6 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         ],
         &study_whole,
     );
-    eprintln!("study: {stopped} interrupted, {finished} finished first");
 
     // `sweep` and `stress` write into their folder in place (under a lock): whatever the moment,
     // no lock or temporary file stays, and every file there is whole.
@@ -197,8 +198,8 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
             assert!(page.ends_with("</html>\n"), "samples.html cut short");
         }
     };
-    let _ = std::fs::remove_dir_all(&out);
-    let (stopped, finished) = fuzz_interrupts(
+    fuzz_interrupts(
+        "sweep",
         &dir,
         &out,
         &[
@@ -211,7 +212,6 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         ],
         &sweep_whole,
     );
-    eprintln!("sweep: {stopped} interrupted, {finished} finished first");
 
     let stress_whole = |out: &Path| {
         let names = listing(out);
@@ -220,14 +220,13 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
             serde_json::from_str::<serde_json::Value>(&json).expect("stress.json whole");
         }
     };
-    let _ = std::fs::remove_dir_all(&out);
-    let (stopped, finished) = fuzz_interrupts(
+    fuzz_interrupts(
+        "stress",
         &dir,
         &out,
         &["stress", "--quick", "--out", o],
         &stress_whole,
     );
-    eprintln!("stress: {stopped} interrupted, {finished} finished first");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 

@@ -19,7 +19,7 @@
 
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use numpy::{PyArray1, PyArray2};
 use pyo3::create_exception;
@@ -78,20 +78,13 @@ fn scenes() -> BTreeMap<&'static str, &'static str> {
         .collect()
 }
 
-/// A built-in name or a file path → (name outputs are filed under, merged table).
+/// A built-in name or a file path → (name outputs are filed under, merged table). Neither
+/// raises the unknown-built-in error, which lists the known names.
 fn load_table(spec: &str) -> Result<(String, toml::Table), scene::SceneError> {
-    if let Some(text) = lgres::scenes::source(spec) {
-        return Ok((
-            spec.to_string(),
-            scene::merged_table(text, spec, None, lgres::scenes::BUILTINS)?,
-        ));
-    }
-    let path = Path::new(spec);
-    if !path.is_file() {
-        // The built-in error lists the known names.
-        lgres::scenes::builtin(spec)?;
-    }
-    scene::merged_table_of_file(path, lgres::scenes::BUILTINS)
+    scene::load_named(spec, None, lgres::scenes::BUILTINS).map_err(|e| match e {
+        scene::LoadError::NotFound(e) => e.into_unknown_builtin(),
+        scene::LoadError::Scene(e) => e,
+    })
 }
 
 fn toml_to_py<'py>(py: Python<'py>, v: &toml::Value) -> PyResult<Bound<'py, PyAny>> {

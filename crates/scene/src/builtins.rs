@@ -17,3 +17,12 @@ pub struct Builtin {
 pub fn source(builtins: &[Builtin], name: &str) -> Option<&'static str> {
     builtins.iter().find(|b| b.name == name).map(|b| b.source)
 }
+
+/// The comma-separated names of `builtins`, for errors that list them.
+pub(crate) fn known_names(builtins: &[Builtin]) -> String {
+    builtins
+        .iter()
+        .map(|b| b.name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}

@@ -4,7 +4,7 @@
 use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
-use super::builtins::{Builtin, source};
+use super::builtins::{Builtin, known_names, source};
 use super::{Issue, Scene, SceneError};
 
 /// How many `extends` levels are followed before giving up (guards against cycles).
@@ -22,11 +22,7 @@ pub fn load_str(text: &str, origin: &str, builtins: &[Builtin]) -> Result<Scene,
 pub fn builtin(builtins: &[Builtin], name: &str) -> Result<Scene, SceneError> {
     let text = source(builtins, name).ok_or_else(|| SceneError::UnknownBuiltin {
         name: name.to_string(),
-        known: builtins
-            .iter()
-            .map(|b| b.name)
-            .collect::<Vec<_>>()
-            .join(", "),
+        known: known_names(builtins),
     })?;
     load_str(text, name, builtins)
 }
@@ -310,11 +306,15 @@ pub fn merged_table_of_file(
     builtins: &[Builtin],
 ) -> Result<(String, toml::Table), SceneError> {
     let text = read(path)?;
-    let stem = path
-        .file_stem()
-        .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned());
+    let stem = file_stem_name(path);
     let table = merged_table(&text, &path.display().to_string(), path.parent(), builtins)?;
     Ok((stem, table))
+}
+
+/// The name a scene file's outputs are filed under: its stem, `scene` if it has none.
+pub(crate) fn file_stem_name(path: &Path) -> String {
+    path.file_stem()
+        .map_or_else(|| "scene".to_string(), |s| s.to_string_lossy().into_owned())
 }
 
 /// Deserialize and validate a scene table (e.g. from [`merged_table`], edited); a type error

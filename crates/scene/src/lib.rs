@@ -11,6 +11,8 @@
 //! `extends` (see below) against a list of named scenes ([`Builtin`]: the LGRES model ships
 //! its own, `lgres::scenes::BUILTINS`) and run [`Scene::validate`], so a scene returned by them
 //! names only existing bodies, has finite numbers and physically meaningful parameters.
+//! A scene given as "a built-in name or a file path" (the command line, the Python bindings,
+//! sweep files) is found and loaded by [`load_named`].
 //!
 //! ```
 //! use scene::{BodyRef, Builtin, builtin, load_str};
@@ -64,13 +66,14 @@
 //! the study variants a few lines each and the reconstructed geometry in one file.
 //!
 //! # Layout and the lower crates' types
-//! The data types are in `types`, loading and `extends` in `extends`, the named scenes in
-//! `builtins`, the per-field checks in `validate`, the numeric limits in [`limits`] and the
-//! rules for names that become file names in [`file_names`]. Contact laws, materials, the sliding choice,
-//! the integrator and driven coordinates are `contact`'s and `multibody`'s own serde types,
-//! re-exported here; `contact` also reads the spellings of older scene files
-//! (`law = "hertz-lankarani-nikravesh"`, `impact_velocity_floor`, `v0`, `v1`) and checks their
-//! ranges, which validation reports under the parameter's field path.
+//! The data types are in `types`, loading and `extends` in `extends`, a scene given by name or
+//! path in `named`, the named scenes in `builtins`, the per-field checks in `validate`, the
+//! numeric limits in [`limits`] and the rules for names that become file names in
+//! [`file_names`]. Contact laws, materials, the sliding choice, the integrator and driven
+//! coordinates are `contact`'s and `multibody`'s own serde types, re-exported here; `contact`
+//! also reads the spellings of older scene files (`law = "hertz-lankarani-nikravesh"`,
+//! `impact_velocity_floor`, `v0`, `v1`) and checks their ranges, which validation reports under
+//! the parameter's field path.
 
 #![warn(missing_docs)]
 
@@ -81,6 +84,7 @@ mod error;
 mod extends;
 pub mod file_names;
 pub mod limits;
+mod named;
 mod run_settings;
 mod types;
 mod validate;
@@ -89,6 +93,7 @@ pub use builtins::{Builtin, source};
 pub use contact_spec::{ContactModelName, ContactSpec, LayerCalibration};
 pub use error::{Issue, SceneError};
 pub use extends::{builtin, from_table, load_path, load_str, merged_table, merged_table_of_file};
+pub use named::{LoadError, Loadable, NotFound, load_named};
 pub use run_settings::{DEFAULT_WEAR_SMOOTHING_DEG, RunSettings};
 pub use types::*;
 

@@ -82,7 +82,7 @@ fn row_cells(r: &Row) -> Vec<Td> {
             .iter()
             .map(|m| Td::num(m.map_or_else(|| "n/a".into(), |v| lgres::io::report::sig(v, 4)))),
     );
-    let done = r.status == Status::Ok && r.non_finite_metric().is_none();
+    let done = r.written_status() == Status::Ok;
     cells.push(Td::Verdict(if done { "ok" } else { "failed" }.into(), done));
     cells.push(Td::text(&r.error));
     cells.push(Td::num(format!("{:.3} s", r.wall_time_s)));

@@ -229,6 +229,23 @@ fn tagged(variant: &str, value: Value) -> Value {
     Value::Object(m)
 }
 
+/// `value` as an enum variant's content (`{variant: value}`) if it is one, else as it is.
+fn tagged_if(variant: Option<&str>, value: Value) -> Value {
+    match variant {
+        Some(v) => tagged(v, value),
+        None => value,
+    }
+}
+
+/// The integer methods of [`KeepNonFinite`]: every integer as serde_json writes it.
+macro_rules! integers {
+    ($($method:ident: $t:ty),* $(,)?) => {
+        $(fn $method(self, v: $t) -> Result<Value, Error> {
+            Ok(Value::from(v))
+        })*
+    };
+}
+
 impl ser::Serializer for KeepNonFinite {
     type Ok = Value;
     type Error = Error;
@@ -243,30 +260,16 @@ impl ser::Serializer for KeepNonFinite {
     fn serialize_bool(self, v: bool) -> Result<Value, Error> {
         Ok(Value::Bool(v))
     }
-    fn serialize_i8(self, v: i8) -> Result<Value, Error> {
-        Ok(Value::from(v))
-    }
-    fn serialize_i16(self, v: i16) -> Result<Value, Error> {
-        Ok(Value::from(v))
-    }
-    fn serialize_i32(self, v: i32) -> Result<Value, Error> {
-        Ok(Value::from(v))
-    }
-    fn serialize_i64(self, v: i64) -> Result<Value, Error> {
-        Ok(Value::from(v))
-    }
-    fn serialize_u8(self, v: u8) -> Result<Value, Error> {
-        Ok(Value::from(v))
-    }
-    fn serialize_u16(self, v: u16) -> Result<Value, Error> {
-        Ok(Value::from(v))
-    }
-    fn serialize_u32(self, v: u32) -> Result<Value, Error> {
-        Ok(Value::from(v))
-    }
-    fn serialize_u64(self, v: u64) -> Result<Value, Error> {
-        Ok(Value::from(v))
-    }
+    integers!(
+        serialize_i8: i8,
+        serialize_i16: i16,
+        serialize_i32: i32,
+        serialize_i64: i64,
+        serialize_u8: u8,
+        serialize_u16: u16,
+        serialize_u32: u32,
+        serialize_u64: u64,
+    );
     fn serialize_f32(self, v: f32) -> Result<Value, Error> {
         self.serialize_f64(f64::from(v))
     }
@@ -384,57 +387,33 @@ impl Seq {
     }
 
     fn done(self) -> Value {
-        let items = Value::Array(self.items);
-        match self.variant {
-            Some(v) => tagged(v, items),
-            None => items,
-        }
+        tagged_if(self.variant, Value::Array(self.items))
     }
 }
 
-impl ser::SerializeSeq for Seq {
-    type Ok = Value;
-    type Error = Error;
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
-        self.push(value)
-    }
-    fn end(self) -> Result<Value, Error> {
-        Ok(self.done())
-    }
+/// serde's four sequence traits, the same for [`Seq`] but for the name of the method that adds
+/// an item.
+macro_rules! sequence {
+    ($($trait:ident: $method:ident),* $(,)?) => {
+        $(impl ser::$trait for Seq {
+            type Ok = Value;
+            type Error = Error;
+            fn $method<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
+                self.push(value)
+            }
+            fn end(self) -> Result<Value, Error> {
+                Ok(self.done())
+            }
+        })*
+    };
 }
 
-impl ser::SerializeTuple for Seq {
-    type Ok = Value;
-    type Error = Error;
-    fn serialize_element<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
-        self.push(value)
-    }
-    fn end(self) -> Result<Value, Error> {
-        Ok(self.done())
-    }
-}
-
-impl ser::SerializeTupleStruct for Seq {
-    type Ok = Value;
-    type Error = Error;
-    fn serialize_field<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
-        self.push(value)
-    }
-    fn end(self) -> Result<Value, Error> {
-        Ok(self.done())
-    }
-}
-
-impl ser::SerializeTupleVariant for Seq {
-    type Ok = Value;
-    type Error = Error;
-    fn serialize_field<T: Serialize + ?Sized>(&mut self, value: &T) -> Result<(), Error> {
-        self.push(value)
-    }
-    fn end(self) -> Result<Value, Error> {
-        Ok(self.done())
-    }
-}
+sequence!(
+    SerializeSeq: serialize_element,
+    SerializeTuple: serialize_element,
+    SerializeTupleStruct: serialize_field,
+    SerializeTupleVariant: serialize_field,
+);
 
 /// A map (or struct) under construction; `variant` wraps it as `{variant: {...}}`.
 struct Object {
@@ -450,11 +429,7 @@ impl Object {
     }
 
     fn done(self) -> Value {
-        let map = Value::Object(self.map);
-        match self.variant {
-            Some(v) => tagged(v, map),
-            None => map,
-        }
+        tagged_if(self.variant, Value::Object(self.map))
     }
 }
 
@@ -483,32 +458,24 @@ impl ser::SerializeMap for Object {
     }
 }
 
-impl ser::SerializeStruct for Object {
-    type Ok = Value;
-    type Error = Error;
-    fn serialize_field<T: Serialize + ?Sized>(
-        &mut self,
-        key: &'static str,
-        value: &T,
-    ) -> Result<(), Error> {
-        self.insert(key.to_string(), value)
-    }
-    fn end(self) -> Result<Value, Error> {
-        Ok(self.done())
-    }
+/// serde's two struct traits, the same for [`Object`]: fields are keys.
+macro_rules! structure {
+    ($($trait:ident),*) => {
+        $(impl ser::$trait for Object {
+            type Ok = Value;
+            type Error = Error;
+            fn serialize_field<T: Serialize + ?Sized>(
+                &mut self,
+                key: &'static str,
+                value: &T,
+            ) -> Result<(), Error> {
+                self.insert(key.to_string(), value)
+            }
+            fn end(self) -> Result<Value, Error> {
+                Ok(self.done())
+            }
+        })*
+    };
 }
 
-impl ser::SerializeStructVariant for Object {
-    type Ok = Value;
-    type Error = Error;
-    fn serialize_field<T: Serialize + ?Sized>(
-        &mut self,
-        key: &'static str,
-        value: &T,
-    ) -> Result<(), Error> {
-        self.insert(key.to_string(), value)
-    }
-    fn end(self) -> Result<Value, Error> {
-        Ok(self.done())
-    }
-}
+structure!(SerializeStruct, SerializeStructVariant);

@@ -63,6 +63,24 @@ impl Row {
             .find_map(|(k, m)| m.filter(|v| !v.is_finite()).map(|v| (k, v)))
     }
 
+    /// The NaN or infinite metric, as (metric index, value), that an `ok` row is written as
+    /// failed for (rows file and page alike): such a row has no result to keep. `None` for a
+    /// failed row (its own error says why) and for an `ok` row whose metrics are finite.
+    pub fn non_finite_ok_metric(&self) -> Option<(usize, f64)> {
+        self.non_finite_metric()
+            .filter(|_| self.status == Status::Ok)
+    }
+
+    /// The status the rows file and the page write: failed for an `ok` row with a non-finite
+    /// metric ([`Row::non_finite_ok_metric`]), else the row's own.
+    pub fn written_status(&self) -> Status {
+        if self.non_finite_ok_metric().is_some() {
+            Status::Failed
+        } else {
+            self.status
+        }
+    }
+
     /// Whether a resumed sweep keeps this row: a failed row, or an `ok` one, whose metrics are
     /// all finite (or missing). A row with a NaN metric (an older version's, or an edited
     /// file's: [`write_rows`] writes none) is not a result: its sample runs again.

@@ -354,19 +354,12 @@ pub(crate) fn base_scene(
     spec: &str,
     dir: Option<&Path>,
 ) -> Result<(String, toml::Table), SweepError> {
-    if let Some(text) = lgres::scenes::source(spec) {
-        return Ok((
-            spec.to_string(),
-            scene::merged_table(text, spec, None, lgres::scenes::BUILTINS)?,
-        ));
-    }
-    let path = dir.map_or_else(|| Path::new(spec).to_path_buf(), |d| d.join(spec));
-    if !path.is_file() {
-        return Err(bad(
+    scene::load_named(spec, dir, lgres::scenes::BUILTINS).map_err(|e| match e {
+        scene::LoadError::NotFound(_) => bad(
             "scene",
             spec,
             "no built-in scene and no file of this name (relative to the sweep file)",
-        ));
-    }
-    Ok(scene::merged_table_of_file(&path, lgres::scenes::BUILTINS)?)
+        ),
+        scene::LoadError::Scene(e) => e.into(),
+    })
 }

@@ -44,17 +44,14 @@ pub fn write_rows(sweep: &Sweep, rows: &[Row], path: &Path) -> Result<PathBuf, O
                 .iter()
                 .map(|m| m.filter(|v| v.is_finite()).map(number).unwrap_or_default()),
         );
-        match r.non_finite_metric().filter(|_| r.status == Status::Ok) {
+        cells.push(r.written_status().as_str().to_string());
+        cells.push(match r.non_finite_ok_metric() {
             Some((k, v)) => {
                 let name = sweep.metrics.get(k).map_or("?", String::as_str);
-                cells.push(Status::Failed.as_str().to_string());
-                cells.push(format!("metric {name} is not finite ({v})"));
+                format!("metric {name} is not finite ({v})")
             }
-            None => {
-                cells.push(r.status.as_str().to_string());
-                cells.push(r.error.clone());
-            }
-        }
+            None => r.error.clone(),
+        });
         cells.push(format!("{:.3}", r.wall_time_s));
         w.write_record(&cells).map_err(csv_err)?;
     }

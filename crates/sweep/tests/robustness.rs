@@ -1,9 +1,10 @@
 //! Input robustness: non-finite metrics are never `ok` (neither run nor resumed), and a value
 //! written into an integer scene field must be a whole number in the field's range.
 
-use std::path::PathBuf;
+use sweep::{Mode, Row, Sampler, Status, Sweep, SweepError};
 
-use sweep::{LocalOptions, Mode, Row, Sampler, Status, Sweep, SweepError};
+mod common;
+use common::{fresh_dir, refusal, resume};
 
 /// One sample, one metric (a quick slider-crank run).
 const ONE: &str = r#"
@@ -17,21 +18,21 @@ name = "clearance"
 values = [5e-4, 4e-4]
 "#;
 
-fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("sweep-robust-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
+/// The message of the refusal of `text`, which must be a bad value named by its field.
 fn field_error(text: &str) -> String {
-    match Sweep::from_str(text, "t") {
-        Err(e @ SweepError::Field { .. }) => {
+    match refusal(text) {
+        e @ SweepError::Field { .. } => {
             assert!(e.is_bad_input());
             e.to_string()
         }
-        Err(e) => panic!("expected a field error, got {e}"),
-        Ok(_) => panic!("accepted:\n{text}"),
+        e => panic!("expected a field error, got {e}"),
     }
+}
+
+/// `text` is refused naming a field, in a message containing every one of `needles`.
+fn refused_naming(text: &str, needles: &[&str]) {
+    let e = field_error(text);
+    assert!(needles.iter().all(|n| e.contains(n)), "{e}");
 }
 
 /// A grid sweep of slider-crank varying `path` over `values` (no `[run]`: it would override).
@@ -69,25 +70,14 @@ fn cells(csv: &str) -> Vec<(&str, &str)> {
 #[test]
 fn resume_runs_again_an_ok_row_whose_metric_is_not_finite() {
     let s = Sweep::from_str(ONE, "one").unwrap();
-    let out = temp_dir("resume-nan");
+    let out = fresh_dir("resume-nan");
     write_csv(&s, &out, &[(0, "NaN", "ok"), (1, "inf", "ok")]);
     let (todo, kept) = sweep::pending(&s, &out, true).unwrap();
     assert_eq!(todo, vec![0, 1], "kept {kept:?}");
     assert!(kept.is_empty(), "{kept:?}");
     // A finite ok row and a failed row are done; only the NaN one runs again.
     write_csv(&s, &out, &[(0, "-inf", "ok"), (1, "2.5e-5", "ok")]);
-    let mut ran = Vec::new();
-    let rows = sweep::run_local(
-        &s,
-        &out,
-        &LocalOptions {
-            jobs: 1,
-            resume: true,
-        },
-        None,
-        &mut |r, _, _| ran.push(r.sample),
-    )
-    .unwrap();
+    let (rows, ran) = resume(&s, &out);
     assert_eq!(ran, vec![0]);
     assert_eq!(rows.len(), 2);
     assert_eq!(rows[0].status, Status::Ok, "{}", rows[0].error);
@@ -111,7 +101,7 @@ fn resume_runs_again_an_ok_row_whose_metric_is_not_finite() {
 #[test]
 fn an_ok_row_with_a_non_finite_metric_is_written_as_failed() {
     let s = Sweep::from_str(ONE, "one").unwrap();
-    let out = temp_dir("write-nan");
+    let out = fresh_dir("write-nan");
     let row = |sample: usize, metric: f64| Row {
         sample,
         inputs: s.input_values(sample),
@@ -144,45 +134,43 @@ fn an_ok_row_with_a_non_finite_metric_is_written_as_failed() {
 
 #[test]
 fn a_fraction_in_an_integer_field_is_refused_up_front() {
-    let e = field_error(&grid("run.cycles", "[1, 2.5]"));
-    assert!(
-        e.contains("vary[0].values[1]") && e.contains("run.cycles = 2.5: must be a whole number"),
-        "{e}"
+    refused_naming(
+        &grid("run.cycles", "[1, 2.5]"),
+        &[
+            "vary[0].values[1]",
+            "run.cycles = 2.5: must be a whole number",
+        ],
     );
     // Integer fields the base scene leaves to their defaults are integers too.
-    let e = field_error(&grid("run.cycles_per_stage", "[2.5]"));
-    assert!(
-        e.contains("run.cycles_per_stage = 2.5: must be a whole number"),
-        "{e}"
+    refused_naming(
+        &grid("run.cycles_per_stage", "[2.5]"),
+        &["run.cycles_per_stage = 2.5: must be a whole number"],
     );
-    let e = field_error(&grid("run.wear_stages", "[0.5]"));
-    assert!(e.contains("run.wear_stages = 0.5"), "{e}");
+    refused_naming(
+        &grid("run.wear_stages", "[0.5]"),
+        &["run.wear_stages = 0.5"],
+    );
     // A distribution draws fractions: refused on an integer field.
-    let e = field_error(
+    refused_naming(
         &grid("run.cycles", "[1]")
             .replace(
                 "values = [1]",
                 "distribution = \"uniform\"\nlow = 1\nhigh = 3",
             )
             .replace("metrics", "samples = 2\nseed = 1\nmetrics"),
-    );
-    assert!(
-        e.contains("vary[0].distribution") && e.contains("run.cycles"),
-        "{e}"
+        &["vary[0].distribution", "run.cycles"],
     );
 }
 
 #[test]
 fn a_value_beyond_the_integer_type_is_refused_up_front() {
-    let e = field_error(&grid("run.cycles", "[5e9]"));
-    assert!(
-        e.contains("run.cycles = 5e9") && e.contains("0 to 4294967295"),
-        "{e}"
+    refused_naming(
+        &grid("run.cycles", "[5e9]"),
+        &["run.cycles = 5e9", "0 to 4294967295"],
     );
-    let e = field_error(&grid("run.cycles", "[-1]"));
-    assert!(
-        e.contains("run.cycles = -1") && e.contains("0 to 4294967295"),
-        "{e}"
+    refused_naming(
+        &grid("run.cycles", "[-1]"),
+        &["run.cycles = -1", "0 to 4294967295"],
     );
     // usize: beyond i64 (what TOML holds) used to saturate to 9.2e18 cells.
     let text = r#"
@@ -209,7 +197,7 @@ fn whole_values_reach_integer_fields_exactly() {
     assert_eq!(s.scene(1).unwrap().run.cycles, 3);
     // A float field whose base value is written as an integer (`inertia = 1`) is not rounded:
     // the field's type decides, not how the base scene happens to spell its value.
-    let dir = temp_dir("float-field");
+    let dir = fresh_dir("float-field");
     std::fs::create_dir_all(&dir).unwrap();
     let scene = lgres::scenes::source("slider-crank").unwrap().replacen(
         "inertia = 1.0e-4",

@@ -4,6 +4,9 @@ use std::path::PathBuf;
 
 use sweep::{LocalOptions, Mode, Status, Sweep, SweepError};
 
+mod common;
+use common::{fresh_dir, refusal, resume};
+
 const GRID: &str = r#"
 scene = "slider-crank"
 metrics = ["response.joints.rod-slider.max_penetration_m", "response.dissipated_per_cycle_j"]
@@ -36,56 +39,66 @@ mean = 0.8
 sd = 0.05
 "#;
 
-fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("sweep-test-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
+/// The message of the refusal of `text`, which must name a field (a bad value or type).
 fn field_error(text: &str) -> String {
-    match Sweep::from_str(text, "t") {
-        Err(e @ (SweepError::Field { .. } | SweepError::Type { .. })) => e.to_string(),
-        Err(e) => panic!("expected a field error, got {e}"),
-        Ok(_) => panic!("accepted:\n{text}"),
+    match refusal(text) {
+        e @ (SweepError::Field { .. } | SweepError::Type { .. }) => e.to_string(),
+        e => panic!("expected a field error, got {e}"),
     }
 }
 
 #[test]
 fn bad_files_name_the_field() {
-    let e = field_error(&RANDOM.replace("low = 3e-4", "lo = 3e-4"));
-    assert!(e.contains("vary[0]") && e.contains("lo"), "{e}");
-    let e = field_error(&RANDOM.replace("\"uniform\"", "\"uniformly\""));
-    assert!(
-        e.contains("vary[0].distribution") && e.contains("uniformly"),
-        "{e}"
-    );
-    let e = field_error(&RANDOM.replace("high = 6e-4", "high = 2e-4"));
-    assert!(e.contains("vary[0].high"), "{e}");
-    let e = field_error(&RANDOM.replace("seed = 11\n", ""));
-    assert!(e.contains("seed"), "{e}");
-    let e = field_error(&RANDOM.replace("sd = 0.05", "sd = -0.05"));
-    assert!(e.contains("vary[1].sd"), "{e}");
-    let e = field_error(&RANDOM.replace("rod-slider.clearance", "rod-slider.clearence"));
-    assert!(e.contains("vary[0].path") && e.contains("clearence"), "{e}");
-    let e = field_error(&RANDOM.replace("clearance_joints.rod-slider", "clearance_joints.B"));
-    assert!(
-        e.contains("vary[0].path") && e.contains("names: rod-slider"),
-        "{e}"
-    );
-    let e = field_error(&RANDOM.replace("\"response.joints", "\"respons.joints"));
-    assert!(e.contains("metrics[0]"), "{e}");
-    let e = field_error(&GRID.replace(
-        "values = [4e-4, -1e-4]",
-        "distribution = \"uniform\"\nlow = 1e-4\nhigh = 2e-4",
-    ));
-    assert!(e.contains("vary[1].values"), "{e}");
-    let e = field_error(&GRID.replace("[run]", "samples = 3\n[run]"));
-    assert!(e.contains("samples"), "{e}");
-    let e = field_error(&RANDOM.replace("cycles = 1", "cycles = \"one\""));
-    assert!(e.contains("run.cycles"), "{e}");
-    // Refused up front, not by every sample.
-    let e = field_error(&RANDOM.replace("cycles = 1", "cycles = 1\nwear_tolerance = 2.0"));
-    assert!(e.contains("run.wear_tolerance = 2"), "{e}");
+    // (base file, text replaced, replacement, what the message must contain)
+    let cases: &[(&str, &str, &str, &[&str])] = &[
+        (RANDOM, "low = 3e-4", "lo = 3e-4", &["vary[0]", "lo"]),
+        (
+            RANDOM,
+            "\"uniform\"",
+            "\"uniformly\"",
+            &["vary[0].distribution", "uniformly"],
+        ),
+        (RANDOM, "high = 6e-4", "high = 2e-4", &["vary[0].high"]),
+        (RANDOM, "seed = 11\n", "", &["seed"]),
+        (RANDOM, "sd = 0.05", "sd = -0.05", &["vary[1].sd"]),
+        (
+            RANDOM,
+            "rod-slider.clearance",
+            "rod-slider.clearence",
+            &["vary[0].path", "clearence"],
+        ),
+        (
+            RANDOM,
+            "clearance_joints.rod-slider",
+            "clearance_joints.B",
+            &["vary[0].path", "names: rod-slider"],
+        ),
+        (
+            RANDOM,
+            "\"response.joints",
+            "\"respons.joints",
+            &["metrics[0]"],
+        ),
+        (
+            GRID,
+            "values = [4e-4, -1e-4]",
+            "distribution = \"uniform\"\nlow = 1e-4\nhigh = 2e-4",
+            &["vary[1].values"],
+        ),
+        (GRID, "[run]", "samples = 3\n[run]", &["samples"]),
+        (RANDOM, "cycles = 1", "cycles = \"one\"", &["run.cycles"]),
+        // Refused up front, not by every sample.
+        (
+            RANDOM,
+            "cycles = 1",
+            "cycles = 1\nwear_tolerance = 2.0",
+            &["run.wear_tolerance = 2"],
+        ),
+    ];
+    for (base, from, to, needles) in cases {
+        let e = field_error(&base.replace(from, to));
+        assert!(needles.iter().all(|n| e.contains(n)), "{e}");
+    }
 }
 
 #[test]
@@ -143,7 +156,7 @@ fn grid_runs_every_combination_and_a_bad_sample_is_a_row() {
     assert_eq!(s.samples(), 4);
     assert_eq!(s.input_values(1), vec![4e-4, 523.5988]);
     assert_eq!(s.input_values(2), vec![-1e-4, 400.0]);
-    let out = temp_dir("grid");
+    let out = fresh_dir("grid");
     let mut seen = 0;
     let rows = sweep::run_local(
         &s,
@@ -204,7 +217,7 @@ fn without_wall_time(text: &str) -> String {
 #[test]
 fn threads_one_by_one_and_resume_give_the_same_file() {
     let s = Sweep::from_str(RANDOM, "r").unwrap();
-    let (a, b) = (temp_dir("a"), temp_dir("b"));
+    let (a, b) = (fresh_dir("a"), fresh_dir("b"));
     let two = sweep::run_local(
         &s,
         &a,
@@ -240,18 +253,7 @@ fn threads_one_by_one_and_resume_give_the_same_file() {
     // Resume: keep two rows, run the other three only.
     rows.retain(|r| r.sample % 2 == 1);
     sweep::table::write_rows(&s, &rows, &b.join("samples.csv")).unwrap();
-    let mut ran = Vec::new();
-    sweep::run_local(
-        &s,
-        &b,
-        &LocalOptions {
-            jobs: 1,
-            resume: true,
-        },
-        None,
-        &mut |r, _, _| ran.push(r.sample),
-    )
-    .unwrap();
+    let (_, mut ran) = resume(&s, &b);
     ran.sort_unstable();
     assert_eq!(ran, vec![0, 2, 4]);
     assert_eq!(without_wall_time(&text(&a)), without_wall_time(&text(&b)));

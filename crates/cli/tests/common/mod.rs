@@ -1,10 +1,11 @@
-//! Helpers shared by the `wearsim` binary's test files.
+//! Helpers shared by the `wearsim` binary's test files. Each test file compiles this module on
+//! its own and uses part of it, hence `dead_code` allowed.
+#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// `wearsim args`, run to the end. (Not every test file uses every helper.)
-#[allow(dead_code)]
+/// `wearsim args`, run to the end.
 pub fn wearsim(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wearsim"))
         .args(args)
@@ -13,7 +14,6 @@ pub fn wearsim(args: &[&str]) -> Output {
 }
 
 /// A command's standard error as text.
-#[allow(dead_code)]
 pub fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
@@ -26,6 +26,33 @@ pub fn scratch(tag: &str) -> PathBuf {
     dir
 }
 
+/// `o` ended with exit code `code` and its standard error says `needle` (a failure shows the
+/// standard error).
+#[track_caller]
+pub fn assert_exit(o: &Output, code: i32, needle: &str) {
+    assert_eq!(o.status.code(), Some(code), "{}", stderr(o));
+    assert!(stderr(o).contains(needle), "{}", stderr(o));
+}
+
+/// The arguments of the quickest `precision` run into `out`: one method, one tolerance, one
+/// repeat of 0.02 s of the LGRES.
+pub fn quick_precision(out: &str) -> [&str; 12] {
+    [
+        "precision",
+        "lgres",
+        "--methods",
+        "bdf",
+        "--rtols",
+        "1e-3",
+        "--repeats",
+        "1",
+        "--duration",
+        "0.02",
+        "--out",
+        out,
+    ]
+}
+
 /// Names in `dir` (hidden ones included), sorted.
 pub fn listing(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
@@ -34,4 +61,30 @@ pub fn listing(dir: &Path) -> Vec<String> {
         .collect();
     v.sort();
     v
+}
+
+/// A copy of the default scene with `from` replaced by `to`, in a temporary file.
+pub fn edited_scene(tag: &str, from: &str, to: &str) -> PathBuf {
+    let text = lgres::scenes::source("lgres").unwrap();
+    assert!(text.contains(from));
+    let path = std::env::temp_dir().join(format!("wearsim-{tag}-{}.toml", std::process::id()));
+    std::fs::write(&path, text.replacen(from, to, 1)).unwrap();
+    path
+}
+
+/// `wearsim run SCENE --out OUT`.
+pub fn run_into(scene: &str, out: &Path) -> Output {
+    wearsim(&["run", scene, "--out", out.to_str().unwrap()])
+}
+
+/// `text` as a file `name` in `dir`.
+pub fn write_file(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// `text` as `scene.toml` in `dir`.
+pub fn write_scene(dir: &Path, text: &str) -> PathBuf {
+    write_file(dir, "scene.toml", text)
 }

@@ -1,0 +1,300 @@
+//! The `wearsim` binary's output folders: replaced whole, locked, refused when foreign or not a
+//! folder, kept whole through signals, names that would escape them refused, special files
+//! refused without leaving anything behind.
+
+use std::process::Command;
+
+mod common;
+use common::{
+    assert_exit, listing, quick_precision, run_into, scratch, stderr, wearsim, write_scene,
+};
+mod lock_holder;
+use lock_holder::LockHolder;
+
+#[test]
+fn joint_name_escaping_out_is_rejected_before_any_file_is_written() {
+    let dir = scratch("escape");
+    let text = lgres::scenes::source("slider-crank").unwrap();
+    for name in ["x/../../../E", "a/b", "bad\\u0000name", &"n".repeat(300)] {
+        let scene = write_scene(
+            &dir,
+            &text.replace("name = \"rod-slider\"", &format!("name = \"{name}\"")),
+        );
+        let out = dir.join("out");
+        let o = run_into(scene.to_str().unwrap(), &out);
+        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("clearance_joints[0].name"),
+            "{}",
+            stderr(&o)
+        );
+        assert_eq!(listing(&dir), ["scene.toml"], "{name}");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn run_replaces_the_output_folder_whole() {
+    let dir = scratch("replace");
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("summary.json"), "{\"old\": true}").unwrap();
+    std::fs::write(out.join("wear_Z_stage1.csv"), "old").unwrap();
+    let o = run_into("lgres-ideal", &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(!summary.contains("\"old\""), "{summary}");
+    assert!(!out.join("wear_Z_stage1.csv").exists());
+    assert!(listing(&out).iter().all(|n| !n.starts_with('.')));
+    assert_eq!(listing(&dir), ["out"], "staging folder or lock left behind");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn folder_with_foreign_files_is_refused_and_kept() {
+    let dir = scratch("foreign");
+    let out = dir.join("out");
+    std::fs::create_dir_all(out.join("sub")).unwrap();
+    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let o = run_into("lgres-ideal", &out);
+    assert_exit(&o, 2, "does not write");
+    assert_eq!(listing(&out), ["notes.txt", "sub"]);
+    assert_eq!(listing(&dir), ["out"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn second_run_into_a_locked_folder_is_refused() {
+    let dir = scratch("lock");
+    let out = dir.join("out");
+    // A live process (this test) holds the lock: refused at once, naming it, nothing written.
+    std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
+    let held = LockHolder::take(&dir.join(".out.lock"));
+    let o = run_into("lgres-ideal", &out);
+    assert_exit(&o, 1, "another wearsim run");
+    let holder = format!("process {}", std::process::id());
+    assert!(stderr(&o).contains(&holder), "{}", stderr(&o));
+    assert!(!out.exists());
+    drop(held);
+    // A lock whose process is gone (killed run: the system released it) is taken over.
+    std::fs::write(dir.join(".out.lock"), "999999999").unwrap();
+    let o = run_into("lgres-ideal", &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(listing(&dir), ["out"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn signals_leave_the_previous_folder_and_no_temporary_files() {
+    let dir = scratch("signal");
+    let out = dir.join("out");
+    let o = run_into("lgres-ideal", &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let before = listing(&out);
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    for signal in ["-TERM", "-INT"] {
+        // The default scene runs for many seconds; interrupt it while it simulates.
+        let child = Command::new(env!("CARGO_BIN_EXE_wearsim"))
+            .args(["run", "lgres", "--out", out.to_str().unwrap()])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(1500));
+        let kill = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .unwrap();
+        assert!(kill.success());
+        let o = child.wait_with_output().unwrap();
+        assert_eq!(o.status.code(), Some(130), "{signal}: {}", stderr(&o));
+        assert_eq!(listing(&out), before, "{signal}");
+        assert_eq!(
+            std::fs::read_to_string(out.join("summary.json")).unwrap(),
+            summary
+        );
+        assert_eq!(listing(&dir), ["out"], "{signal}: staging or lock left");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
+    let dir = scratch("study-staged");
+    let out = dir.join("out");
+    // A previous study: a report and one scene's run folder.
+    std::fs::create_dir_all(out.join("lgres")).unwrap();
+    std::fs::write(out.join("report.md"), "previous report").unwrap();
+    std::fs::write(out.join("lgres").join("summary.json"), "{}").unwrap();
+    let study = |out: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_wearsim"))
+            .args(["study", "wear-stages", "--out", out.to_str().unwrap()])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    let unchanged = |what: &str| {
+        assert_eq!(listing(&out), ["lgres", "report.md"], "{what}");
+        assert_eq!(
+            std::fs::read_to_string(out.join("report.md")).unwrap(),
+            "previous report",
+            "{what}"
+        );
+    };
+    // Held by a live process (this test, with an advisory lock on it): refused at once.
+    std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
+    let held = LockHolder::take(&dir.join(".out.lock"));
+    let o = study(&out).wait_with_output().unwrap();
+    assert_exit(&o, 1, "another wearsim run");
+    unchanged("locked");
+    drop(held);
+    std::fs::remove_file(dir.join(".out.lock")).unwrap();
+    // Interrupted while its scenes run: the previous study stays, nothing hidden is left.
+    let child = study(&out);
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    unchanged("interrupted");
+    assert_eq!(listing(&dir), ["out"], "staging or lock left");
+    // A file the study does not write, inside a scene folder: refused, folder kept.
+    std::fs::write(out.join("lgres").join("notes.txt"), "mine").unwrap();
+    let o = study(&out).wait_with_output().unwrap();
+    assert_exit(&o, 2, "lgres/notes.txt");
+    assert_eq!(listing(&out.join("lgres")), ["notes.txt", "summary.json"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn precision_into_a_locked_folder_is_refused_and_releases_its_lock() {
+    let dir = scratch("precision-lock");
+    let out = dir.join("out");
+    let precision = |out: &std::path::Path| wearsim(&quick_precision(out.to_str().unwrap()));
+    // Held as a live run holds it (an advisory lock on the file).
+    std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
+    let held = LockHolder::take(&dir.join(".out.lock"));
+    let o = precision(&out);
+    assert_exit(&o, 1, "another wearsim run");
+    assert!(!out.exists());
+    drop(held);
+    std::fs::remove_file(dir.join(".out.lock")).unwrap();
+    let o = precision(&out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(out.join("precision.md").exists());
+    assert_eq!(listing(&dir), ["out"], "lock left behind");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// An `--out` that cannot be a run's folder is bad input (exit 2, the folder named), for every
+/// command that writes one; nothing is left behind. And the analysis commands' flags are
+/// checked before any work: `precision --duration 1e300` panicked on a capacity overflow and
+/// `--repeats 0` reported NaN run times.
+#[test]
+fn bad_out_folders_and_analysis_flags_are_bad_input() {
+    let dir = scratch("bad-out");
+    let file = dir.join("a-file");
+    std::fs::write(&file, "mine").unwrap();
+    let through = format!("{}/x/../y", dir.display());
+    for out in [
+        file.to_str().unwrap(),
+        "/",
+        through.as_str(),
+        "/proc/wearsim-out",
+    ] {
+        for command in [
+            &["run", "lgres-ideal"][..],
+            &["precision", "--repeats", "1"][..],
+        ] {
+            let mut args = command.to_vec();
+            args.extend(["--out", out]);
+            let o = wearsim(&args);
+            assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+            assert!(
+                stderr(&o).contains("output folder"),
+                "{args:?}: {}",
+                stderr(&o)
+            );
+        }
+    }
+    assert_eq!(listing(&dir), ["a-file"], "nothing left behind");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
+
+    let o = wearsim(&["precision", "--duration", "1e300"]);
+    assert_exit(&o, 2, "duration");
+    let o = wearsim(&["precision", "--repeats", "0"]);
+    assert_exit(&o, 2, "--repeats");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A run that replaces an existing folder keeps the folder's permissions (a read-only folder
+/// stayed 555 only until the first run made it 755).
+#[cfg(unix)]
+#[test]
+fn replaced_folder_keeps_its_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = scratch("mode");
+    let out = dir.join("out");
+    let o = run_into("lgres-ideal", &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o555)).unwrap();
+    let o = run_into("lgres-ideal", &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mode = std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o555);
+    std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o755)).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--surfaces` pointing at a FIFO (it blocked forever) or a link to `/dev/zero` (it aborted on
+/// a 4 GiB allocation) is bad input, at once, and leaves no lock or staging folder behind.
+#[cfg(unix)]
+#[test]
+fn special_wear_files_are_refused_and_leave_nothing_behind() {
+    let dir = scratch("special");
+    let surfaces = dir.join("worn");
+    std::fs::create_dir_all(&surfaces).unwrap();
+    // Joint A reads a valid (unworn) file; joint B's is the special one.
+    let mut valid = String::from("angle [deg],bearing_depth [m],pin_depth [m]\n");
+    for k in 0..1000 {
+        valid.push_str(&format!("{},0,0\n", (k as f64 + 0.5) * 0.36));
+    }
+    std::fs::write(surfaces.join("wear_A_stage1.csv"), valid).unwrap();
+    let b = surfaces.join("wear_B_stage1.csv");
+    let out = dir.join("out");
+    for special in ["fifo", "/dev/zero"] {
+        let _ = std::fs::remove_file(&b);
+        if special == "fifo" {
+            let made = Command::new("mkfifo").arg(&b).status();
+            assert!(made.is_ok_and(|s| s.success()), "mkfifo");
+        } else {
+            std::os::unix::fs::symlink(special, &b).unwrap();
+        }
+        let o = wearsim(&[
+            "run",
+            "lgres",
+            "--cycles",
+            "1",
+            "--surfaces",
+            surfaces.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2), "{special}: {}", stderr(&o));
+        let e = stderr(&o);
+        assert!(
+            e.contains("wear_B_stage1.csv: not a regular file"),
+            "{special}: {e}"
+        );
+        assert_eq!(
+            listing(&dir),
+            ["worn"],
+            "{special}: lock or staging left behind"
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
