@@ -1,6 +1,6 @@
 //! Why `wearsim` stopped, and the exit code each reason gives (2 bad input, 1 could not run).
 
-use lgres::io::output::OutputError;
+use output::files::OutputError;
 use scene::SceneError;
 use sim::RunError;
 

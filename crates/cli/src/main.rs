@@ -1,7 +1,7 @@
 //! `wearsim`: the command line of the worn-clearance-joint toolkit.
 //!
 //! Thin by design: it parses arguments, loads and validates scenes through `lgres`, runs them
-//! with [`sim::run_scene`], writes the outputs with [`lgres::write_run`], shows progress
+//! with [`sim::run_scene`], writes the outputs with [`output::write_run`], shows progress
 //! bars and maps errors to exit codes (0 success, 1 could not run, 2 bad input). `study` runs
 //! [`lgres::analysis::study`] (see the `study` module).
 
@@ -279,12 +279,12 @@ fn run(spec: &str, no_animation: bool, o: &Overrides) -> Result<(), CliError> {
     let options = o.run_overrides().run_options();
     // Lock the folder before simulating, so a second run is refused at once; files go to a
     // staging folder that replaces `out` whole only when every file is written.
-    let staged = lgres::io::output::StagedDir::begin(&out)?;
+    let staged = output::files::StagedDir::begin(&out)?;
     let mut bars = progress::Bars::new();
     let outcome =
         sim::run_scene(&name, &scene, &options, &mut bars).map_err(|e| in_scene(spec, e))?;
     drop(bars);
-    let files = lgres::write_run(&outcome, staged.path())?;
+    let files = output::write_run(&outcome, staged.path())?;
     staged.commit()?;
     print_summary(&outcome, &out, files.len());
     Ok(())
@@ -499,7 +499,7 @@ fn stress(quick: bool, o: &Overrides) -> Result<(), CliError> {
         .out
         .clone()
         .unwrap_or_else(|| Path::new("out").join("stress"));
-    let _lock = lgres::io::output::FolderLock::take(&out)?;
+    let _lock = output::files::FolderLock::take(&out)?;
     let options = lgres::analysis::stress::StressOptions {
         quick,
         ..Default::default()
@@ -552,7 +552,7 @@ fn precision(spec: &str, args: &PrecisionArgs<'_>, o: &Overrides) -> Result<(), 
         .out
         .clone()
         .unwrap_or_else(|| Path::new("out").join("precision"));
-    let _lock = lgres::io::output::FolderLock::take(&out)?;
+    let _lock = output::files::FolderLock::take(&out)?;
     let mut options = lgres::analysis::precision::PrecisionOptions {
         repeats: args.repeats,
         duration: args.duration,
@@ -621,7 +621,7 @@ fn main() -> ExitCode {
     // On SIGINT/SIGTERM remove the staging folder and lock of a run in progress and say what
     // each output folder holds.
     if let Err(e) = ctrlc::set_handler(|| {
-        let left = lgres::io::output::abandon_staged();
+        let left = output::files::abandon_staged();
         if left.is_empty() {
             errln!("wearsim: interrupted; no output folder was being written");
         }
@@ -726,7 +726,7 @@ fn main() -> ExitCode {
         // The work is done (an output folder is complete), but what it printed was lost.
         Ok(()) if console::stdout_closed() => ExitCode::from(console::EXIT_CLOSED_PIPE),
         Ok(()) => ExitCode::SUCCESS,
-        Err(_) if lgres::io::output::is_abandoned() => {
+        Err(_) if output::files::is_abandoned() => {
             // The interrupt handler removed the output under a writer, which failed for that
             // reason only: the handler is about to report the interrupt and exit with 130, so
             // this thread must not exit first with the writer's error and 1.

@@ -44,7 +44,7 @@ pub fn run(name: &str, stage_cycles: Option<f64>, o: &Overrides) -> Result<(), C
     }
     // Every option checked before the folder is touched.
     options.check()?;
-    let staged = lgres::io::output::StagedDir::begin_study(&out)?;
+    let staged = output::files::StagedDir::begin_study(&out)?;
     options.out = staged.path().to_path_buf();
     outln!(
         "study {name}: {} response cycles per scene, K = {} cycles per wear stage, {} run(s) at \

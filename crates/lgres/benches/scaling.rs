@@ -19,7 +19,7 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use lgres::family::{ChainParams, chain};
-use lgres::io::plot::{Panel, Series, log_panels};
+use output::plot::{Panel, Series, log_panels};
 use multibody::{Formulation, LinearSolverKind, OutputTimes, SimulationOptions};
 
 /// Clearance at every 5th joint.

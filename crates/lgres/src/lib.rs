@@ -40,7 +40,6 @@
 
 pub mod analysis;
 pub mod family;
-pub mod io;
 pub mod scenes;
 
-pub use io::artifacts::write_run;
+pub use output::write_run;

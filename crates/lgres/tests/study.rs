@@ -118,7 +118,7 @@ fn tiny_study_writes_a_report_listing_every_scene() {
     assert!(page[verdicts..].contains("<table>"));
     for figure in ["extrapolation_wear_A.png", "clearance_wear_B.png"] {
         let bytes = std::fs::read(dir.join(figure)).unwrap();
-        let uri = lgres::io::html::data_uri("image/png", &bytes);
+        let uri = output::html::data_uri("image/png", &bytes);
         assert!(page.contains(&uri), "{figure} embedded");
     }
     for key in &keys {

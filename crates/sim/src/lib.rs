@@ -8,7 +8,7 @@
 //! then the wear stages, with every summary number kept in memory ([`RunOutcome`]).
 //!
 //! [`run_scene`] is what the CLI's `run` calls and what a study loop can call repeatedly; it
-//! writes nothing (`lgres::io::artifacts` does) and reports progress through [`Progress`].
+//! writes nothing (`output::artifacts` does) and reports progress through [`Progress`].
 //!
 //! ```
 //! const CRANK: &str = r#"
@@ -109,7 +109,7 @@ pub use summary::{
 pub use validity::MIN_ELASTIC_SHARE;
 
 /// Most frames an animation shows: one drive cycle in at most this many poses
-/// ([`MechanismFrames`], `lgres::io::animation`).
+/// ([`MechanismFrames`], `output::animation`).
 pub const MAX_ANIMATION_FRAMES: usize = 72;
 
 /// What [`check_assembly`] found.

@@ -197,7 +197,7 @@ fn line_of_centres_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_e
         // Stopped at the slope limit 0.3 (a bound on the profile; measured at the contacts).
         assert!(v.max_slope_ratio <= 0.3, "joint {}: {v:?}", j.name);
     }
-    lgres::io::artifacts::write_run(&outcome, &dir).expect("writes");
+    output::artifacts::write_run(&outcome, &dir).expect("writes");
 
     let mut elastic = lgres::scenes::builtin("lgres-elastic").expect("built-in");
     elastic.run.cycles = 1;

@@ -38,7 +38,7 @@ pub use engine::{Event, run_sweep};
 use multibody::State;
 use serde::Serialize;
 
-use crate::io::output::OutputError;
+use output::files::OutputError;
 use scene::{Integrator, SceneError};
 
 /// Relative tolerances of the sweep.

@@ -5,8 +5,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::{CycleQuantities, Errors, PrecisionReport, Row, RowOutcome};
-use crate::io::output::{OutputError, sci, write_atomic};
-use crate::io::plot::{self, Panel, Series};
+use output::files::{OutputError, sci, write_atomic};
+use output::plot::{self, Panel, Series};
 
 /// Run time a row is plotted and ranked at: the timed median, else the measured run's.
 fn run_time(row: &Row) -> f64 {
@@ -446,7 +446,7 @@ impl PrecisionReport {
             paths.push(path);
         }
         let json = dir.join("precision.json");
-        crate::io::output::write_json(&json, self)?;
+        output::files::write_json(&json, self)?;
         paths.push(json);
         Ok(paths)
     }

@@ -36,7 +36,7 @@ pub use render::{csv, markdown, write_report};
 use contact::{FrictionLawParams, NormalLawParams};
 use serde::Serialize;
 
-use crate::io::output::OutputError;
+use output::files::OutputError;
 use scene::{Scene, TimeLaw};
 
 /// Simulated time of a short case, s: the start-up impacts (first 0.02 s) plus contact.

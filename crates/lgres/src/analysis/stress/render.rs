@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::{CaseResult, Outcome};
-use crate::io::output::{OutputError, sci, write_atomic};
+use output::files::{OutputError, sci, write_atomic};
 
 /// A number for the CSV: NaN means "not measured" (see [`CaseResult`]) and is left empty, so
 /// no `ok` row reads `NaN`; an infinity (only in a failed case) stays visible.
@@ -162,7 +162,7 @@ pub fn write_report(results: &[CaseResult], dir: &Path) -> Result<Vec<PathBuf>, 
         paths.push(path);
     }
     let json = dir.join("stress.json");
-    crate::io::output::write_json(&json, &results)?;
+    output::files::write_json(&json, &results)?;
     paths.push(json);
     Ok(paths)
 }

@@ -1,6 +1,6 @@
 //! The paper's studies (Sec. 4.2) and the extrapolation study: run every scene a study needs
 //! with [`run_scene`], write each scene's normal outputs under `<out>/<scene>/`
-//! ([`crate::io::artifacts::write_run`]) and the study report `<out>/report.md`
+//! ([`output::artifacts::write_run`]) and the study report `<out>/report.md`
 //! ([`crate::analysis::study::report`]).
 //!
 //! A study run differs from a plain `wearsim run` in its defaults, chosen so that `study all`
@@ -24,8 +24,8 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
-use crate::io::artifacts::write_run;
-use crate::io::output::OutputError;
+use output::artifacts::write_run;
+use output::files::OutputError;
 use crate::scenes::{self, STUDIES};
 use scene::{Scene, SceneError};
 use sim::{Progress, RunError, RunOptions, run_scene};

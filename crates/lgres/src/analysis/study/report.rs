@@ -13,8 +13,8 @@ use super::judge::{
 };
 use super::paper::{PaperStudy, PaperValue, Quantity, paper};
 use super::results::{EXTRAPOLATION, SINGLE_JUMP_RUN, SceneRun, StudyKind, StudyResults, relative};
-use crate::io::output::OutputError;
-use crate::io::plot::{self, DEFAULT_SIZE};
+use output::files::OutputError;
+use output::plot::{self, DEFAULT_SIZE};
 use sim::{ResponseSummary, RunOutcome};
 
 const DEVIATIONS: [(&str, &str); 6] = [
@@ -606,5 +606,5 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
     }
     md.push_str(super::paper::WHY_DIFFERENT);
     let title = format!("wearsim study: {}", names.join(", "));
-    crate::io::html::write_markdown_and_page(out, "report", &md, &title)
+    output::html::write_markdown_and_page(out, "report", &md, &title)
 }

@@ -1,6 +1,6 @@
 //! Output folders of runs and studies in progress: written into a hidden staging folder that
 //! replaces the target whole at the end, and locked against a second writer (re-exported by
-//! [`super::output`]).
+//! [`crate::files`]).
 
 use std::fs::{self, File, OpenOptions};
 use std::io::{self, Write};
@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use super::output_error::{OutputError, io_err};
+use crate::error::{OutputError, io_err};
 
 /// An output folder being written, for [`abandon_staged`].
 struct Active {

@@ -2,7 +2,7 @@
 //! 35: a SIGINT while the finished folder was moved in said "left as it was" while the folder
 //! held the new run). Its own test binary: abandonment is process-wide.
 
-use lgres::io::output::{FolderLock, LeftBehind, StagedDir, abandon_staged};
+use output::files::{FolderLock, LeftBehind, StagedDir, abandon_staged};
 
 #[test]
 fn abandon_reports_finished_restored_and_in_place_folders() {

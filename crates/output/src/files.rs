@@ -11,10 +11,10 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-pub use super::output_error::OutputError;
-pub(crate) use super::output_error::io_err;
-pub use super::staged::{FolderLock, LeftBehind, StagedDir, abandon_staged, is_abandoned};
-use super::staged::{create_temp_unless_abandoned, create_unless_abandoned, forget_temp};
+pub use crate::error::OutputError;
+pub(crate) use crate::error::io_err;
+pub use crate::staged::{FolderLock, LeftBehind, StagedDir, abandon_staged, is_abandoned};
+use crate::staged::{create_temp_unless_abandoned, create_unless_abandoned, forget_temp};
 
 /// The temporary sibling of `target`; keeps the extension, since some writers (plotters) pick
 /// the format from it.
@@ -370,7 +370,7 @@ pub fn write_csv(
 }
 
 /// `x` in scientific notation with `digits` decimals, or `-` when it is not finite (tables).
-pub(crate) fn sci(x: f64, digits: usize) -> String {
+pub fn sci(x: f64, digits: usize) -> String {
     if x.is_finite() {
         format!("{x:.digits$e}")
     } else {

@@ -3,8 +3,8 @@
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 
-use lgres::io::output::{self, AtomicFile, Cell, Column, CsvWriter};
-use lgres::io::plot::{self, DEFAULT_SIZE, Figure, Series, WornJoint};
+use output::files::{self, AtomicFile, Cell, Column, CsvWriter};
+use output::plot::{self, DEFAULT_SIZE, Figure, Series, WornJoint};
 
 fn temp_dir(tag: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("lgres-{tag}-{}", std::process::id()));
@@ -67,9 +67,9 @@ fn csv_has_units_and_appears_only_when_finished() {
         ["t [s],y3 [m]", "\"joint, A\",2.5e-6", "3,0e0"]
     );
 
-    output::write_csv(&path, &[(cols[0], &[0.0, 1.0]), (cols[1], &[2.0, 3.0])]).unwrap();
+    files::write_csv(&path, &[(cols[0], &[0.0, 1.0]), (cols[1], &[2.0, 3.0])]).unwrap();
     assert_eq!(std::fs::read_to_string(&path).unwrap().lines().count(), 3);
-    assert!(output::write_csv(&path, &[(cols[0], &[0.0, 1.0]), (cols[1], &[2.0])]).is_err());
+    assert!(files::write_csv(&path, &[(cols[0], &[0.0, 1.0]), (cols[1], &[2.0])]).is_err());
     assert_eq!(only_file(&dir.join("sub")), ["series.csv"]);
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -78,7 +78,7 @@ fn csv_has_units_and_appears_only_when_finished() {
 fn abandoned_file_leaves_nothing_and_old_file_survives() {
     let dir = temp_dir("atomic");
     let path = dir.join("summary.json");
-    output::write_json(&path, &serde_json::json!({"peak_force_N": 1.0})).unwrap();
+    files::write_json(&path, &serde_json::json!({"peak_force_N": 1.0})).unwrap();
     {
         use std::io::Write;
         let mut f = AtomicFile::create(&path).unwrap();
@@ -173,7 +173,7 @@ fn every_plot_renders_a_png_of_the_right_size() {
         .map(|(b, p)| 5e-4 + (b + p) / 2.0)
         .collect();
     let path = dir.join("life.png");
-    let curve = lgres::io::life_plot::LifeCurve {
+    let curve = output::life_plot::LifeCurve {
         cycles: &cycles,
         bearing_depth: &bearing,
         pin_depth: &pin,
@@ -181,7 +181,7 @@ fn every_plot_renders_a_png_of_the_right_size() {
         stage_boundaries: &[1e6],
         limit: Some((5.2e-4, Some(1.7e6))),
     };
-    lgres::io::life_plot::life_curve(&path, "Wear of joint A over its life", (900, 700), &curve)
+    output::life_plot::life_curve(&path, "Wear of joint A over its life", (900, 700), &curve)
         .unwrap();
     assert_eq!(png_size(&path), (900, 700));
 
@@ -241,7 +241,7 @@ clearance_limit = 0.000505
     let scene = scene::load_str(text, "life", lgres::scenes::BUILTINS).unwrap();
     let outcome = sim::run_scene("life", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("life");
-    let files = lgres::write_run(&outcome, &dir).unwrap();
+    let files = output::write_run(&outcome, &dir).unwrap();
     // Every file the run lists exists, and the folder holds nothing it does not list.
     let mut listed: Vec<String> = files
         .iter()
@@ -386,7 +386,7 @@ clearance_limit = 0.000505
     none.run.clearance_limit = None;
     none.run.wear_stages = 0;
     let outcome = sim::run_scene("none", &none, &Default::default(), &mut ()).unwrap();
-    let files = lgres::write_run(&outcome, &dir.join("none")).unwrap();
+    let files = output::write_run(&outcome, &dir.join("none")).unwrap();
     assert!(
         files
             .iter()

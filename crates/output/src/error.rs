@@ -1,5 +1,5 @@
-//! Why an output could not be written ([`OutputError`], shown as `io::output::OutputError`):
-//! shared by the atomic writers ([`super::output`]) and the staged output folders.
+//! Why an output could not be written ([`OutputError`], shown as `output::OutputError`):
+//! shared by the atomic writers ([`crate::files`]) and the staged output folders.
 
 use std::io;
 use std::path::{Path, PathBuf};

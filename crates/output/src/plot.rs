@@ -1,4 +1,4 @@
-//! Figures as PNG, written atomically (see [`crate::io::output`]).
+//! Figures as PNG, written atomically (see [`crate::files`]).
 //!
 //! Text uses the DejaVu Sans font embedded in the binary, so figures render the same on a
 //! machine without system fonts.
@@ -13,7 +13,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
-use crate::io::output::{OutputError, write_via_temp};
+use crate::files::{OutputError, write_via_temp};
 use sim::surfaces::cell_angle_deg;
 
 /// Default figure size, pixels.

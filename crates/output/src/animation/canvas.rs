@@ -4,7 +4,7 @@
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::io::plot::FONT;
+use crate::plot::FONT;
 
 /// Width and height of the animation, pixels.
 pub const ANIMATION_SIZE: (u32, u32) = (720, 540);

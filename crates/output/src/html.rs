@@ -10,7 +10,7 @@ use std::path::Path;
 
 use base64::Engine as _;
 
-use crate::io::output::{AtomicFile, OutputError, io_err, write_atomic};
+use crate::files::{AtomicFile, OutputError, io_err, write_atomic};
 
 /// The page's style, scoped under `.wj-report` so a fragment embedded in a notebook leaves the
 /// notebook's own style alone.

@@ -6,7 +6,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use super::plot::*;
-use crate::io::output::OutputError;
+use crate::files::OutputError;
 
 /// A joint's life curve for [`life_curve`]: its wear after each sub-step against the drive
 /// cycles it stands for (all slices the same length; extra values are ignored).

@@ -1,7 +1,7 @@
 //! Runs a scene and draws its animations, printing their size and encoding time.
 //!
 //! ```sh
-//! cargo run --release -p lgres --example animation -- lgres /tmp/anim 2 0
+//! cargo run --release -p output --example animation -- lgres /tmp/anim 2 0
 //! ```
 //!
 //! Arguments: a built-in scene name or a scene file, the output folder, the response run's
@@ -11,7 +11,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use lgres::io::animation::write_animation;
+use output::animation::write_animation;
 use sim::RunOptions;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

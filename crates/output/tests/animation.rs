@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use lgres::io::animation::{AnimationInfo, MAX_ANIMATION_FRAMES, write_animation};
+use output::animation::{AnimationInfo, MAX_ANIMATION_FRAMES, write_animation};
 use scene::{BodyRef, Scene, load_str};
 use sim::{MechanismFrames, RunOutcome};
 
@@ -190,7 +190,7 @@ fn check_gif(path: &Path, info: &AnimationInfo) -> Vec<u8> {
         "{}",
         info.frames
     );
-    let (w, h) = lgres::io::animation::ANIMATION_SIZE;
+    let (w, h) = output::animation::ANIMATION_SIZE;
     assert_eq!(gif.size, (w as u16, h as u16));
     assert_eq!(
         gif.frames[0].0,
@@ -199,7 +199,7 @@ fn check_gif(path: &Path, info: &AnimationInfo) -> Vec<u8> {
     );
     for ((left, top, fw, fh), delay) in &gif.frames {
         assert!(u32::from(left + fw) <= w && u32::from(top + fh) <= h);
-        assert_eq!(*delay, lgres::io::animation::FRAME_DELAY_CS);
+        assert_eq!(*delay, output::animation::FRAME_DELAY_CS);
     }
     bytes
 }

@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use lgres::io::html::{self, Html, Td};
+use output::html::{self, Html, Td};
 
 fn temp_dir(tag: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("lgres-report-{tag}-{}", std::process::id()));
@@ -49,7 +49,7 @@ clearance_limit = 0.000505
     let scene = scene::load_str(text, "report", lgres::scenes::BUILTINS).unwrap();
     let outcome = sim::run_scene("report", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("run");
-    let files = lgres::write_run(&outcome, &dir).unwrap();
+    let files = output::write_run(&outcome, &dir).unwrap();
     let report = dir.join("report.html");
     assert_eq!(files.last(), Some(&report), "the report is written last");
     let page = std::fs::read_to_string(&report).unwrap();
@@ -107,7 +107,7 @@ clearance_limit = 0.000505
     }
     // The wear peak in µm as the table prints it, the clearance limit's verdict, the warnings.
     let wear = &s.wear.as_ref().unwrap().joints[0];
-    let peak = lgres::io::report::sig(wear.bearing_peak_depth_m * 1e6, 3);
+    let peak = output::report::sig(wear.bearing_peak_depth_m * 1e6, 3);
     assert!(
         page.contains(&format!(">{peak} µm<")),
         "bearing peak {peak} µm"
@@ -140,7 +140,7 @@ fn a_kinematic_run_reports_without_contact_tables() {
     scene.run.animation = false;
     let outcome = sim::run_scene("lgres-ideal", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("ideal");
-    lgres::write_run(&outcome, &dir).unwrap();
+    output::write_run(&outcome, &dir).unwrap();
     let page = std::fs::read_to_string(dir.join("report.html")).unwrap();
     assert!(!page.contains("<h2>Contact force peaks</h2>"));
     assert!(!page.contains("<h2>Energy books, per cycle</h2>"));
@@ -156,15 +156,15 @@ fn a_kinematic_run_reports_without_contact_tables() {
 fn markdown_pages_embed_local_images_and_render_tables() {
     let dir = temp_dir("md");
     let png = dir.join("figure.png");
-    lgres::io::plot::line_chart(
+    output::plot::line_chart(
         &png,
-        &lgres::io::plot::Figure {
+        &output::plot::Figure {
             title: "t",
             x_label: "x",
             y_label: "y",
             size: (200, 150),
         },
-        &[lgres::io::plot::Series {
+        &[output::plot::Series {
             label: "s",
             x: &[0.0, 1.0],
             y: &[0.0, 1.0],

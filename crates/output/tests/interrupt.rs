@@ -8,7 +8,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
-use lgres::io::output::{AtomicFile, StagedDir, abandon_staged};
+use output::files::{AtomicFile, StagedDir, abandon_staged};
 
 #[test]
 fn writers_cannot_recreate_an_abandoned_staging_folder() {

@@ -30,8 +30,8 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::io::output::{OutputError, write_via_temp};
-use crate::io::plot::register_fonts;
+use crate::files::{OutputError, write_via_temp};
+use crate::plot::register_fonts;
 use scene::Scene;
 use sim::{JointWearHistory, MechanismFrames, Response};
 

@@ -1,17 +1,17 @@
-//! The files of one run, written atomically with [`crate::io::output`] and drawn with
-//! [`crate::io::plot`]: CSV time series, per-stage wear grids, the joints' life curves
+//! The files of one run, written atomically with [`crate::files`] and drawn with
+//! [`crate::plot`]: CSV time series, per-stage wear grids, the joints' life curves
 //! (`wear_life.csv`), `summary.json`, the resolved `scene.toml`, PNG figures, the mechanism's
 //! animations (`mechanism[_worn].gif`) and the page that shows them all, `report.html`.
 
 use std::path::{Path, PathBuf};
 
-use crate::io::animation;
-use crate::io::life_plot::{LifeCurve, life_curve};
-use crate::io::output::{
+use crate::animation;
+use crate::life_plot::{LifeCurve, life_curve};
+use crate::files::{
     Cell, Column, CsvWriter, OutputError, write_atomic, write_csv, write_json,
 };
-use crate::io::plot::{self, DEFAULT_SIZE, Figure, Series};
-use crate::io::report::{Captioned, FILES_MARK, REPORT_FILE};
+use crate::plot::{self, DEFAULT_SIZE, Figure, Series};
+use crate::report::{Captioned, FILES_MARK, REPORT_FILE};
 use scene::file_names::{JointFile, is_file_name_safe};
 use sim::{LifePoint, Response, RunOutcome};
 
@@ -47,7 +47,7 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
     })?;
     let mut files = files;
     files.extend(animations.iter().map(|a| a.path.clone()));
-    let report = crate::io::report::write_run_report(outcome, dir, &files, &animations)?;
+    let report = crate::report::write_run_report(outcome, dir, &files, &animations)?;
     files.push(report);
     Ok(files)
 }
@@ -61,7 +61,7 @@ pub fn notebook_html(outcome: &RunOutcome) -> Result<String, OutputError> {
     let dir = std::env::temp_dir().join(format!(".wearsim-notebook-{}-{n}", std::process::id()));
     let page = write_run(outcome, &dir).and_then(|_| {
         let path = dir.join(REPORT_FILE);
-        std::fs::read_to_string(&path).map_err(crate::io::output::io_err(&path))
+        std::fs::read_to_string(&path).map_err(crate::files::io_err(&path))
     });
     // Best effort: the report (or its error) matters more than a leftover temporary folder.
     let _ = std::fs::remove_dir_all(&dir);
@@ -196,7 +196,7 @@ fn animation_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<Captioned>, O
                 "mechanism{suffix}.gif: the mechanism over one drive cycle after the {} s \
                  start-up window {on} ({} frames), the ideal mechanism in grey behind.\
                  {magnified}",
-                crate::io::report::sig(outcome.summary.transient_window_s, 3),
+                crate::report::sig(outcome.summary.transient_window_s, 3),
                 info.frames
             ),
         });

@@ -1,12 +1,12 @@
-//! `report.html`: one self-contained page per run ([`crate::io::html`]). First what a reader
+//! `report.html`: one self-contained page per run ([`crate::html`]). First what a reader
 //! needs to judge the run (scene, force peaks, deviations, energy books, validity, wear, life,
 //! numerics, warnings), then every figure the run drew with what to look at in it, then the
 //! scene's parameters and the files beside the page.
 
 use std::path::{Path, PathBuf};
 
-use crate::io::html::{Html, Td};
-use crate::io::output::OutputError;
+use crate::html::{Html, Td};
+use crate::files::OutputError;
 use sim::{
     ENERGY_BOOKS_TOLERANCE_J, JointSummary, PeakStats, ResponseSummary, RunOutcome, Summary,
 };
@@ -411,7 +411,7 @@ fn figures(
     }
     let mut images: Vec<&PathBuf> = files
         .iter()
-        .filter(|f| crate::io::html::image_mime(f).is_some())
+        .filter(|f| crate::html::image_mime(f).is_some())
         .filter(|f| !extra.iter().any(|e| &e.path == *f))
         .collect();
     images.sort_by_key(|f| figure_rank(&file_name(f)));
