@@ -1,11 +1,11 @@
-//! `wearsim study`: runs the paper's studies through [`lgres::analysis::study`] with progress bars and
+//! `wearsim study`: runs the paper's studies through [`analysis::study`] with progress bars and
 //! prints the trend verdicts; the numbers and figures are in `<out>/report.html` (and the same
 //! in `<out>/report.md`).
 
 use std::path::PathBuf;
 
-use lgres::analysis::study::judge;
-use lgres::analysis::study::{self, StudyError, StudyOptions};
+use analysis::study::judge;
+use analysis::study::{self, StudyError, StudyOptions};
 
 use crate::error::CliError;
 use crate::overrides::Overrides;

@@ -1,7 +1,8 @@
 //! Shipped scenes parse, validate and are geometrically consistent; bad input is rejected with
 //! the field named.
 
-use lgres::scenes::{self, BUILTINS, STUDIES};
+use lgres::scenes::{self, BUILTINS};
+use lgres::studies::STUDIES;
 use scene::{self, Coordinate, DriverTarget, Scene, SceneError};
 
 fn issues(err: SceneError) -> Vec<String> {

@@ -6,10 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use crate::animation;
+use crate::files::{Cell, Column, CsvWriter, OutputError, write_atomic, write_csv, write_json};
 use crate::life_plot::{LifeCurve, life_curve};
-use crate::files::{
-    Cell, Column, CsvWriter, OutputError, write_atomic, write_csv, write_json,
-};
 use crate::plot::{self, DEFAULT_SIZE, Figure, Series};
 use crate::report::{Captioned, FILES_MARK, REPORT_FILE};
 use scene::file_names::{JointFile, is_file_name_safe};

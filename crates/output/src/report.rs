@@ -5,8 +5,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::html::{Html, Td};
 use crate::files::OutputError;
+use crate::html::{Html, Td};
 use sim::{
     ENERGY_BOOKS_TOLERANCE_J, JointSummary, PeakStats, ResponseSummary, RunOutcome, Summary,
 };

@@ -4,8 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use output::html::{Html, Td};
 use output::files::OutputError;
+use output::html::{Html, Td};
 
 use crate::table::{self, Status};
 use crate::{Mode, Row, Sweep};

@@ -1,9 +1,9 @@
-//! One cycle of the bench's sparse configuration (`benches/lgres_cycle.rs`: one 60-rpm cycle of
+//! One cycle of the bench's sparse configuration (`crates/sim/benches/lgres_cycle.rs`: one 60-rpm cycle of
 //! the default scene, rtol 1e-6, both clearance joints, wear accumulation on, output at the end
 //! only), once, for an instruction count per step under callgrind:
 //!
 //! ```sh
-//! CARGO_PROFILE_RELEASE_DEBUG=true cargo build --release -p lgres --example cycle_cost
+//! CARGO_PROFILE_RELEASE_DEBUG=true cargo build --release -p analysis --example cycle_cost
 //! valgrind --tool=callgrind --collect-atstart=no --toggle-collect='*measured_cycle*' \
 //!     target/release/examples/cycle_cost [surfaces-folder [end-time [scene]]]
 //! ```

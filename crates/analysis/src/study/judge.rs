@@ -357,7 +357,7 @@ pub fn trends(results: &StudyResults) -> Vec<(TrendVerdict, Vec<Comparison>, [St
         let StudyKind::Paper(study) = kind else {
             continue;
         };
-        let (claim, comparisons, labels) = match crate::scenes::physical_counterpart(study.name)
+        let (claim, comparisons, labels) = match lgres::studies::physical_counterpart(study.name)
             .as_str()
         {
             "wear-stages" => {
@@ -377,7 +377,7 @@ pub fn trends(results: &StudyResults) -> Vec<(TrendVerdict, Vec<Comparison>, [St
                 ) else {
                     continue;
                 };
-                let claim = if crate::scenes::physical_counterpart(study.name) == "clearance" {
+                let claim = if lgres::studies::physical_counterpart(study.name) == "clearance" {
                     "larger clearance → larger forces, deviations, dissipation and wear over a wider arc"
                 } else {
                     "faster drive → larger forces, deviations, dissipation and wear over a wider arc"

@@ -1,7 +1,7 @@
 //! The paper's studies (Sec. 4.2) and the extrapolation study: run every scene a study needs
 //! with [`run_scene`], write each scene's normal outputs under `<out>/<scene>/`
 //! ([`output::artifacts::write_run`]) and the study report `<out>/report.md`
-//! ([`crate::analysis::study::report`]).
+//! ([`crate::study::report`]).
 //!
 //! A study run differs from a plain `wearsim run` in its defaults, chosen so that `study all`
 //! finishes in minutes on a laptop:
@@ -15,7 +15,6 @@
 //! A scene used by several studies (the default `lgres` is in all of them) is run once.
 
 pub mod judge;
-pub mod paper;
 pub mod report;
 mod results;
 
@@ -24,9 +23,10 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
+use lgres::scenes;
+use lgres::studies::{self, STUDIES};
 use output::artifacts::write_run;
 use output::files::OutputError;
-use crate::scenes::{self, STUDIES};
 use scene::{Scene, SceneError};
 use sim::{Progress, RunError, RunOptions, run_scene};
 
@@ -53,7 +53,7 @@ pub fn resolve(name: &str) -> Result<Vec<StudyKind>, StudyError> {
     if name == EXTRAPOLATION {
         return Ok(vec![StudyKind::Extrapolation]);
     }
-    scenes::study(name)
+    studies::study(name)
         .map(|s| vec![StudyKind::Paper(s)])
         .ok_or_else(|| StudyError::UnknownStudy {
             name: name.to_string(),
@@ -272,7 +272,7 @@ pub fn run_studies(
         options: options.clone(),
         wall_time_s: started.elapsed().as_secs_f64(),
     };
-    let report = crate::analysis::study::report::write_report(&results, &options.out)?;
+    let report = crate::study::report::write_report(&results, &options.out)?;
     Ok((results, report))
 }
 

@@ -4,7 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::scenes::{self, Study};
+use lgres::scenes;
+use lgres::studies::Study;
 use sim::RunOutcome;
 
 /// Default simulated cycles per wear stage in a study (the paper's K is 100).

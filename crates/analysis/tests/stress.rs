@@ -1,6 +1,6 @@
 //! The stress battery runs and reports every case's outcome (tiny durations).
 
-use lgres::analysis::stress::{self, Outcome};
+use analysis::stress::{self, Outcome};
 
 #[test]
 fn battery_reports_each_case_and_expected_errors_by_name() {

@@ -1,5 +1,5 @@
 //! The study report (`report.md`, and `report.html` with its figures embedded): the paper's
-//! numbers ([`super::paper`]) next to ours, the trend verdicts of [`super::judge`], the validity
+//! numbers ([`lgres::paper`]) next to ours, the trend verdicts of [`super::judge`], the validity
 //! notes and the figures.
 
 use std::fmt::Write as _;
@@ -11,8 +11,8 @@ use super::judge::{
     ARC_FRACTION, Comparison, JointMetrics, RANGE_FRACTION, RELATIVE_MARGIN, Verdict, final_wear,
     trends, wear_metrics,
 };
-use super::paper::{PaperStudy, PaperValue, Quantity, paper};
 use super::results::{EXTRAPOLATION, SINGLE_JUMP_RUN, SceneRun, StudyKind, StudyResults, relative};
+use lgres::paper::{PaperStudy, PaperValue, Quantity, paper};
 use output::files::OutputError;
 use output::plot::{self, DEFAULT_SIZE};
 use sim::{ResponseSummary, RunOutcome};
@@ -257,7 +257,7 @@ fn scene_links(md: &mut String, out: &Path, run: &SceneRun) {
 }
 
 fn paper_section<'a>(md: &mut String, study: &str, scenes: &[&'a str], results: &StudyResults) {
-    let base = crate::scenes::physical_counterpart(study);
+    let base = lgres::studies::physical_counterpart(study);
     let studies = match paper() {
         Ok(studies) => studies,
         Err(e) => {
@@ -275,7 +275,7 @@ fn paper_section<'a>(md: &mut String, study: &str, scenes: &[&'a str], results: 
     let ours_for = |paper_scene: &'a str| -> &'a str {
         scenes
             .iter()
-            .find(|s| crate::scenes::physical_counterpart(s) == paper_scene)
+            .find(|s| lgres::studies::physical_counterpart(s) == paper_scene)
             .copied()
             .unwrap_or(paper_scene)
     };
@@ -387,7 +387,7 @@ fn extrapolation_section(
     results: &StudyResults,
 ) -> Result<(), OutputError> {
     let (Some(adaptive), Some(single)) = (
-        results.run(crate::scenes::DEFAULT),
+        results.run(lgres::scenes::DEFAULT),
         results.run(SINGLE_JUMP_RUN),
     ) else {
         return Ok(());
@@ -564,7 +564,7 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
             comparison_table(&mut md, low, high, comparisons);
             md.push('\n');
         }
-        let stages_study = crate::scenes::physical_counterpart(study.name) == "wear-stages";
+        let stages_study = lgres::studies::physical_counterpart(study.name) == "wear-stages";
         let cases: Vec<(String, Vec<JointMetricsSource<'_>>)> = if stages_study {
             study
                 .scenes
@@ -604,7 +604,7 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
     {
         extrapolation_section(&mut md, out, results)?;
     }
-    md.push_str(super::paper::WHY_DIFFERENT);
+    md.push_str(lgres::paper::WHY_DIFFERENT);
     let title = format!("wearsim study: {}", names.join(", "));
     output::html::write_markdown_and_page(out, "report", &md, &title)
 }

@@ -10,7 +10,7 @@ use wear::{Side, WornJoint, WornProfile};
 use super::{
     CaseResult, Expect, Outcome, StressCase, StressError, StressOptions, SurfaceSetup, cases,
 };
-use crate::scenes;
+use lgres::scenes;
 use scene::Scene;
 use sim::build::{Surfaces, build, unworn_joints};
 use sim::simulation_options;

@@ -1,8 +1,8 @@
 //! The study machinery on tiny runs (1 response cycle, K = 1, a stage standing for 1e4 cycles
 //! so one adaptive sub-step suffices), and the trend judge on numbers with known answers.
 
-use lgres::analysis::study::judge::{Comparison, Verdict, judge_increase, judge_trend};
-use lgres::analysis::study::{self, StudyOptions};
+use analysis::study::judge::{Comparison, Verdict, judge_increase, judge_trend};
+use analysis::study::{self, StudyOptions};
 
 fn c(low: f64, high: f64, noise: f64) -> Comparison {
     Comparison {

@@ -53,7 +53,7 @@ struct PaperFile {
 }
 
 static PAPER: LazyLock<Result<Vec<PaperStudy>, toml::de::Error>> = LazyLock::new(|| {
-    toml::from_str::<PaperFile>(include_str!("../../../data/paper.toml")).map(|f| f.study)
+    toml::from_str::<PaperFile>(include_str!("../data/paper.toml")).map(|f| f.study)
 });
 
 /// The paper's numbers by study. The file is compiled in; a test parses it, so an error here
@@ -63,7 +63,7 @@ pub fn paper() -> Result<&'static [PaperStudy], &'static toml::de::Error> {
 }
 
 /// The report's closing section: why our numbers differ from the paper's.
-pub(super) const WHY_DIFFERENT: &str = "## Why our numbers differ from the paper's\n\n\
+pub const WHY_DIFFERENT: &str = "## Why our numbers differ from the paper's\n\n\
 - **Geometry is a reconstruction** (docs/model.md §6): link lengths and joint positions are \
 inferred from the paper's figures, so forces and deviations are comparable in order of \
 magnitude, not digit for digit.\n\

@@ -3,7 +3,7 @@
 //! against the same kernel on 20 nodes per wear cell (the reference).
 //!
 //! ```sh
-//! cargo run --release -p lgres --example foundation_accuracy -- SURFACES [POSES [SEED]]
+//! cargo run --release -p analysis --example foundation_accuracy -- SURFACES [POSES [SEED]]
 //! ```
 //!
 //! Each count runs with both quadratures (`contact::Quadrature`). `SURFACES` is the folder of an earlier `wearsim run` (its last stage's

@@ -1,6 +1,6 @@
 //! One 60-rpm drive cycle (1 s simulated) of the default LGRES scene with both clearance
 //! joints and wear accumulation on (the configuration of a wear-stage run):
-//! `cargo bench -p lgres --bench lgres_cycle`. Medians are printed after criterion's lines.
+//! `cargo bench -p sim --bench lgres_cycle`. Medians are printed after criterion's lines.
 //!
 //! - `cycle, wear, sparse output`: output at the end only, no energy audit, no trajectory
 //!   (exactly what `run::stages` asks for each simulated cycle);

@@ -2,7 +2,7 @@
 //! below the errors they measure, errors fall with the tolerance, timed runs repeat the
 //! measured trajectory bit for bit, and bad settings are named.
 
-use lgres::analysis::precision::{
+use analysis::precision::{
     PrecisionError, PrecisionOptions, PrecisionReport, RowOutcome, run_sweep,
 };
 use scene::Integrator;
@@ -210,7 +210,7 @@ fn bad_settings_name_the_option() {
 
 #[test]
 fn method_names_are_the_scene_files_spelling_and_parse_back() {
-    use lgres::analysis::precision::{ALL_METHODS, method_by_name, method_name};
+    use analysis::precision::{ALL_METHODS, method_by_name, method_name};
     for method in ALL_METHODS {
         let name = method_name(method);
         assert_eq!(

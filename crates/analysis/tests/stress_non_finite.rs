@@ -2,7 +2,7 @@
 //! infinity makes the case FAILED with the quantity named, and a quantity not measured (the
 //! energy books of a case run without the audit) is left empty, not written as NaN.
 
-use lgres::analysis::stress::{self, CaseResult, Outcome, SurfaceSetup};
+use analysis::stress::{self, CaseResult, Outcome, SurfaceSetup};
 
 fn result(outcome: Outcome) -> CaseResult {
     CaseResult {
