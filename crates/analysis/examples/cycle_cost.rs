@@ -18,9 +18,9 @@
 use std::path::Path;
 
 use multibody::{Formulation, OutputTimes, SimulationOptions, SimulationResult, State};
+use output::surfaces::load_last_stage;
 use sim::build::{Built, Surfaces, build, unworn_joints};
 use sim::simulation_options;
-use sim::surfaces::load_last_stage;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();

@@ -23,10 +23,10 @@ use contact::{
     BodyState, ClearanceJoint, ContactModel, FrictionLawKind, JointSurface, Material,
     NormalLawKind, Quadrature,
 };
+use output::surfaces::load_last_stage;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use sim::build::unworn_joints;
-use sim::surfaces::load_last_stage;
 use wear::{WornJoint, WornProfile};
 
 type WornContact = ClearanceJoint<WornProfile, WornProfile, NormalLawKind, FrictionLawKind>;

@@ -182,7 +182,7 @@ fn out_dir(o: &Overrides, name: &str) -> PathBuf {
 fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
     let Loaded { name, scene: s } = load(spec, o)?;
     // Every check `run` makes before simulating, before anything is called valid.
-    let options = o.run_overrides().run_options();
+    let options = o.run_options();
     let check = sim::check_assembly(&name, &s, &options).map_err(|e| in_scene(spec, e))?;
     outln!("scene {name}: valid");
     outln!("  {}", s.description);
@@ -275,7 +275,7 @@ fn run(spec: &str, no_animation: bool, o: &Overrides) -> Result<(), CliError> {
         scene.run.animation = false;
     }
     let out = out_dir(o, &name);
-    let options = o.run_overrides().run_options();
+    let options = o.run_options();
     // Lock the folder before simulating, so a second run is refused at once; files go to a
     // staging folder that replaces `out` whole only when every file is written.
     let staged = output::files::StagedDir::begin(&out)?;

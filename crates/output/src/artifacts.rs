@@ -79,18 +79,11 @@ fn data_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
     }
     for joint in &outcome.wear {
         for (k, stage) in joint.stages.iter().enumerate() {
-            let (bearing, pin) = (stage.bearing().depth(), stage.pin().depth());
-            let angle: Vec<f64> = (0..bearing.len())
-                .map(|c| sim::surfaces::cell_angle_deg(c, bearing.len()))
-                .collect();
-            let path = dir.join(JointFile::StageWear(k + 1).name(&joint.name));
-            files.push(write_csv(
-                &path,
-                &[
-                    (col("angle", "deg"), &angle),
-                    (col("bearing_depth", "m"), bearing),
-                    (col("pin_depth", "m"), pin),
-                ],
+            files.push(crate::surfaces::write_stage(
+                dir,
+                &joint.name,
+                k + 1,
+                stage,
             )?);
         }
         if joint.stages.is_empty() {

@@ -29,6 +29,7 @@ pub mod life_plot;
 pub mod plot;
 pub mod report;
 mod staged;
+pub mod surfaces;
 
 pub use artifacts::write_run;
 pub use error::OutputError;

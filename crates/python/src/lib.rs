@@ -372,12 +372,14 @@ fn run<'py>(
         trajectories,
         wear_tolerance,
         threads,
-        surfaces,
     };
     overrides
         .apply(&mut scene, &format!("{name} with the run's arguments"))
         .map_err(scene_err)?;
-    let options = overrides.run_options();
+    let options = sim::RunOptions {
+        surfaces: surfaces.map(output::surfaces::folder),
+        ..overrides.run_options()
+    };
     let result = py.detach(|| {
         catch_unwind(AssertUnwindSafe(|| -> Result<RunOutcome, PyErrText> {
             let outcome = sim::run_scene(&name, &scene, &options, &mut ()).map_err(|e| {

@@ -172,7 +172,7 @@ pub fn run_scene(
     let active = scene.active_clearance_joints().count() > 0;
     let unworn = unworn_joints(&scene)?;
     let initial = match &options.surfaces {
-        Some(dir) => crate::surfaces::load_last_stage(dir, &scene, &unworn)?,
+        Some(source) => source.load(&scene, &unworn)?,
         None => unworn,
     };
     let frames = scene.run.animation.then(|| {
