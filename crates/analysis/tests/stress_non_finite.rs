@@ -26,6 +26,15 @@ fn result(outcome: Outcome) -> CaseResult {
     }
 }
 
+/// The battery's case `name` on the default scene, `duration` s long.
+fn default_case(name: &str, duration: f64) -> stress::StressCase {
+    let base = lgres::scenes::builtin(lgres::scenes::DEFAULT).unwrap();
+    stress::cases(&base, duration)
+        .into_iter()
+        .find(|c| c.name == name)
+        .unwrap()
+}
+
 /// The `ok` rows of the CSV.
 fn ok_rows(csv: &str) -> Vec<&str> {
     csv.lines().filter(|l| l.contains(",ok,")).collect()
@@ -33,13 +42,9 @@ fn ok_rows(csv: &str) -> Vec<&str> {
 
 #[test]
 fn a_wear_case_whose_volume_ratio_is_nan_is_a_named_failure() {
-    let base = lgres::scenes::builtin(lgres::scenes::DEFAULT).unwrap();
     // 1 ms: the pin has not dropped into the clearance yet, so no wear and no Archard volume:
     // the grid/Archard volume ratio is 0/0.
-    let case = stress::cases(&base, 1e-3)
-        .into_iter()
-        .find(|c| c.name == "wear, 10 cells")
-        .unwrap();
+    let case = default_case("wear, 10 cells", 1e-3);
     assert_eq!(case.surfaces, SurfaceSetup::WearOn);
     let r = stress::run_case(&case);
     assert!(
@@ -64,11 +69,7 @@ fn a_wear_case_whose_volume_ratio_is_nan_is_a_named_failure() {
 
 #[test]
 fn an_ok_case_finishes_with_every_measured_number_finite() {
-    let base = lgres::scenes::builtin(lgres::scenes::DEFAULT).unwrap();
-    let case = stress::cases(&base, 5e-3)
-        .into_iter()
-        .find(|c| c.name == "baseline")
-        .unwrap();
+    let case = default_case("baseline", 5e-3);
     let r = stress::run_case(&case);
     assert_eq!(r.outcome, Outcome::Completed, "{}", r.outcome.detail());
     for x in [

@@ -23,37 +23,33 @@ fn judge_known_answers() {
     assert_eq!(judge_increase(10.0, 14.0, 3.0), Verdict::Holds);
     assert_eq!(judge_increase(f64::NAN, 1.0, 0.0), Verdict::Inconclusive);
 
-    assert_eq!(
-        judge_trend(&[c(1.0, 2.0, 0.0), c(3.0, 5.0, 0.0)]),
-        Verdict::Holds
-    );
-    // Most grow, one ties: still holds; one of three shrinks: holds in part.
-    assert_eq!(
-        judge_trend(&[c(1.0, 2.0, 0.0), c(3.0, 5.0, 0.0), c(1.0, 1.0, 0.0)]),
-        Verdict::Holds
-    );
-    assert_eq!(
-        judge_trend(&[c(1.0, 2.0, 0.0), c(3.0, 5.0, 0.0), c(2.0, 1.0, 0.0)]),
-        Verdict::HoldsInPart
-    );
-    // As many against as with: does not hold; all against: does not hold.
-    assert_eq!(
-        judge_trend(&[c(1.0, 2.0, 0.0), c(2.0, 1.0, 0.0)]),
-        Verdict::DoesNotHold
-    );
-    assert_eq!(
-        judge_trend(&[c(2.0, 1.0, 0.0), c(5.0, 3.0, 0.0)]),
-        Verdict::DoesNotHold
-    );
-    // Half or more within noise: the noise decides, whatever moved.
-    assert_eq!(
-        judge_trend(&[c(1.0, 2.0, 0.0), c(1.0, 1.01, 0.0)]),
-        Verdict::Inconclusive
-    );
-    assert_eq!(
-        judge_trend(&[c(1.0, 2.0, 0.0), c(10.0, 14.0, 5.0), c(1.0, 1.0, 0.0)]),
-        Verdict::Inconclusive
-    );
+    // (low, high, noise) of each comparison, and the trend's verdict.
+    let trends: [(&[(f64, f64, f64)], Verdict); 7] = [
+        (&[(1.0, 2.0, 0.0), (3.0, 5.0, 0.0)], Verdict::Holds),
+        // Most grow, one ties: still holds; one of three shrinks: holds in part.
+        (
+            &[(1.0, 2.0, 0.0), (3.0, 5.0, 0.0), (1.0, 1.0, 0.0)],
+            Verdict::Holds,
+        ),
+        (
+            &[(1.0, 2.0, 0.0), (3.0, 5.0, 0.0), (2.0, 1.0, 0.0)],
+            Verdict::HoldsInPart,
+        ),
+        // As many against as with: does not hold; all against: does not hold.
+        (&[(1.0, 2.0, 0.0), (2.0, 1.0, 0.0)], Verdict::DoesNotHold),
+        (&[(2.0, 1.0, 0.0), (5.0, 3.0, 0.0)], Verdict::DoesNotHold),
+        // Half or more within noise: the noise decides, whatever moved.
+        (&[(1.0, 2.0, 0.0), (1.0, 1.01, 0.0)], Verdict::Inconclusive),
+        (
+            &[(1.0, 2.0, 0.0), (10.0, 14.0, 5.0), (1.0, 1.0, 0.0)],
+            Verdict::Inconclusive,
+        ),
+    ];
+    for (comparisons, verdict) in trends {
+        let comparisons: Vec<Comparison> =
+            comparisons.iter().map(|&(l, h, n)| c(l, h, n)).collect();
+        assert_eq!(judge_trend(&comparisons), verdict, "{comparisons:?}");
+    }
     assert_eq!(judge_trend(&[]), Verdict::Inconclusive);
 }
 

@@ -99,9 +99,7 @@ pub fn life_curve(
                 chart
                     .draw_series(LineSeries::new(points.iter().copied(), c.stroke_width(2)))?
                     .label(*label)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(2))
-                    });
+                    .legend(key(c.stroke_width(2)));
                 chart.draw_series(points.iter().map(|p| Circle::new(*p, 3, c.filled())))?;
             }
             let grey = RGBColor(110, 110, 110).stroke_width(1);
@@ -109,9 +107,7 @@ pub fn life_curve(
                 let line = [(*at, ys.start), (*at, ys.end)];
                 let drawn = chart.draw_series(DashedLineSeries::new(line, 6, 4, grey))?;
                 if n == 0 {
-                    drawn
-                        .label("stage boundary")
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], grey));
+                    drawn.label("stage boundary").legend(key(grey));
                 }
             }
             if let (1, Some((value, reached))) = (k, limit) {
@@ -120,18 +116,12 @@ pub fn life_curve(
                 chart
                     .draw_series(DashedLineSeries::new(line, 10, 6, red))?
                     .label(format!("limit {} µm", tick(&value)))
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], red));
+                    .legend(key(red));
                 if let Some(at) = reached {
                     chart.draw_series([Circle::new((at, value), 6, red)])?;
                 }
             }
-            chart
-                .configure_series_labels()
-                .label_font((FONT, 14))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperLeft)
-                .draw()?;
+            draw_legend(&mut chart, 14, SeriesLabelPosition::UpperLeft)?;
         }
         Ok(())
     })

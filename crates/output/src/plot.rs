@@ -9,7 +9,7 @@ use std::ops::Range;
 use std::path::Path;
 use std::sync::Once;
 
-use plotters::coord::Shift;
+use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
 use plotters::style::{FontStyle, register_font};
 
@@ -74,6 +74,28 @@ pub struct Series<'a> {
 
 /// What a drawing closure returns: plotters' errors, boxed.
 pub type DrawResult = Result<(), Box<dyn Error>>;
+
+/// A legend key: a 24-pixel stroke in `style`.
+pub(crate) fn key(style: ShapeStyle) -> impl Fn((i32, i32)) -> PathElement<(i32, i32)> {
+    move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style)
+}
+
+/// Draws `chart`'s legend: its labels at `font` pixels in a bordered, nearly opaque white box
+/// at `position`.
+pub(crate) fn draw_legend<'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, BitMapBackend<'a>, CT>,
+    font: u32,
+    position: SeriesLabelPosition,
+) -> DrawResult {
+    chart
+        .configure_series_labels()
+        .label_font((FONT, font))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(position)
+        .draw()?;
+    Ok(())
+}
 
 /// Render with plotters into a temporary file next to `path`, then move it into place: a
 /// failed drawing leaves no half-written figure.
@@ -156,16 +178,10 @@ pub fn line_chart(
             chart
                 .draw_series(LineSeries::new(points, style))?
                 .label(s.label)
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style));
+                .legend(key(style));
         }
         if series.iter().any(|s| !s.label.is_empty()) {
-            chart
-                .configure_series_labels()
-                .label_font((FONT, 15))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
-                .draw()?;
+            draw_legend(&mut chart, 15, SeriesLabelPosition::UpperRight)?;
         }
         Ok(())
     })
@@ -458,7 +474,7 @@ pub fn log_panels(
                 chart
                     .draw_series(LineSeries::new(points.iter().copied(), style))?
                     .label(s.label)
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style));
+                    .legend(key(style));
                 chart.draw_series(
                     points
                         .iter()
@@ -471,19 +487,14 @@ pub fn log_panels(
                 chart
                     .draw_series(DashedLineSeries::new(line, 8, 5, style))?
                     .label(*label)
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], style));
+                    .legend(key(style));
             }
-            chart
-                .configure_series_labels()
-                .label_font((FONT, 13))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(if panel.legend_top {
-                    SeriesLabelPosition::UpperLeft
-                } else {
-                    SeriesLabelPosition::LowerLeft
-                })
-                .draw()?;
+            let position = if panel.legend_top {
+                SeriesLabelPosition::UpperLeft
+            } else {
+                SeriesLabelPosition::LowerLeft
+            };
+            draw_legend(&mut chart, 13, position)?;
         }
         Ok(())
     })

@@ -2,6 +2,8 @@
 //! window, the ideal mechanism's joints closed, the clearance's within the clearance) and the
 //! GIF drawn from them (well formed, bounded, deterministic), and the `run.animation` switch.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use output::animation::{AnimationInfo, MAX_ANIMATION_FRAMES, write_animation};
@@ -12,15 +14,11 @@ use sim::{MechanismFrames, RunOutcome};
 const SLIDER_CRANK: &str = "extends = \"slider-crank\"\n[run]\ncycles = 2\nwear_stages = 0\n";
 
 fn temp_dir(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("lgres-anim-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::temp_dir("anim", tag)
 }
 
 fn run(text: &str) -> RunOutcome {
-    let scene = load_str(text, "test", lgres::scenes::BUILTINS).unwrap();
-    sim::run_scene("test", &scene, &Default::default(), &mut ()).unwrap()
+    common::run(text, "test")
 }
 
 /// What the GIF's block structure says: screen size, and per image its rectangle and delay.
@@ -229,17 +227,7 @@ fn the_gif_is_bounded_well_formed_and_deterministic() {
 
 #[test]
 fn the_worn_response_draws_with_its_wear() {
-    let outcome = run(r#"
-extends = "slider-crank"
-[[clearance_joints]]
-name = "rod-slider"
-wear = { k_d = 1.8e-13, width = 0.02, cells = 360 }
-[run]
-cycles = 2
-wear_stages = 1
-cycles_per_stage = 2
-amplification = 750.0
-"#);
+    let outcome = run(&common::worn_slider_crank("", 2, 1, ""));
     let worn = outcome.worn_response.as_ref().expect("worn response");
     assert!(worn.frames.is_some());
     let dir = temp_dir("worn");

@@ -1,5 +1,7 @@
 //! Output writers leave complete files only; every figure renders a PNG of the asked size.
 
+mod common;
+
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 
@@ -7,10 +9,7 @@ use output::files::{self, AtomicFile, Cell, Column, CsvWriter};
 use output::plot::{self, DEFAULT_SIZE, Figure, Series, WornJoint};
 
 fn temp_dir(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("lgres-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::temp_dir("output", tag)
 }
 
 /// Width and height from a PNG's IHDR chunk.
@@ -226,19 +225,8 @@ fn csv_rows(path: &Path) -> (String, Vec<Vec<String>>) {
 /// its figure; the clearance limit is reached where the rows straddle it.
 #[test]
 fn short_worn_run_writes_the_life_curve_and_its_figure() {
-    let text = r#"
-extends = "slider-crank"
-[[clearance_joints]]
-name = "rod-slider"
-wear = { k_d = 1.8e-13, width = 0.02, cells = 360 }
-[run]
-cycles = 1
-wear_stages = 2
-cycles_per_stage = 2
-amplification = 750.0
-clearance_limit = 0.000505
-"#;
-    let scene = scene::load_str(text, "life", lgres::scenes::BUILTINS).unwrap();
+    let text = common::worn_slider_crank("", 1, 2, "clearance_limit = 0.000505\n");
+    let scene = scene::load_str(&text, "life", lgres::scenes::BUILTINS).unwrap();
     let outcome = sim::run_scene("life", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("life");
     let files = output::write_run(&outcome, &dir).unwrap();

@@ -1,15 +1,14 @@
 //! `report.html`: every figure of the run embedded byte for byte, every verdict shown, nothing
 //! fetched from elsewhere, text escaped; the study and markdown pages embed their images.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use output::html::{self, Html, Td};
 
 fn temp_dir(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("lgres-report-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::temp_dir("report", tag)
 }
 
 /// Every `src="…"` attribute of `page`.
@@ -33,21 +32,13 @@ fn images_in(dir: &Path) -> Vec<PathBuf> {
 /// A short worn slider-crank run whose description needs escaping.
 #[test]
 fn a_run_report_embeds_every_figure_and_shows_every_verdict() {
-    let text = r#"
-extends = "slider-crank"
-description = "crank <b>fast</b> & \"worn\""
-[[clearance_joints]]
-name = "rod-slider"
-wear = { k_d = 1.8e-13, width = 0.02, cells = 360 }
-[run]
-cycles = 2
-wear_stages = 1
-cycles_per_stage = 2
-amplification = 750.0
-clearance_limit = 0.000505
-"#;
-    let scene = scene::load_str(text, "report", lgres::scenes::BUILTINS).unwrap();
-    let outcome = sim::run_scene("report", &scene, &Default::default(), &mut ()).unwrap();
+    let text = common::worn_slider_crank(
+        "description = \"crank <b>fast</b> & \\\"worn\\\"\"\n",
+        2,
+        1,
+        "clearance_limit = 0.000505\n",
+    );
+    let outcome = common::run(&text, "report");
     let dir = temp_dir("run");
     let files = output::write_run(&outcome, &dir).unwrap();
     let report = dir.join("report.html");

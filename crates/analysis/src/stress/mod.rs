@@ -212,6 +212,14 @@ fn each_joint(scene: &mut Scene, f: impl Fn(&mut scene::ClearanceJoint)) {
     scene.clearance_joints.iter_mut().for_each(f);
 }
 
+fn set_wear_cells(scene: &mut Scene, cells: usize) {
+    each_joint(scene, |c| {
+        if let Some(w) = &mut c.wear {
+            w.cells = cells;
+        }
+    })
+}
+
 fn set_restitution(scene: &mut Scene, e: f64) {
     each_joint(scene, |c| match &mut c.normal_law {
         NormalLawParams::LankaraniNikravesh(d)
@@ -324,21 +332,13 @@ pub fn cases(base: &Scene, duration: f64) -> Vec<StressCase> {
         StressCase {
             surfaces: SurfaceSetup::WearOn,
             ..case("wear, 10 cells", "wear on, 10 grid cells", &|s| {
-                each_joint(s, |c| {
-                    if let Some(w) = &mut c.wear {
-                        w.cells = 10;
-                    }
-                })
+                set_wear_cells(s, 10)
             })
         },
         StressCase {
             surfaces: SurfaceSetup::WearOn,
             ..case("wear, 100000 cells", "wear on, 100,000 grid cells", &|s| {
-                each_joint(s, |c| {
-                    if let Some(w) = &mut c.wear {
-                        w.cells = 100_000;
-                    }
-                })
+                set_wear_cells(s, 100_000)
             })
         },
         StressCase {
