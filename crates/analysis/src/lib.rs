@@ -13,7 +13,7 @@
 //! let options = StudyOptions {
 //!     response_cycles: 1,
 //!     cycles_per_stage: 1,
-//!     ..StudyOptions::new("out/study".into())
+//!     ..StudyOptions::new("out/study")
 //! };
 //! let (_results, report) = study::run_studies(&kinds, &options, &())?;
 //! println!("{}", report.display());

@@ -1,8 +1,10 @@
 //! Building and running a scene, between the scene format (the `scene` crate) and what is made
-//! of a run (`lgres`'s files, figures, reports and analyses): a validated scene → a
+//! of a run (crate `output`'s files, figures and reports; crate `analysis`'s studies): a
+//! validated scene → a
 //! `multibody` system ([`build`]), one run of it ([`run_scene`]), the validity of its worn
 //! geometry ([`validity`]), the run settings given outside the scene file ([`overrides`]) and
-//! the worn surfaces an earlier run left, to start from ([`surfaces`]).
+//! the worn surfaces a run starts from, handed over in memory ([`surfaces`]). No file is read
+//! or written here.
 //!
 //! One run of a scene: the response over `cycles` drive periods against the ideal mechanism,
 //! then the wear stages, with every summary number kept in memory ([`RunOutcome`]).
