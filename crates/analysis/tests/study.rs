@@ -4,6 +4,9 @@
 use analysis::study::judge::{Comparison, Verdict, judge_increase, judge_trend};
 use analysis::study::{self, StudyOptions};
 
+/// A comparison's low, high and noise.
+type Lhn = (f64, f64, f64);
+
 fn c(low: f64, high: f64, noise: f64) -> Comparison {
     Comparison {
         quantity: "q".into(),
@@ -24,7 +27,7 @@ fn judge_known_answers() {
     assert_eq!(judge_increase(f64::NAN, 1.0, 0.0), Verdict::Inconclusive);
 
     // (low, high, noise) of each comparison, and the trend's verdict.
-    let trends: [(&[(f64, f64, f64)], Verdict); 7] = [
+    let trends: [(&[Lhn], Verdict); 7] = [
         (&[(1.0, 2.0, 0.0), (3.0, 5.0, 0.0)], Verdict::Holds),
         // Most grow, one ties: still holds; one of three shrinks: holds in part.
         (
