@@ -1,6 +1,6 @@
 //! Why `wearsim` stopped, and the exit code each reason gives (2 bad input, 1 could not run).
 
-use lgres::io::output::OutputError;
+use output::files::OutputError;
 use scene::{LoadError, NotFound, SceneError};
 use sim::RunError;
 
@@ -29,13 +29,13 @@ pub(crate) enum CliError {
     Output(#[from] OutputError),
     /// A study failed or was given bad settings.
     #[error(transparent)]
-    Study(#[from] lgres::analysis::study::StudyError),
+    Study(#[from] analysis::study::StudyError),
     /// A sweep could not be set up or written (a failed sample is a row, not an error).
     #[error(transparent)]
     Sweep(#[from] ::sweep::SweepError),
     /// A work–precision sweep could not run.
     #[error(transparent)]
-    Precision(#[from] lgres::analysis::precision::PrecisionError),
+    Precision(#[from] analysis::precision::PrecisionError),
     /// A flag the command does not use.
     #[error("{flag} does not apply to `wearsim {command}`{hint}")]
     FlagNotUsed {
@@ -65,13 +65,13 @@ impl CliError {
             CliError::InScene { source, .. } if source.is_bad_input() => 2,
             CliError::Study(e) if e.is_bad_input() => 2,
             CliError::Precision(
-                lgres::analysis::precision::PrecisionError::Options { .. }
-                | lgres::analysis::precision::PrecisionError::Scene(_)
-                | lgres::analysis::precision::PrecisionError::Unsuitable(_),
+                analysis::precision::PrecisionError::Options { .. }
+                | analysis::precision::PrecisionError::Scene(_)
+                | analysis::precision::PrecisionError::Unsuitable(_),
             ) => 2,
             CliError::Sweep(e) if e.is_bad_input() => 2,
             CliError::Output(e) if e.is_bad_input() => 2,
-            CliError::Precision(lgres::analysis::precision::PrecisionError::Output(e))
+            CliError::Precision(analysis::precision::PrecisionError::Output(e))
                 if e.is_bad_input() =>
             {
                 2

@@ -1,9 +1,9 @@
 //! `wearsim`: the command line of the worn-clearance-joint toolkit.
 //!
 //! Thin by design: it parses arguments, loads and validates scenes through `lgres`, runs them
-//! with [`sim::run_scene`], writes the outputs with [`lgres::write_run`], shows progress
+//! with [`sim::run_scene`], writes the outputs with [`output::write_run`], shows progress
 //! bars and maps errors to exit codes (0 success, 1 could not run, 2 bad input). `study` runs
-//! [`lgres::analysis::study`] (see the `study` module).
+//! [`analysis::study`] (see the `study` module).
 
 #[macro_use]
 mod console;
@@ -93,10 +93,10 @@ enum Command {
         #[arg(long, allow_negative_numbers = true)]
         duration: Option<f64>,
         /// End of the start-up window of error (a), s.
-        #[arg(long, default_value_t = lgres::analysis::precision::DEFAULT_START_UP, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = analysis::precision::DEFAULT_START_UP, allow_negative_numbers = true)]
         start_up: f64,
         /// Accepted-step budget per run; a method that exceeds it is not run tighter.
-        #[arg(long, default_value_t = lgres::analysis::precision::DEFAULT_MAX_STEPS, allow_negative_numbers = true)]
+        #[arg(long, default_value_t = analysis::precision::DEFAULT_MAX_STEPS, allow_negative_numbers = true)]
         max_steps: usize,
     },
 }
@@ -104,10 +104,9 @@ enum Command {
 /// Integrator names on the command line: the names of the scene format and the reports.
 fn method_parser() -> impl clap::builder::TypedValueParser<Value = scene::Integrator> {
     use clap::builder::TypedValueParser;
-    let names =
-        lgres::analysis::precision::ALL_METHODS.map(lgres::analysis::precision::method_name);
+    let names = analysis::precision::ALL_METHODS.map(analysis::precision::method_name);
     clap::builder::PossibleValuesParser::new(names).try_map(|name| {
-        lgres::analysis::precision::method_by_name(&name).ok_or("no integrator of this name")
+        analysis::precision::method_by_name(&name).ok_or("no integrator of this name")
     })
 }
 
@@ -126,7 +125,7 @@ impl StudyName {
             StudyName::WearStages => "wear-stages",
             StudyName::Clearance => "clearance",
             StudyName::Speed => "speed",
-            StudyName::Extrapolation => lgres::analysis::study::EXTRAPOLATION,
+            StudyName::Extrapolation => analysis::study::EXTRAPOLATION,
             StudyName::All => "all",
         }
     }
@@ -173,7 +172,7 @@ fn out_dir(o: &Overrides, name: &str) -> PathBuf {
 fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
     let Loaded { name, scene: s } = load(spec, o)?;
     // Every check `run` makes before simulating, before anything is called valid.
-    let options = o.run_overrides().run_options();
+    let options = o.run_options();
     let check = sim::check_assembly(&name, &s, &options).map_err(|e| in_scene(spec, e))?;
     outln!("scene {name}: valid");
     outln!("  {}", s.description);
@@ -266,15 +265,15 @@ fn run(spec: &str, no_animation: bool, o: &Overrides) -> Result<(), CliError> {
         scene.run.animation = false;
     }
     let out = out_dir(o, &name);
-    let options = o.run_overrides().run_options();
+    let options = o.run_options();
     // Lock the folder before simulating, so a second run is refused at once; files go to a
     // staging folder that replaces `out` whole only when every file is written.
-    let staged = lgres::io::output::StagedDir::begin(&out)?;
+    let staged = output::files::StagedDir::begin(&out)?;
     let mut bars = progress::Bars::new();
     let outcome =
         sim::run_scene(&name, &scene, &options, &mut bars).map_err(|e| in_scene(spec, e))?;
     drop(bars);
-    let files = lgres::write_run(&outcome, staged.path())?;
+    let files = output::write_run(&outcome, staged.path())?;
     staged.commit()?;
     print_summary(&outcome, &out, files.len());
     Ok(())
@@ -483,34 +482,33 @@ fn print_joints(r: &sim::ResponseSummary, window: f64) {
     }
 }
 
-/// `wearsim stress`: runs [`lgres::analysis::stress`], prints each case as it ends, writes the tables.
+/// `wearsim stress`: runs [`analysis::stress`], prints each case as it ends, writes the tables.
 fn stress(quick: bool, o: &Overrides) -> Result<(), CliError> {
     let out = o
         .out
         .clone()
         .unwrap_or_else(|| Path::new("out").join("stress"));
-    let _lock = lgres::io::output::FolderLock::take(&out)?;
-    let options = lgres::analysis::stress::StressOptions {
+    let _lock = output::files::FolderLock::take(&out)?;
+    let options = analysis::stress::StressOptions {
         quick,
         ..Default::default()
     };
     let started = std::time::Instant::now();
-    let results =
-        lgres::analysis::stress::run_battery(&options, &mut |case, result| match result {
-            None => err!("{:<24} ", case.name),
-            Some(r) => errln!(
-                "{} ({:.1} s) {}",
-                r.outcome.label(),
-                r.wall_time_s,
-                r.outcome.detail()
-            ),
-        })
-        .map_err(|e| match e {
-            lgres::analysis::stress::StressError::Scene(e) => CliError::Scene(e),
-            lgres::analysis::stress::StressError::Output(e) => CliError::Output(e),
-        })?;
-    let files = lgres::analysis::stress::write_report(&results, &out)?;
-    out!("{}", lgres::analysis::stress::markdown(&results));
+    let results = analysis::stress::run_battery(&options, &mut |case, result| match result {
+        None => err!("{:<24} ", case.name),
+        Some(r) => errln!(
+            "{} ({:.1} s) {}",
+            r.outcome.label(),
+            r.wall_time_s,
+            r.outcome.detail()
+        ),
+    })
+    .map_err(|e| match e {
+        analysis::stress::StressError::Scene(e) => CliError::Scene(e),
+        analysis::stress::StressError::Output(e) => CliError::Output(e),
+    })?;
+    let files = analysis::stress::write_report(&results, &out)?;
+    out!("{}", analysis::stress::markdown(&results));
     let failed = results
         .iter()
         .filter(|r| r.outcome.label() == "FAILED")
@@ -535,15 +533,15 @@ struct PrecisionArgs<'a> {
     max_steps: usize,
 }
 
-/// `wearsim precision`: runs [`lgres::analysis::precision`], one line per run, writes the report.
+/// `wearsim precision`: runs [`analysis::precision`], one line per run, writes the report.
 fn precision(spec: &str, args: &PrecisionArgs<'_>, o: &Overrides) -> Result<(), CliError> {
     let Loaded { name, scene } = load(spec, o)?;
     let out = o
         .out
         .clone()
         .unwrap_or_else(|| Path::new("out").join("precision"));
-    let _lock = lgres::io::output::FolderLock::take(&out)?;
-    let mut options = lgres::analysis::precision::PrecisionOptions {
+    let _lock = output::files::FolderLock::take(&out)?;
+    let mut options = analysis::precision::PrecisionOptions {
         repeats: args.repeats,
         duration: args.duration,
         start_up: args.start_up,
@@ -558,14 +556,14 @@ fn precision(spec: &str, args: &PrecisionArgs<'_>, o: &Overrides) -> Result<(), 
     }
     let started = std::time::Instant::now();
     let report =
-        lgres::analysis::precision::run_sweep(&name, &scene, &options, &mut |event| match event {
-            lgres::analysis::precision::Event::Start(method, rtol, what) => {
+        analysis::precision::run_sweep(&name, &scene, &options, &mut |event| match event {
+            analysis::precision::Event::Start(method, rtol, what) => {
                 errln!(
                     "[{:>6.0} s] {method:<9} rtol {rtol:.0e}: {what}",
                     started.elapsed().as_secs_f64()
                 );
             }
-            lgres::analysis::precision::Event::Row(row) => match row.errors() {
+            analysis::precision::Event::Row(row) => match row.errors() {
                 Some(e) => errln!(
                     "           {} steps, {:.3} s; start-up error {:.2e} m, cycle error {:.2e}",
                     row.steps,
@@ -598,7 +596,7 @@ fn list_scenes() {
         outln!("  {:<24} {}{default}", b.name, b.summary);
     }
     outln!("studies:");
-    for s in scenes::STUDIES {
+    for s in lgres::studies::STUDIES {
         outln!("  {:<24} {}: {}", s.name, s.summary, s.scenes.join(", "));
     }
 }
@@ -611,7 +609,7 @@ fn main() -> ExitCode {
     // On SIGINT/SIGTERM remove the staging folder and lock of a run in progress and say what
     // each output folder holds.
     if let Err(e) = ctrlc::set_handler(|| {
-        let left = lgres::io::output::abandon_staged();
+        let left = output::files::abandon_staged();
         if left.is_empty() {
             errln!("wearsim: interrupted; no output folder was being written");
         }
@@ -716,7 +714,7 @@ fn main() -> ExitCode {
         // The work is done (an output folder is complete), but what it printed was lost.
         Ok(()) if console::stdout_closed() => ExitCode::from(console::EXIT_CLOSED_PIPE),
         Ok(()) => ExitCode::SUCCESS,
-        Err(_) if lgres::io::output::is_abandoned() => {
+        Err(_) if output::files::is_abandoned() => {
             // The interrupt handler removed the output under a writer, which failed for that
             // reason only: the handler is about to report the interrupt and exit with 130, so
             // this thread must not exit first with the writer's error and 1.

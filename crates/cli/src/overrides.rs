@@ -109,6 +109,15 @@ impl Overrides {
         }
     }
 
+    /// The options of a run: the run-setting overrides' and, with `--surfaces`, the folder of
+    /// worn surfaces to start from.
+    pub(crate) fn run_options(&self) -> sim::RunOptions {
+        sim::RunOptions {
+            surfaces: self.surfaces.clone().map(output::surfaces::folder),
+            ..self.run_overrides().run_options()
+        }
+    }
+
     /// The run-setting overrides, as every front end applies them.
     pub(crate) fn run_overrides(&self) -> sim::overrides::RunOverrides {
         sim::overrides::RunOverrides {
@@ -121,7 +130,6 @@ impl Overrides {
             trajectories: self.trajectories,
             wear_tolerance: self.wear_tolerance,
             threads: self.jobs.map(std::num::NonZeroUsize::get),
-            surfaces: self.surfaces.clone(),
         }
     }
 }

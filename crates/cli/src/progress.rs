@@ -96,7 +96,7 @@ impl StudyBars {
     }
 }
 
-impl lgres::analysis::study::StudyProgress for StudyBars {
+impl analysis::study::StudyProgress for StudyBars {
     fn run(&self, key: &str, index: usize, total: usize) -> Box<dyn sim::Progress + Send + '_> {
         let mut bars = Bars {
             visible: self.visible,

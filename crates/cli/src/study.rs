@@ -1,11 +1,11 @@
-//! `wearsim study`: runs the paper's studies through [`lgres::analysis::study`] with progress bars and
+//! `wearsim study`: runs the paper's studies through [`analysis::study`] with progress bars and
 //! prints the trend verdicts; the numbers and figures are in `<out>/report.html` (and the same
 //! in `<out>/report.md`).
 
 use std::path::PathBuf;
 
-use lgres::analysis::study::judge;
-use lgres::analysis::study::{self, StudyError, StudyOptions};
+use analysis::study::judge;
+use analysis::study::{self, StudyError, StudyOptions};
 
 use crate::error::CliError;
 use crate::overrides::Overrides;
@@ -44,7 +44,7 @@ pub fn run(name: &str, stage_cycles: Option<f64>, o: &Overrides) -> Result<(), C
     }
     // Every option checked before the folder is touched.
     options.check()?;
-    let staged = lgres::io::output::StagedDir::begin_study(&out)?;
+    let staged = output::files::StagedDir::begin_study(&out)?;
     options.out = staged.path().to_path_buf();
     outln!(
         "study {name}: {} response cycles per scene, K = {} cycles per wear stage, {} run(s) at \

@@ -18,7 +18,7 @@ pub fn run(file: &Path, resume: bool, o: &Overrides) -> Result<(), CliError> {
         .clone()
         .unwrap_or_else(|| PathBuf::from("out/sweep").join(&sweep.name));
     // The output folder is checked (and locked against a second sweep) before any sample runs.
-    let _lock = lgres::io::output::FolderLock::take(&out)?;
+    let _lock = output::files::FolderLock::take(&out)?;
     let mut options = LocalOptions {
         resume,
         ..LocalOptions::default()

@@ -1,24 +1,15 @@
-//! Scenes for planar mechanisms with worn clearance joints: the landing-gear
-//! retraction/extension system of Ma, Jiang & Yin (*Aerospace* 2026), its variants and a
-//! slider-crank, as data, and everything around simulating them.
+//! The LGRES model: the landing-gear retraction/extension system of Ma, Jiang & Yin
+//! (*Aerospace* 2026) with its variants and a slider-crank, as data in the `scene` crate's
+//! format, and the paper's own studies and numbers.
 //!
-//! The layout follows the data flow of a run:
-//! - the `scene` crate below: the TOML scene format — its types ([`scene::Scene`]; laws,
-//!   materials, the integrator and driven coordinates are `contact`'s and `multibody`'s own
-//!   serde types), validation with field-named issues, `extends` variants, the numeric limits
-//!   ([`scene::limits`]) and the file-name rules ([`scene::file_names`]). [`scenes`] holds the
-//!   shipped scenes (the list `extends` resolves names against) and the paper's studies.
-//! - the `sim` crate below: a validated scene → a `multibody` system whose clearance joints
-//!   are [`clearance::ClearanceForce`] elements ([`sim::build`]), one run ([`sim::run_scene`]):
-//!   the response against the ideal mechanism, the wear stages, the validity of the worn
-//!   geometry ([`sim::validity`]), every summary number in memory ([`sim::RunOutcome`]);
-//!   nothing is written.
-//! - [`analysis`]: the paper's studies and their report, the work–precision sweep and the
-//!   stress battery, each engine apart from its rendering.
-//! - [`io`]: atomic output writers, a run's files ([`write_run`]: CSV, JSON, PNG), figures
-//!   and reports.
+//! - [`scenes`]: the shipped scenes (`scenes/*.toml`, embedded; the list `extends` resolves
+//!   names against, [`scenes::BUILTINS`]). The reconstructed geometry lives in
+//!   `scenes/lgres.toml` only; the variants override a few values.
+//! - [`studies`]: the paper's studies (Sec. 4.2) as lists of scenes, [`studies::STUDIES`].
+//! - [`paper`]: the numbers the paper reports, kept as data (`data/paper.toml`).
 //!
-//! The paper's reported numbers are data (`data/paper.toml`), not code.
+//! Running a scene is crate `sim`'s, writing its files crate `output`'s, and running a study
+//! and judging it against these numbers crate `analysis`'s; this crate needs only `scene`.
 //!
 //! ```
 //! use scene::BodyRef;
@@ -38,9 +29,6 @@
 
 #![warn(missing_docs)]
 
-pub mod analysis;
-pub mod family;
-pub mod io;
+pub mod paper;
 pub mod scenes;
-
-pub use io::artifacts::write_run;
+pub mod studies;

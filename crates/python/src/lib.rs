@@ -247,7 +247,7 @@ impl Outcome {
     /// The run's report as an HTML fragment (what a notebook displays), figures embedded.
     /// Releases the GIL while it draws.
     fn report_html(&self, py: Python<'_>) -> PyResult<String> {
-        py.detach(|| lgres::io::artifacts::notebook_html(&self.0))
+        py.detach(|| output::artifacts::notebook_html(&self.0))
             .map_err(|e| RunError::new_err(e.to_string()))
     }
 }
@@ -365,12 +365,14 @@ fn run<'py>(
         trajectories,
         wear_tolerance,
         threads,
-        surfaces,
     };
     overrides
         .apply(&mut scene, &format!("{name} with the run's arguments"))
         .map_err(scene_err)?;
-    let options = overrides.run_options();
+    let options = sim::RunOptions {
+        surfaces: surfaces.map(output::surfaces::folder),
+        ..overrides.run_options()
+    };
     let result = py.detach(|| {
         catch_unwind(AssertUnwindSafe(|| -> Result<RunOutcome, PyErrText> {
             let outcome = sim::run_scene(&name, &scene, &options, &mut ()).map_err(|e| {
@@ -381,9 +383,9 @@ fn run<'py>(
                 }
             })?;
             if let Some(out) = &out {
-                let write = || -> Result<(), lgres::io::output::OutputError> {
-                    let staged = lgres::io::output::StagedDir::begin(out)?;
-                    lgres::io::artifacts::write_run(&outcome, staged.path())?;
+                let write = || -> Result<(), output::files::OutputError> {
+                    let staged = output::files::StagedDir::begin(out)?;
+                    output::artifacts::write_run(&outcome, staged.path())?;
                     staged.commit()?;
                     Ok(())
                 };

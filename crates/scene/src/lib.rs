@@ -1,6 +1,6 @@
 //! The scene format: a planar mechanism with ideal and clearance revolute joints, as TOML —
-//! the bottom of the application's data flow (`scene` → `lgres`'s run, outputs and analyses →
-//! `sweep`, `cli`, `python`).
+//! the bottom of the application's data flow (`scene` → `sim`'s run → `output`'s files →
+//! `analysis`, `sweep`, `cli`, `python`; the LGRES model's scenes are crate `lgres`'s).
 //!
 //! A scene is data only. Units are SI throughout (m, kg, s, N, Pa, rad) with one exception made
 //! for people who read and write files by hand: initial body angles are given in degrees

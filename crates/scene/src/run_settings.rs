@@ -92,7 +92,7 @@ pub struct RunSettings {
     pub transient_window: f64,
     /// Draw `mechanism.gif` (and `mechanism_worn.gif` after wear stages): one drive cycle after
     /// the start-up window animated, the ideal mechanism faint behind and every clearance
-    /// magnified in an inset (`lgres::io::animation`). False: skip it and the pose recording.
+    /// magnified in an inset (`output::animation`). False: skip it and the pose recording.
     #[serde(default = "yes")]
     pub animation: bool,
     /// Maintenance limit on the largest local clearance, m (optional; above every clearance

@@ -1,14 +1,16 @@
 //! Building and running a scene, between the scene format (the `scene` crate) and what is made
-//! of a run (`lgres`'s files, figures, reports and analyses): a validated scene → a
+//! of a run (crate `output`'s files, figures and reports; crate `analysis`'s studies): a
+//! validated scene → a
 //! `multibody` system ([`build`]), one run of it ([`run_scene`]), the validity of its worn
 //! geometry ([`validity`]), the run settings given outside the scene file ([`overrides`]) and
-//! the worn surfaces an earlier run left, to start from ([`surfaces`]).
+//! the worn surfaces a run starts from, handed over in memory ([`surfaces`]). No file is read
+//! or written here.
 //!
 //! One run of a scene: the response over `cycles` drive periods against the ideal mechanism,
 //! then the wear stages, with every summary number kept in memory ([`RunOutcome`]).
 //!
 //! [`run_scene`] is what the CLI's `run` calls and what a study loop can call repeatedly; it
-//! writes nothing (`lgres::io::artifacts` does) and reports progress through [`Progress`].
+//! writes nothing (`output::artifacts` does) and reports progress through [`Progress`].
 //!
 //! ```
 //! const CRANK: &str = r#"
@@ -109,7 +111,7 @@ pub use summary::{
 pub use validity::MIN_ELASTIC_SHARE;
 
 /// Most frames an animation shows: one drive cycle in at most this many poses
-/// ([`MechanismFrames`], `lgres::io::animation`).
+/// ([`MechanismFrames`], `output::animation`).
 pub const MAX_ANIMATION_FRAMES: usize = 72;
 
 /// What [`check_assembly`] found.
@@ -172,7 +174,7 @@ pub fn run_scene(
     let active = scene.active_clearance_joints().count() > 0;
     let unworn = unworn_joints(&scene)?;
     let initial = match &options.surfaces {
-        Some(dir) => crate::surfaces::load_last_stage(dir, &scene, &unworn)?,
+        Some(source) => source.load(&scene, &unworn)?,
         None => unworn,
     };
     let frames = scene.run.animation.then(|| {

@@ -8,10 +8,10 @@ use scene::Scene;
 /// Overrides of the scene's run settings.
 #[derive(Debug, Clone, Default)]
 pub struct RunOptions {
-    /// Start from the worn surfaces of an earlier run: the folder holding its last-stage
-    /// `wear_<joint>_stage<k>.csv` files (see [`crate::surfaces`]). The response run and the
+    /// Start from worn surfaces, e.g. an earlier run's (crate `output` reads its last-stage
+    /// `wear_<joint>_stage<k>.csv` files; see [`crate::surfaces`]). The response run and the
     /// stages then begin from those surfaces.
-    pub surfaces: Option<std::path::PathBuf>,
+    pub surfaces: Option<std::sync::Arc<dyn crate::surfaces::SurfaceSource>>,
     /// Simulated cycles per wear stage `K` instead of `run.cycles_per_stage`; the
     /// amplification is rescaled so a stage still stands for `K_scene × amplification` cycles.
     pub cycles_per_stage: Option<u32>,

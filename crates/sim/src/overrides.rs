@@ -37,8 +37,6 @@
 //! # Ok::<(), scene::SceneError>(())
 //! ```
 
-use std::path::PathBuf;
-
 use crate::RunOptions;
 use scene::{Scene, SceneError};
 
@@ -73,8 +71,6 @@ pub struct RunOverrides {
     /// Threads the trajectories run on (default: the machine's cores); results do not depend
     /// on it.
     pub threads: Option<usize>,
-    /// Folder of an earlier run's worn surfaces to start from.
-    pub surfaces: Option<PathBuf>,
 }
 
 impl RunOverrides {
@@ -127,7 +123,6 @@ impl RunOverrides {
                 .trajectories
                 .or((self.cycles_per_stage.is_none()).then_some(QUICK_TRAJECTORIES)),
             threads: self.threads,
-            surfaces: self.surfaces.clone(),
             ..RunOptions::default()
         }
     }

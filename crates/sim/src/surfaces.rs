@@ -1,18 +1,19 @@
-//! Starting a run from worn surfaces: the last-stage wear grids an earlier run wrote.
-//!
-//! A run writes `wear_<joint>_stage<k>.csv` (cell angle, bearing depth, pin depth; depths are
-//! cumulative over the stages). [`load_last_stage`] reads, for every active clearance joint of
-//! a scene that wears, the file with the highest `k` in a folder and turns it into that joint's
-//! [`WornJoint`], so a run can start (and stage on) from there: a worn mechanism can be
-//! re-simulated under other settings, and a long life computation resumed stage by stage.
+//! Starting a run from worn surfaces, in memory: where the surfaces come from
+//! ([`SurfaceSource`]; crate `output` reads them from the `wear_<joint>_stage<k>.csv` files an
+//! earlier run wrote), the rows of a wear grid turned into a joint's [`WornJoint`] with every
+//! check a grid read from elsewhere needs ([`joint_from_rows`]), and why that failed
+//! ([`SurfacesError`]). A worn mechanism can so be re-simulated under other settings, and a
+//! long life computation resumed stage by stage. No file is read here.
 
-use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use wear::{Side, WearError, WornJoint, WornProfile};
 
-use scene::file_names::JointFile;
-use scene::{MAX_WEAR_CELLS, Scene};
+use scene::Scene;
+
+/// The columns of a wear grid's rows: body-frame angle of the cell centre, bearing depth, pin
+/// depth (depths cumulative over the stages).
+pub const COLUMNS: [&str; 3] = ["angle [deg]", "bearing_depth [m]", "pin_depth [m]"];
 
 /// Body-frame angle of the centre of grid cell `k` of `n`, degrees: cell 0 spans 0..360/n.
 pub fn cell_angle_deg(k: usize, n: usize) -> f64 {
@@ -80,120 +81,36 @@ pub enum SurfacesError {
     },
 }
 
-/// The worn joints in `dir` for `scene`'s active clearance joints (scene order; `None` where
-/// the scene has no wear for that joint, which then stays round). `unworn` is what
-/// [`crate::build::unworn_joints`] gives for the scene: it fixes the wear parameters, radii and
-/// sliding choice; only the depths come from the files.
-pub fn load_last_stage(
-    dir: &Path,
-    scene: &Scene,
-    unworn: &[Option<WornJoint>],
-) -> Result<Vec<Option<WornJoint>>, SurfacesError> {
-    let entries = std::fs::read_dir(dir).map_err(|source| SurfacesError::Folder {
-        dir: dir.to_path_buf(),
-        source,
-    })?;
-    let names: Vec<String> = entries
-        .filter_map(Result::ok)
-        .filter_map(|e| e.file_name().into_string().ok())
-        .collect();
-    scene
-        .active_clearance_joints()
-        .zip(unworn)
-        .map(|(joint, base)| {
-            let Some(base) = base else { return Ok(None) };
-            let stage = names
-                .iter()
-                .filter_map(|n| stage_of(n, &joint.name))
-                .max()
-                .ok_or_else(|| SurfacesError::Missing {
-                    dir: dir.to_path_buf(),
-                    joint: joint.name.clone(),
-                })?;
-            let file = dir.join(JointFile::StageWear(stage as usize).name(&joint.name));
-            load_joint(&file, &joint.name, base).map(Some)
-        })
-        .collect()
+/// Where the worn surfaces a run starts from come from (`sim::RunOptions::surfaces`): the
+/// run asks for them once, after its scene is settled and before any simulation, so a bad
+/// surface is refused before any work.
+pub trait SurfaceSource: std::fmt::Debug + Send + Sync {
+    /// The worn joints for `scene`'s active clearance joints (scene order; `None` where the
+    /// scene has no wear for that joint, which then stays round). `unworn` is what
+    /// [`crate::build::unworn_joints`] gives for the scene: it fixes the wear parameters, radii
+    /// and sliding choice; only the depths come from the source.
+    fn load(
+        &self,
+        scene: &Scene,
+        unworn: &[Option<WornJoint>],
+    ) -> Result<Vec<Option<WornJoint>>, SurfacesError>;
 }
 
-/// `k` of a file named `wear_<joint>_stage<k>.csv`.
-fn stage_of(file_name: &str, joint: &str) -> Option<u32> {
-    file_name
-        .strip_prefix("wear_")?
-        .strip_prefix(joint)?
-        .strip_prefix("_stage")?
-        .strip_suffix(".csv")?
-        .parse()
-        .ok()
-}
-
-/// Bytes a wear file may hold: a row of three full-precision numbers is under 80 bytes, and a
-/// grid has at most [`MAX_WEAR_CELLS`] rows.
-const MAX_FILE_BYTES: u64 = 128 * MAX_WEAR_CELLS as u64 + 1024;
-
-/// The whole text of `file`, which must be a regular file (not a FIFO that blocks, nor a
-/// device that never ends) of at most [`MAX_FILE_BYTES`].
-fn read_bounded(file: &Path) -> Result<Vec<u8>, String> {
-    let metadata = std::fs::metadata(file).map_err(|e| e.to_string())?;
-    if !metadata.is_file() {
-        return Err("not a regular file (a folder, FIFO or device cannot hold a wear grid)".into());
-    }
-    let too_large = || {
-        format!(
-            "larger than {MAX_FILE_BYTES} bytes: more than a wear grid of {MAX_WEAR_CELLS} cells \
-             holds"
-        )
-    };
-    if metadata.len() > MAX_FILE_BYTES {
-        return Err(too_large());
-    }
-    let mut bytes = Vec::new();
-    std::fs::File::open(file)
-        .and_then(|f| f.take(MAX_FILE_BYTES + 1).read_to_end(&mut bytes))
-        .map_err(|e| e.to_string())?;
-    if bytes.len() as u64 > MAX_FILE_BYTES {
-        return Err(too_large());
-    }
-    Ok(bytes)
-}
-
-fn load_joint(file: &Path, joint: &str, base: &WornJoint) -> Result<WornJoint, SurfacesError> {
+/// Joint `joint`'s worn surfaces from the rows of its wear grid (read from `file`, which the
+/// errors name; columns [`COLUMNS`]) on the parameters of `base`: one row per cell in order,
+/// each angle at its cell's centre, each depth finite, non-negative and leaving the surface a
+/// radius.
+pub fn joint_from_rows(
+    file: &Path,
+    joint: &str,
+    base: &WornJoint,
+    rows: &[[f64; 3]],
+) -> Result<WornJoint, SurfacesError> {
     let unreadable = |reason: String| SurfacesError::Unreadable {
         file: file.to_path_buf(),
         reason,
     };
-    let bytes = read_bounded(file).map_err(unreadable)?;
-    let mut reader = csv::Reader::from_reader(bytes.as_slice());
-    let header: Vec<String> = reader
-        .headers()
-        .map_err(|e| unreadable(e.to_string()))?
-        .iter()
-        .map(str::to_string)
-        .collect();
-    let expected = ["angle [deg]", "bearing_depth [m]", "pin_depth [m]"];
-    if header != expected {
-        return Err(unreadable(format!(
-            "header {header:?}, expected {expected:?} (a wear file written by `wearsim run`)"
-        )));
-    }
-    // Parse every row first (the file's size bounds them), so a grid of another size is named
-    // as such before any row is judged against this one.
-    let mut rows: Vec<[f64; 3]> = Vec::new();
-    for (row, record) in reader.records().enumerate() {
-        let record = record.map_err(|e| unreadable(e.to_string()))?;
-        let mut values = [0.0; 3];
-        for (column, value) in values.iter_mut().enumerate() {
-            let text = record.get(column).unwrap_or("");
-            *value = text.trim().parse::<f64>().map_err(|_| {
-                unreadable(format!(
-                    "line {}: {} = {text:?} is not a number",
-                    row + 2,
-                    expected[column]
-                ))
-            })?;
-        }
-        rows.push(values);
-    }
+    let expected = COLUMNS;
     let cells = base.bearing().cells();
     if rows.len() != cells {
         return Err(SurfacesError::GridMismatch {

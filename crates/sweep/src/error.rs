@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use lgres::io::output::OutputError;
+use output::files::OutputError;
 use scene::SceneError;
 use sim::RunError;
 

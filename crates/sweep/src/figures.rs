@@ -4,8 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use lgres::io::output::OutputError;
-use lgres::io::plot::{DrawResult, FONT, padded_range, render};
+use output::files::OutputError;
+use output::plot::{DrawResult, FONT, padded_range, render};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 

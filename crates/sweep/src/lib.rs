@@ -66,7 +66,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use lgres::io::output::OutputError;
+use output::files::OutputError;
 
 pub use definition::{Input, Mode, Sampler};
 pub use error::{SampleError, SweepError};

@@ -1,11 +1,11 @@
 //! `samples.html`: a sweep on one self-contained page (figures embedded, see
-//! [`lgres::io::html`]): what was varied and measured, how many samples ran, the figures and
+//! [`output::html`]): what was varied and measured, how many samples ran, the figures and
 //! the rows table as `samples.csv` holds it.
 
 use std::path::{Path, PathBuf};
 
-use lgres::io::html::{Html, Td};
-use lgres::io::output::OutputError;
+use output::files::OutputError;
+use output::html::{Html, Td};
 
 use crate::table::{self, Status};
 use crate::{Mode, Row, Sweep};
@@ -80,7 +80,7 @@ fn row_cells(r: &Row) -> Vec<Td> {
     cells.extend(
         r.metrics
             .iter()
-            .map(|m| Td::num(m.map_or_else(|| "n/a".into(), |v| lgres::io::report::sig(v, 4)))),
+            .map(|m| Td::num(m.map_or_else(|| "n/a".into(), |v| output::report::sig(v, 4)))),
     );
     let done = r.written_status() == Status::Ok;
     cells.push(Td::Verdict(if done { "ok" } else { "failed" }.into(), done));

@@ -110,7 +110,6 @@ impl RunSection {
             threads: Some(1),
             max_steps: self.max_steps,
             max_wall_time: self.max_wall_time,
-            surfaces: None,
         })
     }
 }

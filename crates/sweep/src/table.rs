@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use lgres::io::output::{AtomicFile, OutputError};
+use output::files::{AtomicFile, OutputError};
 
 pub use crate::row::{FIXED_COLUMNS, Row, Status, number};
 use crate::{Sweep, SweepError};

@@ -191,7 +191,7 @@ fn grid_runs_every_combination_and_a_bad_sample_is_a_row() {
     // error, nothing from elsewhere.
     let page = std::fs::read_to_string(out.join("samples.html")).unwrap();
     let scatter = std::fs::read(out.join("scatter.png")).unwrap();
-    assert!(page.contains(&lgres::io::html::data_uri("image/png", &scatter)));
+    assert!(page.contains(&output::html::data_uri("image/png", &scatter)));
     let ok = rows.iter().filter(|r| r.status == Status::Ok).count();
     assert_eq!(page.matches("<td class=\"ok\">ok</td>").count(), ok);
     assert_eq!(
@@ -200,7 +200,7 @@ fn grid_runs_every_combination_and_a_bad_sample_is_a_row() {
     );
     assert!(page.contains(&format!("{ok} of 4 rows ran, {} failed", 4 - ok)));
     for r in &rows {
-        assert!(page.contains(&lgres::io::html::escape(&r.error)));
+        assert!(page.contains(&output::html::escape(&r.error)));
     }
     assert!(!page.contains("http://") && !page.contains("https://"));
     std::fs::remove_dir_all(&out).unwrap();

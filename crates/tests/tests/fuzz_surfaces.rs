@@ -2,7 +2,7 @@
 //! (cells' numbers replaced by NaN, ±inf, 1e300, negatives or garbage; rows deleted, duplicated
 //! or swapped; angles shifted; columns dropped or added; the header changed; random bytes
 //! flipped; the text truncated; an empty or binary file) go through
-//! `sim::surfaces::load_last_stage`. None may panic; a refusal names the file; an
+//! `output::surfaces::load_last_stage`. None may panic; a refusal names the file; an
 //! accepted file gives surfaces whose every depth is finite, non-negative and leaves each
 //! surface a radius, equal to the file's numbers row by row (so shuffled rows can never be
 //! accepted as another surface). The seed is fixed: every CI run sees the same mutants. Run
@@ -129,7 +129,7 @@ fn fuzzed_wear_files_are_loaded_exactly_or_refused_by_name() {
     for _ in 0..400 {
         let (bytes, kind) = mutate(&good, &mut rng);
         std::fs::write(&file, &bytes).expect("writes");
-        let loaded = sim::surfaces::load_last_stage(&dir, &scene, &unworn);
+        let loaded = output::surfaces::load_last_stage(&dir, &scene, &unworn);
         let count = kinds.entry(kind).or_default();
         match loaded {
             Ok(joints) => {

@@ -72,7 +72,7 @@ fn elastic_contact_conserves_energy(model: ContactModelName) {
     scene.run.cycles = 1;
     set_model(&mut scene, model);
     let options = RunOptions {
-        surfaces: Some(dir.clone()),
+        surfaces: Some(output::surfaces::folder(dir.clone())),
         ..RunOptions::default()
     };
     let outcome = run_scene("lgres-elastic", &scene, &options, &mut ()).expect("runs");
@@ -132,7 +132,7 @@ fn missing_or_mismatched_wear_files_are_named_errors() {
     scene.run.wear_stages = 0;
     let run = |dir: &Path| {
         let options = RunOptions {
-            surfaces: Some(dir.to_path_buf()),
+            surfaces: Some(output::surfaces::folder(dir)),
             ..RunOptions::default()
         };
         match run_scene("lgres", &scene, &options, &mut ()) {
@@ -202,13 +202,13 @@ fn line_of_centres_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_e
         // Stopped at the slope limit 0.3 (a bound on the profile; measured at the contacts).
         assert!(v.max_slope_ratio <= 0.3, "joint {}: {v:?}", j.name);
     }
-    lgres::io::artifacts::write_run(&outcome, &dir).expect("writes");
+    output::artifacts::write_run(&outcome, &dir).expect("writes");
 
     let mut elastic = lgres::scenes::builtin("lgres-elastic").expect("built-in");
     elastic.run.cycles = 1;
     set_model(&mut elastic, ContactModelName::LineOfCentres);
     let options = RunOptions {
-        surfaces: Some(dir.clone()),
+        surfaces: Some(output::surfaces::folder(dir.clone())),
         ..RunOptions::default()
     };
     let outcome = run_scene("lgres-elastic", &elastic, &options, &mut ()).expect("runs");
@@ -228,7 +228,7 @@ fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
     let dir = worn_folder("partials");
     let scene = lgres::scenes::builtin("lgres").expect("built-in");
     let unworn = unworn_joints(&scene).expect("joints");
-    let worn = sim::surfaces::load_last_stage(&dir, &scene, &unworn).expect("loads");
+    let worn = output::surfaces::load_last_stage(&dir, &scene, &unworn).expect("loads");
     let build_worn = || {
         build(
             &scene,
@@ -297,7 +297,7 @@ fn corrupt_or_special_wear_files_are_refused_by_name() {
     let file = dir.join("wear_B_stage1.csv");
     let good = std::fs::read_to_string(&file).expect("reads");
     let refused = |what: &str| -> String {
-        match sim::surfaces::load_last_stage(&dir, &scene, &unworn) {
+        match output::surfaces::load_last_stage(&dir, &scene, &unworn) {
             Err(e) => {
                 let text = e.to_string();
                 assert!(text.contains("wear_B_stage1.csv"), "{what}: {text}");
@@ -362,6 +362,6 @@ fn corrupt_or_special_wear_files_are_refused_by_name() {
     }
     // The good file loads again.
     std::fs::write(&file, &good).expect("writes");
-    assert!(sim::surfaces::load_last_stage(&dir, &scene, &unworn).is_ok());
+    assert!(output::surfaces::load_last_stage(&dir, &scene, &unworn).is_ok());
     std::fs::remove_dir_all(dir).ok();
 }

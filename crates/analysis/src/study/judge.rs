@@ -1,0 +1,399 @@
+//! Verdicts on the paper's trends, judged on quantities that do not swing with chaos (docs/model.md §8).
+//!
+//! Chaos-robust quantities used by the judge: per-cycle **medians** of the peak normal force
+//! after the start-up window (with their interquartile range as the noise level), the largest
+//! deviation of rod 3 from the ideal mechanism after the window, the energy dissipated per
+//! cycle, the worn volume, the **worn arc** (angular width where the depth is at least
+//! [`ARC_FRACTION`] of the surface's peak) and, for irregularity, the coefficient of variation
+//! of the depth over the worn arc and the number of separate concentrated ranges (depth at
+//! least [`RANGE_FRACTION`] of the peak).
+
+use std::fmt;
+
+use wear::{WornJoint, WornProfile};
+
+use super::results::{StudyKind, StudyResults};
+use sim::{ResponseSummary, RunOutcome};
+
+/// Fraction of a surface's peak depth that counts as worn, for the worn arc and irregularity.
+pub const ARC_FRACTION: f64 = 0.1;
+/// Fraction of the peak depth that makes a concentrated range (as in the run summary).
+pub const RANGE_FRACTION: f64 = 0.5;
+/// Smallest relative change the judge counts as a change at all.
+pub const RELATIVE_MARGIN: f64 = 0.05;
+
+/// Whether a trend is seen in our results.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Verdict {
+    /// The quantities change the way the paper says.
+    Holds,
+    /// More of the quantities that change go the paper's way than the other, but some go the
+    /// other way: the trend holds for some of what the paper claims, not all.
+    HoldsInPart,
+    /// They change the other way (at least as many against the paper as with it).
+    DoesNotHold,
+    /// Most stay within their noise (and the relative margin): the runs cannot tell.
+    Inconclusive,
+}
+
+impl fmt::Display for Verdict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Verdict::Holds => "HOLDS",
+            Verdict::HoldsInPart => "HOLDS IN PART",
+            Verdict::DoesNotHold => "DOES NOT HOLD",
+            Verdict::Inconclusive => "INCONCLUSIVE",
+        })
+    }
+}
+
+/// One quantity the paper says grows from the `low` case to the `high` case.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Comparison {
+    /// What it is, with its unit.
+    pub quantity: String,
+    /// Value in the case the paper says is smaller.
+    pub low: f64,
+    /// Value in the case the paper says is larger.
+    pub high: f64,
+    /// Spread of the values (e.g. interquartile range of per-cycle peaks); a change must
+    /// exceed it to count.
+    pub noise: f64,
+}
+
+impl Comparison {
+    /// Whether this quantity grew: by more than its noise and [`RELATIVE_MARGIN`].
+    pub fn verdict(&self) -> Verdict {
+        judge_increase(self.low, self.high, self.noise)
+    }
+}
+
+/// Whether `high` exceeds `low` by more than `noise` and by more than [`RELATIVE_MARGIN`] of
+/// the larger magnitude ([`Verdict::DoesNotHold`] for a decrease as large, else inconclusive).
+pub fn judge_increase(low: f64, high: f64, noise: f64) -> Verdict {
+    if !(low.is_finite() && high.is_finite()) {
+        return Verdict::Inconclusive;
+    }
+    let margin = (RELATIVE_MARGIN * low.abs().max(high.abs())).max(noise.abs());
+    if high - low > margin {
+        Verdict::Holds
+    } else if low - high > margin {
+        Verdict::DoesNotHold
+    } else {
+        Verdict::Inconclusive
+    }
+}
+
+/// A trend over several quantities. Inconclusive when at most half of them move beyond their
+/// noise (or there are none): only the noise decides that. Otherwise it holds when none moves
+/// against the paper, holds in part when more move with it than against, and does not hold
+/// when at least as many move against it.
+pub fn judge_trend(comparisons: &[Comparison]) -> Verdict {
+    let verdicts: Vec<Verdict> = comparisons.iter().map(Comparison::verdict).collect();
+    let count = |v| verdicts.iter().filter(|x| **x == v).count();
+    let (up, down) = (count(Verdict::Holds), count(Verdict::DoesNotHold));
+    if 2 * (up + down) <= verdicts.len() {
+        Verdict::Inconclusive
+    } else if down == 0 {
+        Verdict::Holds
+    } else if up > down {
+        Verdict::HoldsInPart
+    } else {
+        Verdict::DoesNotHold
+    }
+}
+
+/// Wear measures of one surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceMetrics {
+    /// Peak depth, m.
+    pub peak_m: f64,
+    /// Its body-frame angle, deg.
+    pub peak_deg: f64,
+    /// Angular width where depth ≥ [`ARC_FRACTION`] × peak, deg.
+    pub arc_deg: f64,
+    /// Coefficient of variation (std/mean) of depth over those cells.
+    pub cv: f64,
+    /// Concentrated ranges (depth ≥ [`RANGE_FRACTION`] × peak), deg, deepest first.
+    pub ranges_deg: Vec<[f64; 2]>,
+}
+
+/// Wear measures of `p` (see [`SurfaceMetrics`]).
+pub fn surface_metrics(p: &WornProfile) -> SurfaceMetrics {
+    let wear::Peak {
+        depth: peak, angle, ..
+    } = p.peak();
+    let worn: Vec<f64> = p
+        .depth()
+        .iter()
+        .copied()
+        .filter(|h| peak > 0.0 && *h >= ARC_FRACTION * peak)
+        .collect();
+    let n = worn.len() as f64;
+    let cv = if worn.is_empty() {
+        0.0
+    } else {
+        let mean = worn.iter().sum::<f64>() / n;
+        let var = worn.iter().map(|h| (h - mean).powi(2)).sum::<f64>() / n;
+        var.sqrt() / mean
+    };
+    SurfaceMetrics {
+        peak_m: peak,
+        peak_deg: angle.to_degrees(),
+        arc_deg: n * p.cell_width().to_degrees(),
+        cv,
+        ranges_deg: p
+            .concentrated_ranges(RANGE_FRACTION)
+            .iter()
+            .map(|r| r.degrees())
+            .collect(),
+    }
+}
+
+/// Wear measures of one joint after a stage.
+#[derive(Debug, Clone, PartialEq)]
+pub struct JointMetrics {
+    /// Joint name.
+    pub name: String,
+    /// Bearing surface.
+    pub bearing: SurfaceMetrics,
+    /// Pin surface.
+    pub pin: SurfaceMetrics,
+    /// Volume removed from both surfaces, m³.
+    pub volume_m3: f64,
+}
+
+impl JointMetrics {
+    fn new(name: &str, j: &WornJoint) -> Self {
+        Self {
+            name: name.to_string(),
+            bearing: surface_metrics(j.bearing()),
+            pin: surface_metrics(j.pin()),
+            volume_m3: j.worn_volume(),
+        }
+    }
+    /// Deeper of the two surfaces' peaks, m.
+    pub fn peak_m(&self) -> f64 {
+        self.bearing.peak_m.max(self.pin.peak_m)
+    }
+    /// Mean worn arc of the two surfaces, deg.
+    pub fn arc_deg(&self) -> f64 {
+        0.5 * (self.bearing.arc_deg + self.pin.arc_deg)
+    }
+    /// Mean coefficient of variation of the two surfaces.
+    pub fn cv(&self) -> f64 {
+        0.5 * (self.bearing.cv + self.pin.cv)
+    }
+    /// Concentrated ranges on both surfaces.
+    pub fn range_count(&self) -> usize {
+        self.bearing.ranges_deg.len() + self.pin.ranges_deg.len()
+    }
+}
+
+/// Wear measures per joint after stage `stage` (0-based) of a run.
+pub fn wear_metrics(outcome: &RunOutcome, stage: usize) -> Vec<JointMetrics> {
+    outcome
+        .wear
+        .iter()
+        .filter_map(|h| h.stages.get(stage).map(|j| JointMetrics::new(&h.name, j)))
+        .collect()
+}
+
+/// Wear measures per joint after the last stage of a run.
+pub fn final_wear(outcome: &RunOutcome) -> Vec<JointMetrics> {
+    let last = outcome
+        .wear
+        .iter()
+        .map(|h| h.stages.len())
+        .max()
+        .unwrap_or(0);
+    wear_metrics(outcome, last.saturating_sub(1))
+}
+
+/// The chaos-robust comparisons of a `low` and a `high` run: force medians, rod-3 deviation,
+/// dissipation (unworn and worn response) and the wear after the last stage.
+pub fn compare_runs(low: &RunOutcome, high: &RunOutcome) -> Vec<Comparison> {
+    let mut out = Vec::new();
+    let responses = [
+        (
+            "unworn",
+            Some(&low.summary.response),
+            Some(&high.summary.response),
+        ),
+        (
+            "worn",
+            low.summary.worn_response.as_ref(),
+            high.summary.worn_response.as_ref(),
+        ),
+    ];
+    for (label, a, b) in responses {
+        let (Some(a), Some(b)) = (a, b) else { continue };
+        out.extend(response_comparisons(label, a, b));
+    }
+    for (a, b) in final_wear(low).iter().zip(final_wear(high)) {
+        out.push(Comparison {
+            quantity: format!("worn volume {} (mm³)", a.name),
+            low: a.volume_m3 * 1e9,
+            high: b.volume_m3 * 1e9,
+            noise: 0.0,
+        });
+        out.push(Comparison {
+            quantity: format!("worn arc {} (deg, depth ≥ {ARC_FRACTION}·peak)", a.name),
+            low: a.arc_deg(),
+            high: b.arc_deg(),
+            noise: 0.0,
+        });
+    }
+    out
+}
+
+fn response_comparisons(label: &str, a: &ResponseSummary, b: &ResponseSummary) -> Vec<Comparison> {
+    let mut out = Vec::new();
+    for (ja, jb) in a.joints.iter().zip(&b.joints) {
+        // Not measured (a window covering the run) compares as NaN: inconclusive.
+        let stat = |p: &Option<sim::PeakStats>, f: fn(&sim::PeakStats) -> f64| {
+            p.as_ref().map_or(f64::NAN, |p| f(p) * 1e-3)
+        };
+        let (pa, pb) = (
+            &ja.normal_force_after_transient,
+            &jb.normal_force_after_transient,
+        );
+        out.push(Comparison {
+            quantity: format!("{label}: median cycle peak F_n {} (kN)", ja.name),
+            low: stat(pa, |p| p.cycle_median),
+            high: stat(pb, |p| p.cycle_median),
+            noise: 0.5 * (stat(pa, |p| p.cycle_iqr) + stat(pb, |p| p.cycle_iqr)),
+        });
+    }
+    let deviation = |r: &ResponseSummary, f: fn(&sim::Deviation) -> f64| {
+        r.deviation_after_transient
+            .as_ref()
+            .map_or(f64::NAN, |d| f(d) * 1e3)
+    };
+    out.push(Comparison {
+        quantity: format!("{label}: rod-3 max |Δx| (mm)"),
+        low: deviation(a, |d| d.x_m),
+        high: deviation(b, |d| d.x_m),
+        noise: 0.0,
+    });
+    out.push(Comparison {
+        quantity: format!("{label}: rod-3 max |Δy| (mm)"),
+        low: deviation(a, |d| d.y_m),
+        high: deviation(b, |d| d.y_m),
+        noise: 0.0,
+    });
+    out.push(Comparison {
+        quantity: format!("{label}: energy dissipated per cycle (J)"),
+        low: a.dissipated_per_cycle_j,
+        high: b.dissipated_per_cycle_j,
+        noise: 0.0,
+    });
+    out
+}
+
+/// Stage 2 against stage 1 of a two-stage run: deeper (peak depth, volume) and more irregular
+/// (coefficient of variation over the worn arc, number of concentrated ranges).
+pub fn compare_stages(two_stages: &RunOutcome) -> Vec<Comparison> {
+    let (one, two) = (wear_metrics(two_stages, 0), wear_metrics(two_stages, 1));
+    let mut out = Vec::new();
+    for (a, b) in one.iter().zip(&two) {
+        out.push(Comparison {
+            quantity: format!("peak depth {} (µm)", a.name),
+            low: a.peak_m() * 1e6,
+            high: b.peak_m() * 1e6,
+            noise: 0.0,
+        });
+        out.push(Comparison {
+            quantity: format!("irregularity {}: CV of depth over the worn arc", a.name),
+            low: a.cv(),
+            high: b.cv(),
+            noise: 0.0,
+        });
+        out.push(Comparison {
+            quantity: format!("irregularity {}: concentrated ranges (count)", a.name),
+            low: a.range_count() as f64,
+            high: b.range_count() as f64,
+            noise: 0.0,
+        });
+    }
+    out
+}
+
+/// A trend verdict for the summary.
+#[derive(Debug, Clone)]
+pub struct TrendVerdict {
+    /// Study name.
+    pub study: &'static str,
+    /// The paper's claim.
+    pub claim: String,
+    /// Our verdict.
+    pub verdict: Verdict,
+    /// Quantities: how many grew, of how many.
+    pub grew: usize,
+    /// How many shrank (moved against the paper).
+    pub shrank: usize,
+    /// Number of quantities.
+    pub total: usize,
+}
+
+fn trend_verdict(study: &'static str, claim: &str, c: &[Comparison]) -> TrendVerdict {
+    TrendVerdict {
+        study,
+        claim: claim.to_string(),
+        verdict: judge_trend(c),
+        grew: c.iter().filter(|c| c.verdict() == Verdict::Holds).count(),
+        shrank: c
+            .iter()
+            .filter(|c| c.verdict() == Verdict::DoesNotHold)
+            .count(),
+        total: c.len(),
+    }
+}
+
+/// The trends of `results`' studies, with their comparisons.
+pub fn trends(results: &StudyResults) -> Vec<(TrendVerdict, Vec<Comparison>, [String; 2])> {
+    let mut out = Vec::new();
+    for kind in &results.studies {
+        let StudyKind::Paper(study) = kind else {
+            continue;
+        };
+        let (claim, comparisons, labels) = match lgres::studies::physical_counterpart(study.name)
+            .as_str()
+        {
+            "wear-stages" => {
+                let Some(run) = study.scenes.get(1).and_then(|s| results.run(s)) else {
+                    continue;
+                };
+                (
+                    "second wear stage → deeper and more irregular wear than the first",
+                    compare_stages(&run.outcome),
+                    ["stage 1".to_string(), "stage 2".to_string()],
+                )
+            }
+            _ => {
+                let (Some(low), Some(high)) = (
+                    study.scenes.first().and_then(|s| results.run(s)),
+                    study.scenes.get(1).and_then(|s| results.run(s)),
+                ) else {
+                    continue;
+                };
+                let claim = if lgres::studies::physical_counterpart(study.name) == "clearance" {
+                    "larger clearance → larger forces, deviations, dissipation and wear over a wider arc"
+                } else {
+                    "faster drive → larger forces, deviations, dissipation and wear over a wider arc"
+                };
+                (
+                    claim,
+                    compare_runs(&low.outcome, &high.outcome),
+                    [low.key.clone(), high.key.clone()],
+                )
+            }
+        };
+        out.push((
+            trend_verdict(study.name, claim, &comparisons),
+            comparisons,
+            labels,
+        ));
+    }
+    out
+}

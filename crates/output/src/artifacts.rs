@@ -1,0 +1,417 @@
+//! The files of one run, written atomically with [`crate::files`] and drawn with
+//! [`crate::plot`]: CSV time series, per-stage wear grids, the joints' life curves
+//! (`wear_life.csv`), `summary.json`, the resolved `scene.toml`, PNG figures, the mechanism's
+//! animations (`mechanism[_worn].gif`) and the page that shows them all, `report.html`.
+
+use std::path::{Path, PathBuf};
+
+use crate::animation;
+use crate::files::{Cell, Column, CsvWriter, OutputError, write_atomic, write_csv, write_json};
+use crate::life_plot::{LifeCurve, life_curve};
+use crate::plot::{self, DEFAULT_SIZE, Figure, Series};
+use crate::report::{Captioned, FILES_MARK, REPORT_FILE};
+use scene::file_names::{JointFile, is_file_name_safe};
+use sim::{LifePoint, Response, RunOutcome};
+
+const QUANTITIES: [(&str, &str, &str); 6] = [
+    ("x", "m", "x displacement"),
+    ("y", "m", "y displacement"),
+    ("vx", "m/s", "x velocity"),
+    ("vy", "m/s", "y velocity"),
+    ("ax", "m/s^2", "x acceleration"),
+    ("ay", "m/s^2", "y acceleration"),
+];
+
+/// Writes every output of `outcome` into `dir`; returns the files written, in order.
+pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    // Names become file names: refuse before writing anything (validation rejects them first).
+    let names = outcome.response.contact.iter().map(|c| &c.name);
+    if let Some(name) = names
+        .chain(outcome.wear.iter().map(|w| &w.name))
+        .find(|n| !is_file_name_safe(n))
+    {
+        return Err(OutputError::UnsafeName { name: name.clone() });
+    }
+    // The animations (most of the writing's cost) are drawn on their own threads while the
+    // CSVs and figures are written; the files and their order stay the same, and an
+    // error of the files before the animations is reported first, as when written in turn.
+    let (files, animations) = std::thread::scope(|s| {
+        let animations = s.spawn(|| animation_files(outcome, dir));
+        let files = data_files(outcome, dir);
+        let animations = animations
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        files.and_then(|files| Ok((files, animations?)))
+    })?;
+    let mut files = files;
+    files.extend(animations.iter().map(|a| a.path.clone()));
+    let report = crate::report::write_run_report(outcome, dir, &files, &animations)?;
+    files.push(report);
+    Ok(files)
+}
+
+/// The report of `outcome` as an HTML fragment for a notebook (`_repr_html_`): the page
+/// without the files list, figures embedded. The run's files are drawn in a temporary folder,
+/// removed before returning.
+pub fn notebook_html(outcome: &RunOutcome) -> Result<String, OutputError> {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!(".wearsim-notebook-{}-{n}", std::process::id()));
+    let page = write_run(outcome, &dir).and_then(|_| {
+        let path = dir.join(REPORT_FILE);
+        std::fs::read_to_string(&path).map_err(crate::files::io_err(&path))
+    });
+    // Best effort: the report (or its error) matters more than a leftover temporary folder.
+    let _ = std::fs::remove_dir_all(&dir);
+    let page = page?;
+    let start = page.find("<div class=\"wj-report\">").unwrap_or(0);
+    let end = page.find(FILES_MARK).unwrap_or(page.len());
+    Ok(format!("{}</div>\n", &page[start..end]))
+}
+
+/// Every file of [`write_run`] but the animations and the report, in order.
+fn data_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    let mut files = Vec::new();
+    let body = &outcome.summary.response_body;
+    files.extend(response_files(&outcome.response, body, dir, "")?);
+    if let Some(worn) = &outcome.worn_response {
+        files.extend(response_files(worn, body, dir, "_worn")?);
+    }
+    for joint in &outcome.wear {
+        for (k, stage) in joint.stages.iter().enumerate() {
+            files.push(crate::surfaces::write_stage(
+                dir,
+                &joint.name,
+                k + 1,
+                stage,
+            )?);
+        }
+        if joint.stages.is_empty() {
+            continue;
+        }
+        let labels: Vec<(String, &[f64])> = joint
+            .stages
+            .iter()
+            .enumerate()
+            .flat_map(|(k, s)| {
+                [
+                    (format!("bearing, stage {}", k + 1), s.bearing().depth()),
+                    (format!("pin, stage {}", k + 1), s.pin().depth()),
+                ]
+            })
+            .collect();
+        let surfaces: Vec<(&str, &[f64])> = labels.iter().map(|(l, d)| (l.as_str(), *d)).collect();
+        let path = dir.join(JointFile::Wear.name(&joint.name));
+        plot::wear_depth(
+            &path,
+            &format!("Wear depth at joint {} (body frames)", joint.name),
+            DEFAULT_SIZE,
+            &surfaces,
+        )?;
+        files.push(path);
+        if let Some(last) = joint.stages.last() {
+            let peak = last.bearing().peak().depth.max(last.pin().peak().depth);
+            let clearance = joint.bearing_radius - joint.pin_radius;
+            // Draw the deepest wear at about the clearance's width, at least true to scale.
+            let exaggeration = if peak > 0.0 {
+                (clearance / peak).max(1.0).round()
+            } else {
+                1.0
+            };
+            let path = dir.join(JointFile::Outline.name(&joint.name));
+            plot::worn_outline(
+                &path,
+                &format!("Worn surfaces at joint {} after the last stage", joint.name),
+                (900, 650),
+                &plot::WornJoint {
+                    bearing_radius: joint.bearing_radius,
+                    pin_radius: joint.pin_radius,
+                    bearing_wear: last.bearing().depth(),
+                    pin_wear: last.pin().depth(),
+                    exaggeration,
+                },
+            )?;
+            files.push(path);
+        }
+    }
+    if !outcome.wear.is_empty() {
+        files.extend(life_files(outcome, dir)?);
+    }
+    let path = dir.join("summary.json");
+    write_json(&path, &outcome.summary)?;
+    files.push(path);
+    let path = dir.join("scene.toml");
+    write_atomic(&path, outcome.scene.to_toml().as_bytes())?;
+    files.push(path);
+    Ok(files)
+}
+
+/// `mechanism.gif` and, after wear, `mechanism_worn.gif` (where the run recorded the frames:
+/// `run.animation`), captioned for the report.
+fn animation_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<Captioned>, OutputError> {
+    let worn = outcome
+        .worn_response
+        .as_ref()
+        .map(|r| (r, "_worn", &outcome.wear[..]));
+    let mut out = Vec::new();
+    for (response, suffix, wear) in std::iter::once((&outcome.response, "", &[][..])).chain(worn) {
+        if response.frames.is_none() {
+            continue;
+        }
+        let path = dir.join(format!("mechanism{suffix}.gif"));
+        let on = if suffix.is_empty() {
+            "on the unworn surfaces"
+        } else {
+            "on the worn surfaces after the last stage"
+        };
+        let title = format!("{}: one drive cycle {on}", outcome.summary.scene);
+        let info = animation::write_animation(&path, &outcome.scene, response, wear, &title)?;
+        let magnified: Vec<String> = info
+            .magnification
+            .iter()
+            .map(|(joint, m)| format!("joint {joint} ×{m:.0}"))
+            .collect();
+        let magnified = if magnified.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " Each clearance joint's inset shows the journal centre in its bearing, the \
+                 clearance magnified ({}), its orbit as a trail and the largest contact force \
+                 since the previous frame as an arrow scaled to the cycle's peak.",
+                magnified.join(", ")
+            )
+        };
+        out.push(Captioned {
+            path,
+            caption: format!(
+                "mechanism{suffix}.gif: the mechanism over one drive cycle after the {} s \
+                 start-up window {on} ({} frames), the ideal mechanism in grey behind.\
+                 {magnified}",
+                crate::report::sig(outcome.summary.transient_window_s, 3),
+                info.frames
+            ),
+        });
+    }
+    Ok(out)
+}
+
+fn col<'a>(name: &'a str, unit: &'a str) -> Column<'a> {
+    Column { name, unit }
+}
+
+/// `wear_life.csv` (every wearing joint's life curve, one row per sub-step after a row at 0
+/// cycles) and one `wear_life_<joint>.png` per joint.
+fn life_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
+    let mut files = Vec::new();
+    let path = dir.join("wear_life.csv");
+    let mut csv = CsvWriter::create(
+        &path,
+        &[
+            col("joint", "-"),
+            col("stage", "1"),
+            col("substep", "1"),
+            col("cycles", "1"),
+            col("bearing_peak_depth", "m"),
+            col("pin_peak_depth", "m"),
+            col("worn_volume", "m^3"),
+            col("max_local_clearance", "m"),
+            col("wear_stiffness", "1"),
+        ],
+    )?;
+    for joint in &outcome.wear {
+        for p in &joint.life {
+            csv.record(&[
+                Cell::Text(&joint.name),
+                Cell::Count(p.stage),
+                Cell::Count(p.substep),
+                Cell::Number(p.cycles),
+                Cell::Number(p.bearing_peak_depth_m),
+                Cell::Number(p.pin_peak_depth_m),
+                Cell::Number(p.worn_volume_m3),
+                Cell::Number(p.max_local_clearance_m),
+                Cell::Number(p.wear_stiffness),
+            ])?;
+        }
+    }
+    files.push(csv.finish()?);
+    let limits = outcome.summary.wear.as_ref().map(|w| &w.joints);
+    for joint in &outcome.wear {
+        let column = |f: fn(&LifePoint) -> f64| joint.life.iter().map(f).collect::<Vec<f64>>();
+        let cycles = column(|p| p.cycles);
+        // A stage's last point is where the next begins (not after the last stage).
+        let boundaries: Vec<f64> = joint
+            .life
+            .windows(2)
+            .filter(|w| w[1].stage > w[0].stage && w[0].stage > 0)
+            .map(|w| w[0].cycles)
+            .collect();
+        let limit = limits
+            .and_then(|js| js.iter().find(|j| j.name == joint.name))
+            .and_then(|j| j.clearance_limit.as_ref())
+            .map(|l| (l.limit_m, l.cycles));
+        let path = dir.join(JointFile::Life.name(&joint.name));
+        life_curve(
+            &path,
+            &format!("Wear of joint {} over its life", joint.name),
+            DEFAULT_SIZE,
+            &LifeCurve {
+                cycles: &cycles,
+                bearing_depth: &column(|p| p.bearing_peak_depth_m),
+                pin_depth: &column(|p| p.pin_peak_depth_m),
+                max_clearance: &column(|p| p.max_local_clearance_m),
+                stage_boundaries: &boundaries,
+                limit,
+            },
+        )?;
+        files.push(path);
+    }
+    Ok(files)
+}
+
+/// `response{suffix}.csv`, `contact{suffix}.csv` and their figures.
+fn response_files(
+    r: &Response,
+    body: &str,
+    dir: &Path,
+    suffix: &str,
+) -> Result<Vec<PathBuf>, OutputError> {
+    let mut files = Vec::new();
+    let (sim, ideal) = (r.motion.series(), r.ideal.series());
+    let deviation: Vec<Vec<f64>> = sim
+        .iter()
+        .zip(&ideal)
+        .map(|(a, b)| a.iter().zip(*b).map(|(x, y)| x - y).collect())
+        .collect();
+    let names: Vec<[String; 3]> = QUANTITIES
+        .iter()
+        .map(|(q, _, _)| [q.to_string(), format!("ideal_{q}"), format!("dev_{q}")])
+        .collect();
+    let mut columns = vec![(col("t", "s"), r.times.as_slice())];
+    for (k, (_, unit, _)) in QUANTITIES.iter().enumerate() {
+        columns.push((col(&names[k][0], unit), sim[k]));
+        columns.push((col(&names[k][1], unit), ideal[k]));
+        columns.push((col(&names[k][2], unit), &deviation[k]));
+    }
+    files.push(write_csv(
+        dir.join(format!("response{suffix}.csv")),
+        &columns,
+    )?);
+
+    if !r.contact.is_empty() {
+        let names: Vec<[String; 8]> = r
+            .contact
+            .iter()
+            .map(|c| {
+                [
+                    "Fn",
+                    "Ft",
+                    "delta",
+                    "e",
+                    "ex",
+                    "ey",
+                    "ex_bearing",
+                    "ey_bearing",
+                ]
+                .map(|q| format!("{}_{q}", c.name))
+            })
+            .collect();
+        let mut columns = vec![(col("t", "s"), r.times.as_slice())];
+        for (c, n) in r.contact.iter().zip(&names) {
+            let units = ["N", "N", "m", "m", "m", "m", "m", "m"];
+            let data: [&[f64]; 8] = [
+                &c.normal_force,
+                &c.friction_force,
+                &c.penetration,
+                &c.eccentricity,
+                &c.ex,
+                &c.ey,
+                &c.ex_bearing,
+                &c.ey_bearing,
+            ];
+            for k in 0..8 {
+                columns.push((col(&n[k], units[k]), data[k]));
+            }
+        }
+        files.push(write_csv(
+            dir.join(format!("contact{suffix}.csv")),
+            &columns,
+        )?);
+    }
+
+    let worn = if suffix.is_empty() {
+        ""
+    } else {
+        " (worn joints)"
+    };
+    if suffix.is_empty() || r.contact.is_empty() {
+        for (k, (q, unit, label)) in QUANTITIES.iter().enumerate() {
+            let path = dir.join(format!("response_{q}{suffix}.png"));
+            let title = format!("{body} centroid {label}: clearance vs ideal{worn}");
+            let y_label = format!("{q} ({unit})");
+            plot::line_chart(
+                &path,
+                &Figure {
+                    title: &title,
+                    x_label: "t (s)",
+                    y_label: &y_label,
+                    size: DEFAULT_SIZE,
+                },
+                &[
+                    Series {
+                        label: "with clearance",
+                        x: &r.times,
+                        y: sim[k],
+                    },
+                    Series {
+                        label: "ideal",
+                        x: &r.times,
+                        y: ideal[k],
+                    },
+                ],
+            )?;
+            files.push(path);
+        }
+    }
+    for c in &r.contact {
+        let path = dir.join(JointFile::Force(!suffix.is_empty()).name(&c.name));
+        let title = format!("Contact force at joint {}{worn}", c.name);
+        let kn: Vec<f64> = c.normal_force.iter().map(|f| f * 1e-3).collect();
+        let kt: Vec<f64> = c.friction_force.iter().map(|f| f * 1e-3).collect();
+        plot::line_chart(
+            &path,
+            &Figure {
+                title: &title,
+                x_label: "t (s)",
+                y_label: "force (kN)",
+                size: DEFAULT_SIZE,
+            },
+            &[
+                Series {
+                    label: "normal",
+                    x: &r.times,
+                    y: &kn,
+                },
+                Series {
+                    label: "friction",
+                    x: &r.times,
+                    y: &kt,
+                },
+            ],
+        )?;
+        files.push(path);
+        let path = dir.join(JointFile::Journal(!suffix.is_empty()).name(&c.name));
+        plot::journal_path(
+            &path,
+            &format!(
+                "Journal centre at joint {} in the bearing frame{worn}",
+                c.name
+            ),
+            (900, 650),
+            &c.ex_bearing,
+            &c.ey_bearing,
+            c.clearance,
+        )?;
+        files.push(path);
+    }
+    Ok(files)
+}

@@ -1,0 +1,128 @@
+//! The life-curve figure of a wearing joint (`wear_life_<joint>.png`), on the helpers of
+//! [`super::plot`].
+
+use std::path::Path;
+
+use plotters::prelude::*;
+
+use super::plot::*;
+use crate::files::OutputError;
+
+/// A joint's life curve for [`life_curve`]: its wear after each sub-step against the drive
+/// cycles it stands for (all slices the same length; extra values are ignored).
+#[derive(Debug, Clone, Copy)]
+pub struct LifeCurve<'a> {
+    /// Drive cycles, increasing from 0.
+    pub cycles: &'a [f64],
+    /// Peak bearing depth, m.
+    pub bearing_depth: &'a [f64],
+    /// Peak pin depth, m.
+    pub pin_depth: &'a [f64],
+    /// Largest local clearance, m.
+    pub max_clearance: &'a [f64],
+    /// Cycles where one stage ends and the next begins (dashed verticals).
+    pub stage_boundaries: &'a [f64],
+    /// Maintenance limit on the largest local clearance, m (dashed horizontal), and the
+    /// cycles at which the curve reaches it (marked), if it does.
+    pub limit: Option<(f64, Option<f64>)>,
+}
+
+/// Tick label of a cycle count: `0`, else two significant digits in scientific notation.
+fn cycles_label(v: &f64) -> String {
+    if *v == 0.0 {
+        "0".into()
+    } else {
+        format!("{v:.1e}")
+    }
+}
+
+/// A joint's life curve in two panels over a common, linear cycle axis (the start at 0 cycles
+/// belongs on it, and Archard wear grows about linearly in the cycles): the peak depths of
+/// bearing and pin above, the largest local clearance below, both in µm, one marker per
+/// sub-step; stage boundaries dashed in both, the clearance limit dashed below.
+pub fn life_curve(
+    path: impl AsRef<Path>,
+    title: &str,
+    size: (u32, u32),
+    curve: &LifeCurve<'_>,
+) -> Result<(), OutputError> {
+    let um = |v: &[f64]| v.iter().map(|x| x * 1e6).collect::<Vec<f64>>();
+    let (bearing, pin, clearance) = (
+        um(curve.bearing_depth),
+        um(curve.pin_depth),
+        um(curve.max_clearance),
+    );
+    let limit = curve.limit.map(|(l, at)| (l * 1e6, at));
+    let last = curve.cycles.iter().copied().filter(|c| c.is_finite());
+    let xs = 0.0..last.fold(0.0, f64::max).max(1.0);
+    let panels = [
+        (
+            "peak wear depth (µm)",
+            padded_range(bearing.iter().chain(&pin).copied().chain([0.0])),
+            vec![("bearing", &bearing), ("pin", &pin)],
+        ),
+        (
+            "largest local clearance (µm)",
+            padded_range(clearance.iter().copied().chain(limit.map(|(l, _)| l))),
+            vec![("c0 + (max h_i + max h_j)/2", &clearance)],
+        ),
+    ];
+    render(path.as_ref(), size, |root| {
+        let body = root.titled(title, (FONT, 24))?;
+        let areas = body.split_evenly((2, 1));
+        for (k, ((y_label, ys, series), area)) in panels.iter().zip(&areas).enumerate() {
+            let mut chart = ChartBuilder::on(area)
+                .margin(12)
+                // Room for the last cycle label, centred on the axis end.
+                .margin_right(30)
+                .x_label_area_size(45)
+                .y_label_area_size(80)
+                .build_cartesian_2d(xs.clone(), ys.clone())?;
+            chart
+                .configure_mesh()
+                .x_desc("drive cycles")
+                .y_desc(*y_label)
+                .x_label_formatter(&cycles_label)
+                .label_style((FONT, 14))
+                .axis_desc_style((FONT, 16))
+                .light_line_style(RGBColor(235, 235, 235))
+                .draw()?;
+            for (n, (label, y)) in series.iter().enumerate() {
+                // Colours run on across the panels: each quantity its own.
+                let c = colour(2 * k + n);
+                let points: Vec<(f64, f64)> = curve
+                    .cycles
+                    .iter()
+                    .copied()
+                    .zip(y.iter().copied())
+                    .collect();
+                chart
+                    .draw_series(LineSeries::new(points.iter().copied(), c.stroke_width(2)))?
+                    .label(*label)
+                    .legend(key(c.stroke_width(2)));
+                chart.draw_series(points.iter().map(|p| Circle::new(*p, 3, c.filled())))?;
+            }
+            let grey = RGBColor(110, 110, 110).stroke_width(1);
+            for (n, at) in curve.stage_boundaries.iter().enumerate() {
+                let line = [(*at, ys.start), (*at, ys.end)];
+                let drawn = chart.draw_series(DashedLineSeries::new(line, 6, 4, grey))?;
+                if n == 0 {
+                    drawn.label("stage boundary").legend(key(grey));
+                }
+            }
+            if let (1, Some((value, reached))) = (k, limit) {
+                let red = RGBColor(200, 0, 0).stroke_width(2);
+                let line = [(xs.start, value), (xs.end, value)];
+                chart
+                    .draw_series(DashedLineSeries::new(line, 10, 6, red))?
+                    .label(format!("limit {} µm", tick(&value)))
+                    .legend(key(red));
+                if let Some(at) = reached {
+                    chart.draw_series([Circle::new((at, value), 6, red)])?;
+                }
+            }
+            draw_legend(&mut chart, 14, SeriesLabelPosition::UpperLeft)?;
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,591 @@
+//! `report.html`: one self-contained page per run ([`crate::html`]). First what a reader
+//! needs to judge the run (scene, force peaks, deviations, energy books, validity, wear, life,
+//! numerics, warnings), then every figure the run drew with what to look at in it, then the
+//! scene's parameters and the files beside the page.
+
+use std::path::{Path, PathBuf};
+
+use crate::files::OutputError;
+use crate::html::{Html, Td};
+use sim::{
+    ENERGY_BOOKS_TOLERANCE_J, JointSummary, PeakStats, ResponseSummary, RunOutcome, Summary,
+};
+
+/// The report's file name in a run's folder.
+pub const REPORT_FILE: &str = "report.html";
+
+/// A figure the report shows beside the ones it recognises by name: its file and caption (the
+/// animations, whose captions say how much the clearance is magnified).
+#[derive(Debug, Clone)]
+pub struct Captioned {
+    /// The image file, in the run's folder.
+    pub path: PathBuf,
+    /// What to look at in it.
+    pub caption: String,
+}
+
+/// Writes `<dir>/report.html` for `outcome`, embedding the images among `files` (the files the
+/// run wrote, in `dir`) and the `extra` figures first.
+pub fn write_run_report(
+    outcome: &RunOutcome,
+    dir: &Path,
+    files: &[PathBuf],
+    extra: &[Captioned],
+) -> Result<PathBuf, OutputError> {
+    let mut html = run_summary(&outcome.summary);
+    figures(&mut html, outcome, files, extra)?;
+    scene_table(&mut html, outcome);
+    html.raw(FILES_MARK);
+    html.heading(2, "Files");
+    html.lede("Every file the run wrote, beside this page.");
+    let names: Vec<String> = files
+        .iter()
+        .filter_map(|f| f.file_name())
+        .map(|n| n.to_string_lossy().into_owned())
+        .collect();
+    html.list(&names);
+    let path = dir.join(REPORT_FILE);
+    let title = format!("wearsim run: {}", outcome.summary.scene);
+    html.write_page(&path, &title)?;
+    Ok(path)
+}
+
+/// Where the list of files beside the page starts (a notebook's copy ends there).
+pub(crate) const FILES_MARK: &str = "<!-- files -->\n";
+
+/// The report's top part, the verdicts and tables without figures (what a notebook shows first).
+pub fn run_summary(s: &Summary) -> Html {
+    let mut html = Html::new();
+    html.heading(1, &format!("Run of scene {}", s.scene));
+    html.lede(&scene_line(s));
+    for w in warnings(s) {
+        html.warning(&w);
+    }
+    forces(&mut html, s);
+    deviations(&mut html, s);
+    energy(&mut html, s);
+    wear(&mut html, s);
+    numerics(&mut html, s);
+    html
+}
+
+/// The scene in one line.
+fn scene_line(s: &Summary) -> String {
+    let wear = s.wear.as_ref().map_or_else(
+        || "no wear stages".to_string(),
+        |w| {
+            format!(
+                "{} wear stage(s) of {:.3e} cycles each, {} simulated cycles per sub-step on {} \
+                 trajector{}",
+                w.stages,
+                w.cycles_represented_per_stage,
+                w.cycles_per_stage,
+                w.trajectories,
+                if w.trajectories == 1 { "y" } else { "ies" }
+            )
+        },
+    );
+    format!(
+        "{} — contact {}. {} response cycle(s) of {} s; response body {}; {wear}; {} wall time.",
+        s.description,
+        s.contacts.join("; "),
+        s.response.cycles,
+        sig(s.period_s, 4),
+        s.response_body,
+        seconds(s.wall_time_s)
+    )
+}
+
+/// Every warning the run raised, and every joint outside the contact model's validity.
+fn warnings(s: &Summary) -> Vec<String> {
+    let mut out = Vec::new();
+    for (label, r) in responses(s) {
+        out.extend(r.energy_warnings.iter().map(|w| format!("{label}: {w}")));
+        for j in &r.joints {
+            if let Some(v) = j.validity.as_ref().filter(|v| !v.inside) {
+                out.push(format!(
+                    "{label}, joint {}: OUTSIDE the contact model's validity, so its force \
+                     peaks are not results: {}",
+                    j.name,
+                    v.reasons.join("; ")
+                ));
+            }
+        }
+    }
+    if let Some(w) = &s.wear {
+        out.extend(w.warnings.iter().cloned());
+    }
+    out
+}
+
+/// The responses the run made, labelled.
+fn responses(s: &Summary) -> Vec<(&'static str, &ResponseSummary)> {
+    let mut out = vec![("unworn response", &s.response)];
+    if let Some(w) = &s.worn_response {
+        out.push(("worn response", w));
+    }
+    out
+}
+
+fn forces(html: &mut Html, s: &Summary) {
+    if s.response.joints.is_empty() {
+        return;
+    }
+    html.heading(2, "Contact force peaks");
+    html.lede(&format!(
+        "Peaks are statistics of per-cycle maxima after the {} s start-up window (the clearance \
+         dynamics are chaotic: single peaks do not repeat). Validity: whether the (worn) geometry \
+         stayed where the contact model holds; a joint outside it has no result. Noise: the \
+         bootstrap standard deviation of the median. Elastic share: the conservative part of the \
+         force at each cycle's peak, median (smallest); the rest is the law's damping term, and a \
+         median below 50 % is flagged.",
+        sig(s.transient_window_s, 3)
+    ));
+    let mut rows = Vec::new();
+    for (label, r) in responses(s) {
+        for j in &r.joints {
+            rows.push(force_row(label, j));
+        }
+    }
+    html.table(
+        &[
+            "response",
+            "joint",
+            "cycles",
+            "median peak",
+            "± noise",
+            "IQR",
+            "elastic share",
+            "max after window",
+            "max incl. start-up",
+            "max penetration",
+            "validity",
+        ],
+        &rows,
+    );
+}
+
+fn force_row(label: &str, j: &JointSummary) -> Vec<Td> {
+    let after = j.normal_force_after_transient.as_ref();
+    let stat = |f: fn(&PeakStats) -> f64| after.map_or_else(|| "n/a".into(), |p| kn(f(p)));
+    let validity = match &j.validity {
+        Some(v) if v.inside => Td::Verdict(format!("inside ({})", v.model), true),
+        Some(v) => Td::Verdict(format!("OUTSIDE: {}", v.reasons.join("; ")), false),
+        None => Td::text("not measured"),
+    };
+    vec![
+        Td::text(label),
+        Td::text(&j.name),
+        Td::num(after.map_or_else(|| "0".into(), |p| p.cycles.to_string())),
+        Td::num(stat(|p| p.cycle_median)),
+        Td::num(stat(|p| p.cycle_median_noise)),
+        Td::num(stat(|p| p.cycle_iqr)),
+        share_cell(after),
+        Td::num(stat(|p| p.max)),
+        Td::num(kn(j.normal_force_all.max)),
+        Td::num(micro(j.max_penetration_m)),
+        validity,
+    ]
+}
+
+/// The elastic share of the peaks (median, smallest), marked when the median is mostly
+/// damping.
+fn share_cell(after: Option<&PeakStats>) -> Td {
+    match after.filter(|p| p.elastic_share_median.is_finite()) {
+        None => Td::text("n/a"),
+        Some(p) => Td::Verdict(
+            format!(
+                "{:.0} % (min {:.0} %)",
+                100.0 * p.elastic_share_median,
+                100.0 * p.elastic_share_min
+            ),
+            p.elastic_share_median >= sim::MIN_ELASTIC_SHARE,
+        ),
+    }
+}
+
+fn deviations(html: &mut Html, s: &Summary) {
+    html.heading(
+        2,
+        &format!("Deviation of {} from the ideal mechanism", s.response_body),
+    );
+    html.lede(&format!(
+        "Largest |simulated − ideal| of the body's centroid, after the {} s start-up window and \
+         over the whole run; the ideal mechanism is {}.",
+        sig(s.transient_window_s, 3),
+        s.reference
+    ));
+    let mut rows = Vec::new();
+    for (label, r) in responses(s) {
+        for (window, d) in [
+            ("after window", r.deviation_after_transient.as_ref()),
+            ("whole run", Some(&r.deviation)),
+        ] {
+            let cell = |f: fn(&sim::Deviation) -> f64, unit: &str| {
+                Td::num(d.map_or_else(|| "n/a".into(), |d| with_unit(f(d), unit)))
+            };
+            rows.push(vec![
+                Td::text(label),
+                Td::text(window),
+                cell(|d| d.x_m * 1e6, "µm"),
+                cell(|d| d.y_m * 1e6, "µm"),
+                cell(|d| d.vx_m_s, "m/s"),
+                cell(|d| d.vy_m_s, "m/s"),
+                cell(|d| d.ax_m_s2, "m/s²"),
+                cell(|d| d.ay_m_s2, "m/s²"),
+            ]);
+        }
+    }
+    html.table(
+        &[
+            "response", "span", "|Δx|", "|Δy|", "|Δvx|", "|Δvy|", "|Δax|", "|Δay|",
+        ],
+        &rows,
+    );
+}
+
+fn energy(html: &mut Html, s: &Summary) {
+    if s.response.joints.is_empty() {
+        return;
+    }
+    html.heading(2, "Energy books, per cycle");
+    html.lede(&format!(
+        "What each contact takes out of the mechanism (the energy audit's work, net of stored \
+         elastic energy) against what its damping and friction dissipate. The books close when \
+         the difference is within {ENERGY_BOOKS_TOLERANCE_J} J per cycle."
+    ));
+    let mut rows = Vec::new();
+    for (label, r) in responses(s) {
+        for j in &r.joints {
+            let residual = j.energy_books_residual_per_cycle_j;
+            let closes = residual.is_finite() && residual.abs() <= ENERGY_BOOKS_TOLERANCE_J;
+            rows.push(vec![
+                Td::text(label),
+                Td::text(&j.name),
+                Td::num(joules(j.contact_dissipation_per_cycle_j)),
+                Td::num(joules(j.damping_dissipation_per_cycle_j)),
+                Td::num(joules(j.friction_dissipation_per_cycle_j)),
+                Td::num(joules(residual)),
+                Td::Verdict(if closes { "close" } else { "DO NOT close" }.into(), closes),
+            ]);
+        }
+    }
+    html.table(
+        &[
+            "response",
+            "joint",
+            "dissipated",
+            "damping",
+            "friction",
+            "difference",
+            "books",
+        ],
+        &rows,
+    );
+}
+
+fn wear(html: &mut Html, s: &Summary) {
+    let Some(w) = &s.wear else {
+        return;
+    };
+    html.heading(2, "Wear");
+    html.lede(&format!(
+        "After {} stage(s): {:.3e} drive cycles applied in sub-steps {:?} ({} extrapolation, {} \
+         simulated cycles per sub-step on {} trajector{}). Depths are in the body frames; ranges hold the cells \
+         at least half as deep as the peak. The stage's two halves {}.",
+        w.stages,
+        w.cycles_applied,
+        w.substeps_per_stage,
+        w.extrapolation,
+        w.cycles_per_stage,
+        w.trajectories,
+        if w.trajectories == 1 { "y" } else { "ies" },
+        if w.converged {
+            "agree: the wear is converged in K"
+        } else {
+            "were not shown to agree (see the warnings)"
+        }
+    ));
+    let ranges = |r: &[[f64; 2]]| {
+        r.iter()
+            .map(|[a, b]| format!("[{a:.0}, {b:.0}]°"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let rows: Vec<Vec<Td>> = w
+        .joints
+        .iter()
+        .map(|j| {
+            let life = j.clearance_limit.as_ref().map_or_else(
+                || "no limit set".to_string(),
+                |l| match l.cycles {
+                    Some(c) => format!("{} after {c:.2e} cycles", micro(l.limit_m)),
+                    None => format!("{} not reached", micro(l.limit_m)),
+                },
+            );
+            vec![
+                Td::text(&j.name),
+                Td::num(micro(j.bearing_peak_depth_m)),
+                Td::num(format!("{:.0}°", j.bearing_peak_angle_deg)),
+                Td::text(ranges(&j.bearing_ranges_deg)),
+                Td::num(micro(j.pin_peak_depth_m)),
+                Td::num(format!("{:.0}°", j.pin_peak_angle_deg)),
+                Td::text(ranges(&j.pin_ranges_deg)),
+                Td::num(micro(j.max_local_clearance_m)),
+                Td::text(life),
+            ]
+        })
+        .collect();
+    html.table(
+        &[
+            "joint",
+            "bearing peak",
+            "at",
+            "bearing ranges",
+            "pin peak",
+            "at",
+            "pin ranges",
+            "largest clearance",
+            "clearance limit",
+        ],
+        &rows,
+    );
+}
+
+fn numerics(html: &mut Html, s: &Summary) {
+    html.heading(2, "Numerics");
+    let rows: Vec<Vec<Td>> = responses(s)
+        .into_iter()
+        .filter_map(|(label, r)| r.numerics.as_ref().map(|n| (label, n)))
+        .map(|(label, n)| {
+            vec![
+                Td::text(label),
+                Td::num(n.steps.to_string()),
+                Td::num(n.rejected_steps.to_string()),
+                Td::num(n.events.to_string()),
+                Td::num(format!("{} s", sig(n.smallest_step_s, 3))),
+                Td::num(format!("{} m", sig(n.drift_position, 2))),
+                Td::num(format!(
+                    "{} ({} relative)",
+                    joules(n.energy_residual_j),
+                    sig(n.energy_relative_residual, 2)
+                )),
+                Td::num(seconds(n.wall_time_s)),
+            ]
+        })
+        .collect();
+    if rows.is_empty() {
+        html.lede("Kinematic analysis only: no integration.");
+        return;
+    }
+    html.lede(
+        "Accepted and rejected steps, located contact events, the smallest step, the largest \
+         position-constraint drift, the energy-balance residual and the solver's wall time.",
+    );
+    html.table(
+        &[
+            "response",
+            "steps",
+            "rejected",
+            "events",
+            "smallest step",
+            "drift",
+            "energy residual",
+            "wall time",
+        ],
+        &rows,
+    );
+}
+
+/// Every image the run wrote, the `extra` ones first, captioned.
+fn figures(
+    html: &mut Html,
+    outcome: &RunOutcome,
+    files: &[PathBuf],
+    extra: &[Captioned],
+) -> Result<(), OutputError> {
+    html.heading(2, "Figures");
+    for e in extra {
+        let alt = file_name(&e.path);
+        html.figure(&e.path, &alt, &e.caption)?;
+    }
+    let mut images: Vec<&PathBuf> = files
+        .iter()
+        .filter(|f| crate::html::image_mime(f).is_some())
+        .filter(|f| !extra.iter().any(|e| &e.path == *f))
+        .collect();
+    images.sort_by_key(|f| figure_rank(&file_name(f)));
+    for f in images {
+        let name = file_name(f);
+        html.figure(f, &name, &caption(&name, &outcome.summary))?;
+    }
+    Ok(())
+}
+
+fn file_name(p: &Path) -> String {
+    p.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// Order of the figures: forces and orbits first, then wear and life, then the body response.
+fn figure_rank(name: &str) -> (usize, String) {
+    let rank = [
+        "contact_force_",
+        "journal_",
+        "wear_life_",
+        "wear_",
+        "worn_outline_",
+        "response_",
+    ]
+    .iter()
+    .position(|p| name.starts_with(p))
+    .unwrap_or(usize::MAX);
+    (rank, name.to_string())
+}
+
+/// What to look at in the figure `name`.
+fn caption(name: &str, s: &Summary) -> String {
+    let worn = name.contains("_worn.");
+    let on = if worn {
+        " on the worn surfaces after the last stage"
+    } else {
+        " on the unworn surfaces"
+    };
+    let stem = name.trim_end_matches(".png").trim_end_matches("_worn");
+    if let Some(joint) = stem.strip_prefix("contact_force_") {
+        format!(
+            "{name}: normal and friction force at joint {joint}{on}. Look at the start-up impacts \
+             (before {} s), then the per-cycle peaks the table summarises.",
+            sig(s.transient_window_s, 3)
+        )
+    } else if let Some(joint) = stem.strip_prefix("journal_") {
+        format!(
+            "{name}: the journal centre's path in the bearing frame at joint {joint}{on}; the \
+             circle is the clearance. Contact is on the circle, free flight inside it."
+        )
+    } else if let Some(joint) = stem.strip_prefix("wear_life_") {
+        format!(
+            "{name}: peak depths and the largest local clearance of joint {joint} over the drive \
+             cycles of the stages; the slope is the wear rate, and the limit line (if set) shows \
+             when the joint needs maintenance."
+        )
+    } else if let Some(joint) = stem.strip_prefix("wear_") {
+        format!(
+            "{name}: wear depth against angle on the bearing and the pin of joint {joint}, after \
+             each stage (body frames): where the load concentrates and how irregular it grew."
+        )
+    } else if let Some(joint) = stem.strip_prefix("worn_outline_") {
+        format!(
+            "{name}: the worn bearing and pin outlines of joint {joint} after the last stage, wear \
+             magnified as the figure says, against the round surfaces."
+        )
+    } else if let Some(q) = stem.strip_prefix("response_") {
+        format!(
+            "{name}: the {} centroid's {q}{on} against the ideal mechanism; the difference is the \
+             clearance's effect.",
+            s.response_body
+        )
+    } else {
+        name.to_string()
+    }
+}
+
+/// The scene as run, as a table of its fields (flattened TOML paths) with units where known.
+fn scene_table(html: &mut Html, outcome: &RunOutcome) {
+    html.heading(2, "Scene parameters");
+    html.lede("The scene as run (overrides applied); scene.toml beside this page holds the same.");
+    let mut rows = Vec::new();
+    if let Ok(value) = toml::Value::try_from(&outcome.scene) {
+        flatten("", &value, &mut rows);
+    }
+    html.table(&["field", "value", "unit"], &rows);
+}
+
+fn flatten(prefix: &str, value: &toml::Value, rows: &mut Vec<Vec<Td>>) {
+    match value {
+        toml::Value::Table(t) => {
+            for (k, v) in t {
+                let path = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                flatten(&path, v, rows);
+            }
+        }
+        toml::Value::Array(a) if a.iter().all(|v| v.is_table()) && !a.is_empty() => {
+            for (k, v) in a.iter().enumerate() {
+                flatten(&format!("{prefix}[{k}]"), v, rows);
+            }
+        }
+        other => {
+            let leaf = prefix.rsplit(['.', ']']).next().unwrap_or(prefix);
+            rows.push(vec![
+                Td::text(prefix),
+                Td::text(other.to_string().trim_matches('"')),
+                Td::text(unit_of(leaf)),
+            ]);
+        }
+    }
+}
+
+/// The unit of a scene field, by its name (empty where it has none or is not known).
+fn unit_of(field: &str) -> &'static str {
+    match field {
+        "mass" => "kg",
+        "inertia" => "kg·m²",
+        "x" | "y" | "point" | "other_point" | "bearing_point" | "pin_point" | "bearing_radius"
+        | "clearance" | "width" | "clearance_limit" | "atol_position" => "m",
+        "theta_deg" | "wear_smoothing_deg" => "deg",
+        "gravity" => "m/s²",
+        "velocity" => "m/s",
+        "omega" => "rad/s",
+        "rpm" => "1/min",
+        "period" | "transient_window" | "output_interval" | "max_wall_time" => "s",
+        "youngs_modulus" | "hardness" => "Pa",
+        "k_d" => "m²/N",
+        _ => "",
+    }
+}
+
+/// `x` with `digits` significant digits, in plain notation where it reads well.
+pub fn sig(x: f64, digits: usize) -> String {
+    if !x.is_finite() {
+        return "n/a".into();
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let magnitude = x.abs().log10().floor();
+    if !(-3.0..5.0).contains(&magnitude) {
+        return format!("{x:.*e}", digits.saturating_sub(1));
+    }
+    let decimals = (digits as f64 - 1.0 - magnitude).max(0.0) as usize;
+    format!("{x:.decimals$}")
+}
+
+fn with_unit(x: f64, unit: &str) -> String {
+    if x.is_finite() {
+        format!("{} {unit}", sig(x, 3))
+    } else {
+        "n/a".into()
+    }
+}
+
+fn kn(newtons: f64) -> String {
+    with_unit(newtons * 1e-3, "kN")
+}
+
+/// A length given in m, in µm.
+fn micro(metres: f64) -> String {
+    with_unit(metres * 1e6, "µm")
+}
+
+fn joules(j: f64) -> String {
+    with_unit(j, "J")
+}
+
+fn seconds(s: f64) -> String {
+    with_unit(s, "s")
+}
