@@ -238,9 +238,8 @@ pub fn run_scene(
             let mut wear_summary = None;
             let mut worn = None;
             if scene.run.wear_stages > 0 && initial.iter().any(Option::is_some) {
-                let (history, mut ws, surfaces) =
-                    stages(&scene, &initial, period, options.threads, progress)?;
-                ws.scene_cycles_per_stage = scene_k;
+                let (history, ws, surfaces) =
+                    stages(&scene, &initial, period, scene_k, options.threads, progress)?;
                 wear_history = history;
                 wear_summary = Some(ws);
                 if !options.skip_worn_response {

@@ -177,11 +177,13 @@ impl StageRuns for SceneRuns<'_> {
 }
 
 /// Runs the wear stages; returns the per-stage history, the summary and the final surfaces
-/// (one slot per active clearance joint).
+/// (one slot per active clearance joint). `scene_cycles_per_stage` is the scene's own K
+/// before any override, which the summary reports beside the K run.
 pub(super) fn stages(
     scene: &Scene,
     initial: &[Option<WornJoint>],
     period: f64,
+    scene_cycles_per_stage: u32,
     threads: Option<usize>,
     progress: &mut dyn Progress,
 ) -> Result<Staged, RunError> {
@@ -420,7 +422,7 @@ pub(super) fn stages(
     let mut summary = WearSummary {
         stages: r.wear_stages,
         cycles_per_stage: k,
-        scene_cycles_per_stage: 0,
+        scene_cycles_per_stage,
         trajectories: r.trajectories,
         amplification: r.amplification,
         cycles_represented_per_stage: f64::from(k) * r.amplification,

@@ -150,7 +150,7 @@ impl PrecisionReport {
              energy audit (the configuration of a wear-stage run; build and assembly excluded), \
              without (`wall`) and with (`wall, wear`) wear accumulation. Errors come from one \
              measured run with output every frame, the energy audit and wear accumulation on. \
-             Method and error definitions: `lgres::analysis::precision` (crate docs).\n",
+             Method and error definitions: `analysis::precision` (crate docs).\n",
             self.scene, self.wall_time_s, self.duration_s, self.repeats
         );
         let _ = writeln!(
