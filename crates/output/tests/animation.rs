@@ -217,7 +217,11 @@ fn the_gif_is_bounded_well_formed_and_deterministic() {
     assert!(info.magnification[0].1 >= 10.0, "{:?}", info.magnification);
     // Frames after the first store only what changed, and something does change.
     let gif = parse_gif(&bytes);
-    assert!(gif.frames[1..].iter().any(|(r, _)| r.2 * r.3 > 1));
+    assert!(
+        gif.frames[1..]
+            .iter()
+            .any(|(r, _)| u32::from(r.2) * u32::from(r.3) > 1)
+    );
     // Nothing but the file is left, and the same input gives the same bytes.
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1);
     let again = dir.join("again.gif");
