@@ -5,7 +5,7 @@
 //! folder (no lock, no staging folder, no temporary file); a staged folder (`run`, `precision`'s
 //! files, `study`) is either what it was or the command's whole new output, and every file a
 //! command writes in place (`sweep`, `stress`) is whole.
-//! The writer threads' race with the handler is covered by `lgres/tests/interrupt.rs`.
+//! The writer threads' race with the handler is covered by `output/tests/interrupt.rs`.
 
 #![cfg(unix)]
 

@@ -1,6 +1,6 @@
 //! Medians for the benches. Criterion's console line is a mean-based estimate; the project
 //! quotes medians, which are robust to the noise of a shared machine. This module is also
-//! included by `crates/lgres/benches/lgres_cycle.rs` (`#[path]`), so there is one copy.
+//! included by `crates/sim/benches/lgres_cycle.rs` (`#[path]`), so there is one copy.
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};
