@@ -42,6 +42,10 @@ pub const MAX_CYCLES_PER_STAGE_REPRESENTED: f64 = 1e12;
 /// ~1.2e12 Pa) over a layer of 10 µm. Stiffer layers only shorten the integrator's steps (a
 /// run of 1e20 Pa/m took minutes per cycle; 1e300 makes the mass matrix singular).
 pub const MAX_LAYER_MODULUS: f64 = 1e17;
+/// Stiffest linear-spring contact (`contact.stiffness`), N/m: the stiffest solid (diamond,
+/// ~1.2e12 Pa) over a contact a metre wide and deep. Stiffer springs only shorten the
+/// integrator's steps, as stiffer layers do.
+pub const MAX_SPRING_STIFFNESS: f64 = 1e13;
 /// Longest drive period, s (an hour; the shipped scenes: 1 s and 12 ms).
 pub const MAX_PERIOD: f64 = 3600.0;
 /// Most output samples of one response run (`cycles × period / output_interval`).
@@ -242,6 +246,14 @@ impl Limits<'_> {
                 k,
                 MAX_LAYER_MODULUS,
                 "Pa/m (stiffer layers only shorten the integrator's steps)",
+            );
+        }
+        if let Some(k) = c.contact.stiffness {
+            self.at_most(
+                &format!("{p}.contact.stiffness"),
+                k,
+                MAX_SPRING_STIFFNESS,
+                "N/m (stiffer springs only shorten the integrator's steps)",
             );
         }
     }

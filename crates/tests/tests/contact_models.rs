@@ -103,4 +103,13 @@ fn the_scene_value_refuses_what_the_model_does_not_take() {
         ..ContactSpec::default()
     });
     assert!(negative.contains("stiffness"), "{negative}");
+    let absurd = with(ContactSpec {
+        model: ContactModelName::LinearSpring,
+        stiffness: Some(1e20),
+        ..ContactSpec::default()
+    });
+    assert!(
+        absurd.contains("contact.stiffness") && absurd.contains("N/m"),
+        "{absurd}"
+    );
 }
