@@ -50,7 +50,8 @@ impl Default for Limits {
 pub struct Validity {
     /// The contact model measured (its name: `foundation`, `line-of-centres`).
     pub model: &'static str,
-    /// The measures the model is judged by ([`ContactModel::validity_measures`]).
+    /// The measures the model is judged by, in the order of their verdicts
+    /// ([`ContactModel::validity_measures`]).
     #[serde(skip)]
     pub measures: &'static [ValidityMeasure],
     /// Every measure within its limit.
@@ -95,8 +96,6 @@ pub struct Validity {
 #[derive(Debug, Clone)]
 pub struct Tally {
     clearance: f64,
-    /// The measures the model is judged by, in the order of their verdicts.
-    measures: &'static [ValidityMeasure],
     validity: Validity,
 }
 
@@ -106,7 +105,6 @@ impl Tally {
     pub fn new(clearance: f64, limits: Limits, model: &impl ContactModel) -> Self {
         Self {
             clearance,
-            measures: model.validity_measures(),
             validity: Validity {
                 model: model.name(),
                 measures: model.validity_measures(),
@@ -132,7 +130,7 @@ impl Tally {
 
     /// Adds one output frame; `overlap` is the true outline overlap where it was measured.
     pub fn frame(&mut self, d: &ContactDiagnostics, overlap: Option<f64>) {
-        let judged = |m: ValidityMeasure| self.measures.contains(&m);
+        let judged = |m: ValidityMeasure| self.validity.measures.contains(&m);
         let (overlap_ratio, resolution, slope, conformity) = (
             judged(ValidityMeasure::OverlapRatio),
             judged(ValidityMeasure::ResolutionError),
@@ -259,7 +257,7 @@ impl Tally {
                 ),
             }
         };
-        let checks: Vec<(bool, String)> = self.measures.iter().map(verdict).collect();
+        let checks: Vec<(bool, String)> = v.measures.iter().map(verdict).collect();
         v.reasons = checks
             .into_iter()
             .filter(|(failed, _)| *failed)
