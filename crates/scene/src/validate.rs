@@ -281,6 +281,14 @@ impl Validator {
                     "the linear-spring model needs its stiffness (N/m)",
                 ),
             }
+            if c.wear.is_some() {
+                self.push(
+                    format!("{p}.wear"),
+                    "…",
+                    "the linear-spring test model is exact on round surfaces only: it takes no \
+                     wear",
+                );
+            }
         } else if spec.stiffness.is_some() {
             self.push(
                 format!("{q}.stiffness"),

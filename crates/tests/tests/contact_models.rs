@@ -22,6 +22,8 @@ fn the_test_model_runs_a_scene_from_its_scene_value() {
             stiffness: Some(STIFFNESS),
             ..ContactSpec::default()
         };
+        // Exact on round surfaces only: the test model takes no wear.
+        joint.wear = None;
         assert!(
             joint
                 .contact_description()
@@ -103,6 +105,20 @@ fn the_scene_value_refuses_what_the_model_does_not_take() {
         ..ContactSpec::default()
     });
     assert!(negative.contains("stiffness"), "{negative}");
+    let mut worn = base.clone();
+    let joint = &mut worn.clearance_joints[0];
+    joint.contact = ContactSpec {
+        model: ContactModelName::LinearSpring,
+        stiffness: Some(STIFFNESS),
+        ..ContactSpec::default()
+    };
+    assert!(joint.wear.is_some(), "a wear table to refuse");
+    let refused = worn
+        .validate("lgres-elastic")
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(refused.contains("round surfaces only"), "{refused}");
     let absurd = with(ContactSpec {
         model: ContactModelName::LinearSpring,
         stiffness: Some(1e20),
