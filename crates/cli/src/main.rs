@@ -20,7 +20,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use error::CliError;
 use lgres::scenes;
 use overrides::Overrides;
-use scene::Scene;
+use scene::ValidScene;
 use sim::{RunError, RunOutcome};
 
 #[derive(Parser)]
@@ -134,7 +134,7 @@ impl StudyName {
 /// A loaded scene and the name outputs are filed under.
 struct Loaded {
     name: String,
-    scene: Scene,
+    scene: ValidScene,
 }
 
 /// A run error, named after the scene when the scene is what is wrong with it (a scene error
@@ -152,16 +152,12 @@ fn in_scene(spec: &str, e: RunError) -> CliError {
     }
 }
 
-/// Load a built-in scene by name, else a file; apply command-line overrides and re-validate.
+/// Load a built-in scene by name, else a file, with the command-line overrides (checked again
+/// only if they change it).
 fn load(spec: &str, o: &Overrides) -> Result<Loaded, CliError> {
-    let (name, mut scene) = scene::load_named::<Scene>(spec, None, scenes::BUILTINS)?;
-    let overrides = o.run_overrides();
-    let origin = if overrides == sim::overrides::RunOverrides::default() {
-        spec.to_string()
-    } else {
-        format!("{spec} with command-line overrides")
-    };
-    overrides.apply(&mut scene, &origin)?;
+    let (name, scene) = scene::load_named::<ValidScene>(spec, None, scenes::BUILTINS)?;
+    let origin = format!("{spec} with command-line overrides");
+    let scene = o.run_overrides().apply(scene, &origin)?;
     Ok(Loaded { name, scene })
 }
 
@@ -260,10 +256,14 @@ fn check(spec: &str, o: &Overrides) -> Result<(), CliError> {
 }
 
 fn run(spec: &str, no_animation: bool, o: &Overrides) -> Result<(), CliError> {
-    let Loaded { name, mut scene } = load(spec, o)?;
-    if no_animation {
-        scene.run.animation = false;
-    }
+    let Loaded { name, scene } = load(spec, o)?;
+    let scene = if no_animation && scene.run.animation {
+        scene.edit(&format!("{spec} without animation"), |s| {
+            s.run.animation = false;
+        })?
+    } else {
+        scene
+    };
     let out = out_dir(o, &name);
     let options = o.run_options();
     // Lock the folder before simulating, so a second run is refused at once; files go to a

@@ -4,7 +4,7 @@
 //! the `scene` crate), so the reconstructed geometry lives in `scenes/lgres.toml` only. The
 //! scene loaders resolve names against [`BUILTINS`]: `scene::load_path(path, BUILTINS)`.
 
-use scene::{Builtin, Scene, SceneError};
+use scene::{Builtin, SceneError, ValidScene};
 
 macro_rules! builtin {
     ($name:literal, $summary:literal) => {
@@ -73,6 +73,6 @@ pub fn source(name: &str) -> Option<&'static str> {
 }
 
 /// A built-in scene, parsed and validated.
-pub fn builtin(name: &str) -> Result<Scene, SceneError> {
+pub fn builtin(name: &str) -> Result<ValidScene, SceneError> {
     scene::builtin(BUILTINS, name)
 }

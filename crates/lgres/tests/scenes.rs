@@ -130,7 +130,12 @@ fn scene_round_trips_through_toml() {
                 .for_each(|b| b.theta = Default::default());
             s
         };
-        assert_eq!(strip(s), strip(again), "{}", b.name);
+        assert_eq!(
+            strip(s.into_scene()),
+            strip(again.into_scene()),
+            "{}",
+            b.name
+        );
     }
 }
 

@@ -18,12 +18,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let name = args.first().map_or("lgres", String::as_str);
     let out = PathBuf::from(args.get(1).map_or("out/animation", String::as_str));
-    let mut scene = match lgres::scenes::builtin(name) {
+    let scene = match lgres::scenes::builtin(name) {
         Ok(scene) => scene,
         Err(_) => scene::load_path(name.as_ref(), lgres::scenes::BUILTINS)?,
     };
-    scene.run.cycles = args.get(2).map_or(Ok(2), |s| s.parse())?;
-    scene.run.wear_stages = args.get(3).map_or(Ok(0), |s| s.parse())?;
+    let cycles = args.get(2).map_or(Ok(2), |s| s.parse())?;
+    let stages = args.get(3).map_or(Ok(0), |s| s.parse())?;
+    let scene = scene.edit(&format!("{name}, {cycles} cycles"), |s| {
+        s.run.cycles = cycles;
+        s.run.wear_stages = stages;
+    })?;
     let options = RunOptions {
         cycles_per_stage: Some(2),
         ..RunOptions::default()

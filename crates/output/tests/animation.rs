@@ -285,8 +285,10 @@ fn the_animation_field_round_trips_and_defaults_to_true() {
     )
     .unwrap();
     assert!(scene.run.animation);
-    let mut off = scene.clone();
-    off.run.animation = false;
+    let off = scene
+        .clone()
+        .edit("no animation", |s| s.run.animation = false)
+        .unwrap();
     let text = off.to_toml();
     assert!(text.contains("animation = false"), "{text}");
     let back = load_str(&text, "round trip", lgres::scenes::BUILTINS).unwrap();

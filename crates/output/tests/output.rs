@@ -349,15 +349,19 @@ fn short_worn_run_writes_the_life_curve_and_its_figure() {
     assert_eq!(reported["cycles"].as_f64(), Some(cycles));
 
     // Out of reach: null and the words; without a limit: no entry at all.
-    let mut far = scene.clone();
-    far.run.clearance_limit = Some(0.01);
-    far.run.wear_stages = 1;
-    // A stage of 40 000 cycles that ends early at the line-of-centres contact's validity
-    // limits: the curve ends at exactly the cycles the stage applied.
-    far.run.amplification = 20_000.0;
-    for joint in &mut far.clearance_joints {
-        joint.contact = scene::ContactSpec::line_of_centres();
-    }
+    let far = scene
+        .clone()
+        .edit("far", |far| {
+            far.run.clearance_limit = Some(0.01);
+            far.run.wear_stages = 1;
+            // A stage of 40 000 cycles that ends early at the line-of-centres contact's
+            // validity limits: the curve ends at exactly the cycles the stage applied.
+            far.run.amplification = 20_000.0;
+            for joint in &mut far.clearance_joints {
+                joint.contact = scene::ContactSpec::line_of_centres();
+            }
+        })
+        .unwrap();
     let outcome = sim::run_scene("far", &far, &Default::default(), &mut ()).unwrap();
     let wear = outcome.summary.wear.as_ref().unwrap();
     let applied = wear.cycles_applied_at_limits[0].expect("ends at the validity limits");
@@ -370,9 +374,12 @@ fn short_worn_run_writes_the_life_curve_and_its_figure() {
     assert_eq!(limit.message, "not reached within the run");
     let value = serde_json::to_value(&outcome.summary).unwrap();
     assert!(value["wear"]["joints"][0]["clearance_limit"]["cycles"].is_null());
-    let mut none = far;
-    none.run.clearance_limit = None;
-    none.run.wear_stages = 0;
+    let none = far
+        .edit("none", |none| {
+            none.run.clearance_limit = None;
+            none.run.wear_stages = 0;
+        })
+        .unwrap();
     let outcome = sim::run_scene("none", &none, &Default::default(), &mut ()).unwrap();
     let files = output::write_run(&outcome, &dir.join("none")).unwrap();
     assert!(

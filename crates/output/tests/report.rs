@@ -125,10 +125,13 @@ fn a_run_report_embeds_every_figure_and_shows_every_verdict() {
 /// the numerics say why; `run.animation = false` draws no animation.
 #[test]
 fn a_kinematic_run_reports_without_contact_tables() {
-    let scene = lgres::scenes::builtin("lgres-ideal").unwrap();
-    let mut scene = scene;
-    scene.run.cycles = 1;
-    scene.run.animation = false;
+    let scene = lgres::scenes::builtin("lgres-ideal")
+        .unwrap()
+        .edit("lgres-ideal, one cycle", |s| {
+            s.run.cycles = 1;
+            s.run.animation = false;
+        })
+        .unwrap();
     let outcome = sim::run_scene("lgres-ideal", &scene, &Default::default(), &mut ()).unwrap();
     let dir = temp_dir("ideal");
     output::write_run(&outcome, &dir).unwrap();

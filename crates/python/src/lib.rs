@@ -354,7 +354,7 @@ fn run<'py>(
     if threads == Some(0) {
         return Err(scene_err("threads = 0: must be at least 1"));
     }
-    let mut scene = scene::from_table(table, &name).map_err(scene_err)?;
+    let scene = scene::from_table(table, &name).map_err(scene_err)?;
     let overrides = RunOverrides {
         cycles,
         stages,
@@ -366,8 +366,8 @@ fn run<'py>(
         wear_tolerance,
         threads,
     };
-    overrides
-        .apply(&mut scene, &format!("{name} with the run's arguments"))
+    let scene = overrides
+        .apply(scene, &format!("{name} with the run's arguments"))
         .map_err(scene_err)?;
     let options = sim::RunOptions {
         surfaces: surfaces.map(output::surfaces::folder),

@@ -5,21 +5,19 @@ use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
 use super::builtins::{Builtin, known_names, source};
-use super::{Issue, Scene, SceneError};
+use super::{Issue, Scene, SceneError, ValidScene};
 
 /// How many `extends` levels are followed before giving up (guards against cycles).
 const MAX_EXTENDS_DEPTH: usize = 8;
 
 /// Parse and validate scene text; `extends` may name the scenes of `builtins` only.
-pub fn load_str(text: &str, origin: &str, builtins: &[Builtin]) -> Result<Scene, SceneError> {
-    let scene = parse(text, origin, None, builtins)?;
-    scene.validate(origin)?;
-    Ok(scene)
+pub fn load_str(text: &str, origin: &str, builtins: &[Builtin]) -> Result<ValidScene, SceneError> {
+    ValidScene::new(parse(text, origin, None, builtins)?, origin)
 }
 
 /// The scene of `builtins` named `name`, parsed and validated (its `extends` resolved against
 /// `builtins`).
-pub fn builtin(builtins: &[Builtin], name: &str) -> Result<Scene, SceneError> {
+pub fn builtin(builtins: &[Builtin], name: &str) -> Result<ValidScene, SceneError> {
     let text = source(builtins, name).ok_or_else(|| SceneError::UnknownBuiltin {
         name: name.to_string(),
         known: known_names(builtins),
@@ -29,12 +27,10 @@ pub fn builtin(builtins: &[Builtin], name: &str) -> Result<Scene, SceneError> {
 
 /// Read, parse and validate a scene file; `extends` may name a scene of `builtins` or a file
 /// relative to it.
-pub fn load_path(path: &Path, builtins: &[Builtin]) -> Result<Scene, SceneError> {
+pub fn load_path(path: &Path, builtins: &[Builtin]) -> Result<ValidScene, SceneError> {
     let text = read(path)?;
     let origin = path.display().to_string();
-    let scene = parse(&text, &origin, path.parent(), builtins)?;
-    scene.validate(&origin)?;
-    Ok(scene)
+    ValidScene::new(parse(&text, &origin, path.parent(), builtins)?, &origin)
 }
 
 fn read(path: &Path) -> Result<String, SceneError> {
@@ -319,7 +315,7 @@ pub(crate) fn file_stem_name(path: &Path) -> String {
 
 /// Deserialize and validate a scene table (e.g. from [`merged_table`], edited); a type error
 /// or unknown key names its field path.
-pub fn from_table(table: toml::Table, origin: &str) -> Result<Scene, SceneError> {
+pub fn from_table(table: toml::Table, origin: &str) -> Result<ValidScene, SceneError> {
     let scene: Scene =
         serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
             SceneError::Field {
@@ -328,6 +324,5 @@ pub fn from_table(table: toml::Table, origin: &str) -> Result<Scene, SceneError>
                 source: Box::new(e.into_inner()),
             }
         })?;
-    scene.validate(origin)?;
-    Ok(scene)
+    ValidScene::new(scene, origin)
 }

@@ -7,10 +7,12 @@
 //! (`theta_deg`) and stored in radians ([`Angle`]). Every struct rejects unknown keys, so a typo
 //! is an error rather than a silently ignored setting.
 //!
-//! Get a validated scene from [`builtin`], [`load_path`] or [`load_str`]; all three resolve
-//! `extends` (see below) against a list of named scenes ([`Builtin`]: the LGRES model ships
-//! its own, `lgres::scenes::BUILTINS`) and run [`Scene::validate`], so a scene returned by them
-//! names only existing bodies, has finite numbers and physically meaningful parameters.
+//! Get a validated scene ([`ValidScene`]) from [`builtin`], [`load_path`] or [`load_str`]; all
+//! three resolve `extends` (see below) against a list of named scenes ([`Builtin`]: the LGRES
+//! model ships its own, `lgres::scenes::BUILTINS`) and run [`Scene::validate`], so a scene
+//! returned by them names only existing bodies, has finite numbers and physically meaningful
+//! parameters. A [`ValidScene`] cannot be changed in place: [`ValidScene::edit`] checks the
+//! changed copy again, and the run takes only this type.
 //! A scene given as "a built-in name or a file path" (the command line, the Python bindings,
 //! sweep files) is found and loaded by [`load_named`].
 //!
@@ -87,6 +89,7 @@ pub mod limits;
 mod named;
 mod run_settings;
 mod types;
+mod valid;
 mod validate;
 
 pub use builtins::{Builtin, source};
@@ -96,6 +99,7 @@ pub use extends::{builtin, from_table, load_path, load_str, merged_table, merged
 pub use named::{LoadError, Loadable, NotFound, load_named};
 pub use run_settings::{DEFAULT_WEAR_SMOOTHING_DEG, RunSettings};
 pub use types::*;
+pub use valid::ValidScene;
 
 pub use contact::{FrictionLawParams, MaterialParams, NormalLawParams, SlidingVelocity};
 pub use multibody::{Coordinate, Formulation, Integrator};

@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 
 use super::builtins::{Builtin, known_names, source};
 use super::extends::{file_stem_name, load_path, load_str, merged_table, merged_table_of_file};
-use super::{Scene, SceneError};
+use super::{SceneError, ValidScene};
 
-/// The forms a scene given by name or path is loaded as: a validated [`Scene`] (the command
+/// The forms a scene given by name or path is loaded as: a [`ValidScene`] (the command
 /// line), or a [`toml::Table`] with its `extends` chain merged in and not yet deserialized
 /// (what the Python bindings and sweeps edit before [`super::from_table`]).
 pub trait Loadable: Sized + private::Sealed {
@@ -25,11 +25,11 @@ pub trait Loadable: Sized + private::Sealed {
 mod private {
     /// Only this crate's forms: what a form does with the two sources is part of the loader.
     pub trait Sealed {}
-    impl Sealed for crate::Scene {}
+    impl Sealed for crate::ValidScene {}
     impl Sealed for toml::Table {}
 }
 
-impl Loadable for Scene {
+impl Loadable for ValidScene {
     fn from_builtin(name: &str, text: &str, builtins: &[Builtin]) -> Result<Self, SceneError> {
         load_str(text, name, builtins)
     }
@@ -88,10 +88,10 @@ pub enum LoadError {
 /// file's stem (`scene` if it has none) — and the scene as `T` ([`Loadable`]).
 ///
 /// ```
-/// use scene::{Builtin, LoadError, Scene, load_named};
+/// use scene::{Builtin, LoadError, ValidScene, load_named};
 ///
 /// let shipped = [Builtin { name: "empty", summary: "", source: "description = \"\"" }];
-/// let e = load_named::<Scene>("no-such", None, &shipped).unwrap_err();
+/// let e = load_named::<ValidScene>("no-such", None, &shipped).unwrap_err();
 /// assert!(matches!(e, LoadError::NotFound(ref n) if n.known == "empty"));
 /// let (name, table) = load_named::<toml::Table>("empty", None, &shipped)?;
 /// assert_eq!((name.as_str(), table.len()), ("empty", 1));

@@ -6,10 +6,12 @@
 //! ```
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut scene = lgres::scenes::builtin("slider-crank")?;
-    scene.run.cycles = 2;
-    scene.run.wear_stages = 0;
-    scene.run.animation = false;
+    // A changed scene is checked again: the run takes only a checked one.
+    let scene = lgres::scenes::builtin("slider-crank")?.edit("slider-crank, 2 cycles", |s| {
+        s.run.cycles = 2;
+        s.run.wear_stages = 0;
+        s.run.animation = false;
+    })?;
     let outcome = sim::run_scene("slider-crank", &scene, &sim::RunOptions::default(), &mut ())?;
     let response = &outcome.summary.response;
     println!(

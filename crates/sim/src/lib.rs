@@ -73,6 +73,7 @@
 
 pub mod build;
 mod error;
+mod ideal;
 mod life;
 mod options;
 mod outcome;
@@ -91,7 +92,8 @@ use serde::Serialize;
 use wear::WornJoint;
 
 use crate::build::{Surfaces, build, unworn_joints};
-use scene::Scene;
+use ideal::IdealMechanism;
+use scene::{Scene, ValidScene};
 
 pub use error::RunError;
 pub use life::cycles_to_reach;
@@ -102,7 +104,7 @@ pub use outcome::{
     ResponseSummary, RunOutcome, SubstepSummary, Summary, WearSummary,
 };
 pub use progress::Progress;
-use record::{Ideal, assemble, respond, simulate};
+use record::{assemble, respond, simulate};
 use stages::stages;
 use summary::summarize;
 pub use summary::{
@@ -134,12 +136,12 @@ pub struct AssemblyCheck {
 /// `run` would. `name` names the scene in errors.
 pub fn check_assembly(
     name: &str,
-    scene: &Scene,
+    scene: &ValidScene,
     options: &RunOptions,
 ) -> Result<AssemblyCheck, RunError> {
     let scene = &scene_as_run(name, scene, options)?;
     let (times, body) = run_plan(scene)?;
-    ideal_motion(scene, &times, body, None)?;
+    IdealMechanism::build(scene)?.motion(&times, body, None)?;
     unworn_joints(scene)?;
     let built = build(scene, Surfaces::default())?;
     let state = assemble(&built, "assembly check")?;
@@ -159,7 +161,7 @@ pub fn check_assembly(
 /// Simulates `scene` (see the module docs); `name` labels the summary.
 pub fn run_scene(
     name: &str,
-    scene: &Scene,
+    scene: &ValidScene,
     options: &RunOptions,
     progress: &mut dyn Progress,
 ) -> Result<RunOutcome, RunError> {
@@ -189,7 +191,8 @@ pub fn run_scene(
     // is needed only to compare them): most of its cost leaves the run's wall time. A
     // mechanism that is not fully driven or does not assemble is still refused before any
     // simulation: the kinematic analysis at the first output time is done first, here.
-    ideal_motion(&scene, &times[..times.len().min(1)], body, None)?;
+    let ideal_mechanism = IdealMechanism::build(&scene)?;
+    ideal_mechanism.motion(&times[..times.len().min(1)], body, None)?;
     let start: &[Option<WornJoint>] = if options.surfaces.is_some() {
         &initial
     } else {
@@ -197,11 +200,12 @@ pub fn run_scene(
     };
     let indices = frames.clone().unwrap_or_default();
     let (ideal, simulated) = std::thread::scope(|s| {
-        let job = s.spawn(|| ideal_motion(&scene, &times, body, frames));
+        let times = &times;
+        let job = s.spawn(move || ideal_mechanism.motion(times, body, frames));
         // The unworn response samples round surfaces (no wear code); one from loaded
         // surfaces samples those.
         let simulated =
-            active.then(|| simulate(&scene, start, &times, &indices, body, progress, "response"));
+            active.then(|| simulate(&scene, start, times, &indices, body, progress, "response"));
         let ideal = job
             .join()
             .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
@@ -294,34 +298,38 @@ pub fn run_scene(
 
 /// The scene a run simulates: `scene` with `options`' simulated cycles per wear stage `K`
 /// (the amplification rescaled so a stage still stands for as many cycles) and trajectories,
-/// validated again with them. [`check_assembly`] and [`run_scene`] both start here, so a scene
-/// and options one accepts the other does not refuse as bad input. `name` names the scene in
-/// errors.
-pub fn scene_as_run(name: &str, scene: &Scene, options: &RunOptions) -> Result<Scene, RunError> {
-    let mut scene = scene.clone();
+/// checked again only if they change it ([`ValidScene::edit`]). [`check_assembly`] and
+/// [`run_scene`] both start here, so a scene and options one accepts the other does not refuse
+/// as bad input. `name` names the scene in errors.
+pub fn scene_as_run(
+    name: &str,
+    scene: &ValidScene,
+    options: &RunOptions,
+) -> Result<ValidScene, RunError> {
     let scene_k = scene.run.cycles_per_stage;
-    if let Some(k) = options.cycles_per_stage {
-        // K = 0 is left to the validation below, which names it.
-        if k > 0 {
-            scene.run.amplification *= f64::from(scene_k) / f64::from(k);
-        }
-        scene.run.cycles_per_stage = k;
-    }
-    if let Some(m) = options.trajectories {
-        scene.run.trajectories = m;
-    }
-    let (k, m) = (scene.run.cycles_per_stage, scene.run.trajectories);
+    let k = options.cycles_per_stage.unwrap_or(scene_k);
+    let m = options.trajectories.unwrap_or(scene.run.trajectories);
     if scene.run.wear_stages > 0 && (m == 0 || !k.is_multiple_of(m)) {
         return Err(RunError::Trajectories {
             trajectories: m,
             cycles_per_stage: k,
         });
     }
-    scene.validate(&format!(
+    if (k, m) == (scene_k, scene.run.trajectories) {
+        return Ok(scene.clone());
+    }
+    let origin = format!(
         "{name} as run (K = {k} cycles per wear stage on {m} trajector{})",
         if m == 1 { "y" } else { "ies" }
-    ))?;
-    Ok(scene)
+    );
+    Ok(scene.clone().edit(&origin, |scene| {
+        // K = 0 is left to the validation, which names it.
+        if k > 0 {
+            scene.run.amplification *= f64::from(scene_k) / f64::from(k);
+        }
+        scene.run.cycles_per_stage = k;
+        scene.run.trajectories = m;
+    })?)
 }
 
 /// The response run's output times and recorded body of a validated scene.
@@ -375,52 +383,6 @@ pub(crate) fn animation_frames(times: &[f64], window: f64, period: f64, max: usi
         }
     }
     frames
-}
-
-/// The all-ideal mechanism's motion of `body` at `times` (kinematic analysis), with the
-/// poses of every body at `frames` (indices into `times`) when an animation is drawn.
-fn ideal_motion(
-    scene: &Scene,
-    times: &[f64],
-    body: usize,
-    frames: Option<Vec<usize>>,
-) -> Result<Ideal, RunError> {
-    let ideal_built = build(&scene.idealized(), Surfaces::default())?;
-    let (q0, _) = ideal_built.system.initial_guess();
-    let names = |v: Vec<&str>| {
-        if v.is_empty() {
-            "(none)".to_string()
-        } else {
-            v.join(", ")
-        }
-    };
-    let kin = ideal_built
-        .system
-        .kinematics(times, &q0)
-        .map_err(|source| RunError::Kinematics {
-            joints: names(
-                scene
-                    .clearance_joints
-                    .iter()
-                    .map(|c| c.name.as_str())
-                    .collect(),
-            ),
-            drivers: names(scene.drivers.iter().map(|d| d.name.as_str()).collect()),
-            source,
-        })?;
-    let mut motion = Motion::default();
-    for f in 0..kin.times.len() {
-        motion.push(body, kin.q(f), kin.qd(f), kin.qdd(f));
-    }
-    let frames = frames.map(|frames| MechanismFrames {
-        ideal_poses: frames
-            .iter()
-            .map(|&f| MechanismFrames::poses_of(kin.q(f)))
-            .collect(),
-        frames,
-        poses: Vec::new(),
-    });
-    Ok(Ideal { motion, frames })
 }
 
 #[cfg(test)]

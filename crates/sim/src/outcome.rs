@@ -5,7 +5,7 @@ use serde::Serialize;
 use wear::WornJoint;
 
 use crate::validity::Validity;
-use scene::Scene;
+use scene::ValidScene;
 
 /// Centroid motion of one body at the output times.
 #[derive(Debug, Clone, Default, Serialize)]
@@ -446,7 +446,7 @@ pub struct Summary {
 #[derive(Debug, Clone)]
 pub struct RunOutcome {
     /// The scene as run (overrides applied).
-    pub scene: Scene,
+    pub scene: ValidScene,
     /// The numbers.
     pub summary: Summary,
     /// The response on unworn surfaces.

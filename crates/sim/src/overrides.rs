@@ -29,16 +29,16 @@
 //! target = { kind = "body-coordinate", body = "crank", coordinate = "theta" }
 //! law = { kind = "ramp", value = 0.0, rate = 6.283 }
 //! "#;
-//! let mut scene = scene::load_str(CRANK, "crank", &[])?;
+//! let scene = scene::load_str(CRANK, "crank", &[])?;
 //! let o = RunOverrides { cycles: Some(1), stages: Some(0), ..Default::default() };
-//! o.apply(&mut scene, "crank with command-line overrides")?;
+//! let scene = o.apply(scene, "crank with command-line overrides")?;
 //! assert_eq!((scene.run.cycles, scene.run.wear_stages), (1, 0));
 //! assert_eq!(o.run_options().cycles_per_stage, Some(sim::overrides::QUICK_CYCLES_PER_STAGE));
 //! # Ok::<(), scene::SceneError>(())
 //! ```
 
 use crate::RunOptions;
-use scene::{Scene, SceneError};
+use scene::{Scene, SceneError, ValidScene};
 
 /// Simulated cycles per wear stage `K` when none is given: quick (the amplification is
 /// rescaled so a stage still stands for as many cycles, see [`RunOptions::cycles_per_stage`]).
@@ -87,9 +87,19 @@ impl RunOverrides {
         ("wear_tolerance", "run.wear_tolerance"),
     ];
 
-    /// Set the overridden fields of `scene` and validate it again; `origin` names the scene
-    /// and where the overrides came from (e.g. "lgres with command-line overrides").
-    pub fn apply(&self, scene: &mut Scene, origin: &str) -> Result<(), SceneError> {
+    /// `scene` with the overridden fields set, checked again if that changed it; `origin` names
+    /// the scene and where the overrides came from (e.g. "lgres with command-line overrides").
+    pub fn apply(&self, scene: ValidScene, origin: &str) -> Result<ValidScene, SceneError> {
+        let mut edited = Scene::clone(&scene);
+        self.set(&mut edited);
+        if edited == *scene {
+            Ok(scene)
+        } else {
+            ValidScene::new(edited, origin)
+        }
+    }
+
+    fn set(&self, scene: &mut Scene) {
         if let Some(c) = self.cycles {
             scene.run.cycles = c;
         }
@@ -111,7 +121,6 @@ impl RunOverrides {
         if let Some(t) = self.wear_tolerance {
             scene.run.wear_tolerance = Some(t);
         }
-        scene.validate(origin)
     }
 
     /// The options of [`crate::run_scene`]: `K` defaults to [`QUICK_CYCLES_PER_STAGE`]

@@ -4,12 +4,12 @@
 use sim::{RunError, RunOptions, RunOutcome, run_scene};
 
 /// The worn slider-crank, one stage in two sub-steps or more, `K = 2` on `trajectories`.
-fn scene(trajectories: u32) -> Result<scene::Scene, scene::SceneError> {
+fn scene(trajectories: u32) -> Result<scene::ValidScene, scene::SceneError> {
     scene_with(trajectories, "")
 }
 
 /// [`scene`] with more `[run]` settings.
-fn scene_with(trajectories: u32, extra: &str) -> Result<scene::Scene, scene::SceneError> {
+fn scene_with(trajectories: u32, extra: &str) -> Result<scene::ValidScene, scene::SceneError> {
     let text = format!(
         r#"
 extends = "slider-crank"
@@ -31,7 +31,7 @@ animation = false
 
 /// `scene` run on `threads` threads, and its surfaces after every stage, per wearing joint.
 fn on_threads(
-    scene: &scene::Scene,
+    scene: &scene::ValidScene,
     threads: usize,
 ) -> Result<(RunOutcome, Vec<Vec<wear::WornJoint>>), RunError> {
     let options = RunOptions {

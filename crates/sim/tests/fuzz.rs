@@ -10,7 +10,7 @@
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 
-use scene::load_str;
+use scene::{Scene, load_str};
 use sim::{RunOptions, check_assembly, run_scene};
 
 /// One step of a path into a TOML value.
@@ -203,22 +203,23 @@ fn fuzz(base: &str, cases: u32, seed: u8) -> Counts {
             c.rejected_by_validation += 1;
             return Ok(());
         };
-        let mut scene = match load_str(&text, "mutant", lgres::scenes::BUILTINS) {
-            Ok(s) => s,
-            Err(_) => {
-                c.rejected_by_validation += 1;
-                return Ok(());
-            }
-        };
         // Brief: one short cycle, no wear stages, coarse output, small budgets.
-        scene.run.cycles = 1;
-        scene.run.wear_stages = 0;
-        scene.run.period = Some(scene.cycle_period().unwrap_or(1.0).min(BRIEF_RUN));
-        scene.run.transient_window = scene.run.transient_window.min(BRIEF_RUN / 2.0);
-        let interval = scene.solver.output_interval;
-        scene.solver.output_interval = interval.max(BRIEF_RUN / 100.0);
-        scene.solver.max_steps = Some(BRIEF_STEPS);
-        scene.solver.max_wall_time = Some(BRIEF_WALL_S);
+        let brief = |scene: &mut Scene| {
+            scene.run.cycles = 1;
+            scene.run.wear_stages = 0;
+            scene.run.period = Some(scene.cycle_period().unwrap_or(1.0).min(BRIEF_RUN));
+            scene.run.transient_window = scene.run.transient_window.min(BRIEF_RUN / 2.0);
+            let interval = scene.solver.output_interval;
+            scene.solver.output_interval = interval.max(BRIEF_RUN / 100.0);
+            scene.solver.max_steps = Some(BRIEF_STEPS);
+            scene.solver.max_wall_time = Some(BRIEF_WALL_S);
+        };
+        let loaded = load_str(&text, "mutant", lgres::scenes::BUILTINS)
+            .and_then(|scene| scene.edit("brief mutant", brief));
+        let Ok(scene) = loaded else {
+            c.rejected_by_validation += 1;
+            return Ok(());
+        };
         let checked = check_assembly("t", &scene, &RunOptions::default());
         match &checked {
             Ok(_) => c.checked_ok += 1,

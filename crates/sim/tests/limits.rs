@@ -6,7 +6,7 @@ use scene::{SceneError, load_str};
 use sim::{ContactSeries, RunError, RunOptions, check_assembly};
 
 /// `extends = "lgres"` plus `patch`, parsed and validated.
-fn patched(patch: &str) -> Result<scene::Scene, SceneError> {
+fn patched(patch: &str) -> Result<scene::ValidScene, SceneError> {
     load_str(
         &format!("extends = \"lgres\"\n{patch}\n"),
         "patch",
@@ -355,12 +355,13 @@ fn step_budget_ends_a_run_in_a_failure_naming_the_field() {
 }
 
 #[test]
-fn run_scene_validates_a_scene_built_in_code() {
-    // A library caller can skip `load_str`; `run_scene` still refuses the allocation.
-    let mut scene = scenes::builtin("lgres").unwrap();
-    scene.solver.output_interval = 1e-300;
-    let e = sim::run_scene("code", &scene, &Default::default(), &mut ()).unwrap_err();
-    assert!(e.is_bad_input());
+fn a_scene_changed_in_code_is_checked_before_a_run_can_take_it() {
+    // A library caller can skip `load_str`, but `run_scene` takes a `ValidScene` only: the
+    // change is checked and the allocation refused before any run.
+    let e = scenes::builtin("lgres")
+        .unwrap()
+        .edit("code", |s| s.solver.output_interval = 1e-300)
+        .unwrap_err();
     assert!(e.to_string().contains("solver.output_interval"), "{e}");
 }
 

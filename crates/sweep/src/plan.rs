@@ -208,10 +208,10 @@ fn check_run_table(
     base: &toml::Table,
     scene_name: &str,
 ) -> Result<(), SweepError> {
-    let mut scene = scene::from_table(base.clone(), scene_name)?;
+    let scene = scene::from_table(base.clone(), scene_name)?;
     let origin = format!("{scene_name} with the sweep file's [run] table");
-    let refused = match overrides.apply(&mut scene, &origin) {
-        Ok(()) => match sim::scene_as_run(scene_name, &scene, &overrides.run_options()) {
+    let refused = match overrides.apply(scene, &origin) {
+        Ok(scene) => match sim::scene_as_run(scene_name, &scene, &overrides.run_options()) {
             Ok(_) => return Ok(()),
             Err(RunError::Scene(e)) => e,
             Err(RunError::Trajectories { trajectories, .. }) => {
@@ -469,18 +469,17 @@ impl Sweep {
     }
 
     /// The scene of sample `index`, with the run settings applied and validated.
-    pub fn scene(&self, index: usize) -> Result<scene::Scene, SampleError> {
+    pub fn scene(&self, index: usize) -> Result<scene::ValidScene, SampleError> {
         let mut table = self.base.clone();
         for (input, v) in self.inputs.iter().zip(self.input_values(index)) {
             self.edit(&mut table, input, v)?;
         }
         let origin = format!("{} sample {index}", self.name);
-        let mut scene = scene::from_table(table, &origin)?;
-        self.overrides.apply(
-            &mut scene,
+        let scene = scene::from_table(table, &origin)?;
+        Ok(self.overrides.apply(
+            scene,
             &format!("{origin} with the sweep file's [run] table"),
-        )?;
-        Ok(scene)
+        )?)
     }
 
     /// Run sample `index` (the whole of a Dask task): never panics, never fails; a sample

@@ -4,7 +4,7 @@
 //! model, not a flag: the verdict names the model and judges the one measure it names, and an
 //! undamped, frictionless spring neither dissipates nor creates energy.
 
-use scene::{ContactModelName, ContactSpec};
+use scene::{ContactModelName, ContactSpec, ValidScene};
 use sim::{RunOptions, run_scene};
 
 /// A stiffness of the order of the Hertz law's secant at the start-up impacts (~30 kN at
@@ -13,7 +13,9 @@ const STIFFNESS: f64 = 1e9;
 
 #[test]
 fn the_test_model_runs_a_scene_from_its_scene_value() {
-    let mut scene = lgres::scenes::builtin("lgres-elastic").expect("built-in");
+    let mut scene = lgres::scenes::builtin("lgres-elastic")
+        .expect("built-in")
+        .into_scene();
     scene.run.cycles = 1;
     scene.run.wear_stages = 0;
     for joint in &mut scene.clearance_joints {
@@ -32,7 +34,7 @@ fn the_test_model_runs_a_scene_from_its_scene_value() {
             joint.contact_description()
         );
     }
-    scene.validate("lgres-elastic").expect("a valid scene");
+    let scene = ValidScene::new(scene, "lgres-elastic").expect("a valid scene");
     let outcome =
         run_scene("lgres-elastic", &scene, &RunOptions::default(), &mut ()).expect("runs");
     let r = &outcome.summary.response;
@@ -66,7 +68,9 @@ fn the_test_model_runs_a_scene_from_its_scene_value() {
 
 #[test]
 fn the_scene_value_refuses_what_the_model_does_not_take() {
-    let base = lgres::scenes::builtin("lgres-elastic").expect("built-in");
+    let base = lgres::scenes::builtin("lgres-elastic")
+        .expect("built-in")
+        .into_scene();
     let with = |contact: ContactSpec| {
         let mut scene = base.clone();
         scene.clearance_joints[0].contact = contact;

@@ -32,7 +32,9 @@ impl Observer for Startup {
 /// The default scene to `t_end` at `rtol` (absolute tolerances scaled with it, as in the
 /// work–precision report), output every `dt`.
 fn startup(formulation: Formulation, rtol: f64, t_end: f64, dt: f64) -> Startup {
-    let mut scene: Scene = lgres::scenes::builtin("lgres").expect("built-in scene");
+    let mut scene: Scene = lgres::scenes::builtin("lgres")
+        .expect("built-in scene")
+        .into_scene();
     let factor = rtol / scene.solver.rtol;
     let tolerances = scene.tolerances();
     scene.solver.rtol = rtol;

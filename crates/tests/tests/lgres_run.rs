@@ -3,12 +3,19 @@
 //! stays fast in release.
 
 use multibody::{OutputTimes, SimulationResult};
-use scene::Scene;
+use scene::{Scene, ValidScene};
 use sim::build::{Surfaces, build, unworn_joints};
 use sim::{RunOptions, run_scene, simulation_options};
 
 fn scene(name: &str) -> Scene {
-    lgres::scenes::builtin(name).expect("built-in scene")
+    lgres::scenes::builtin(name)
+        .expect("built-in scene")
+        .into_scene()
+}
+
+/// `scene` as the run takes it: checked.
+fn checked(scene: &Scene) -> ValidScene {
+    ValidScene::new(scene.clone(), "edited scene").expect("valid scene")
 }
 
 fn simulate(scene: &Scene, surfaces: Surfaces<'_>, t_end: f64) -> SimulationResult {
@@ -55,7 +62,7 @@ fn ideal_dynamics_match_kinematics() {
     // its centroid stays on that circle, its velocity is tangent to it, and the recorded
     // velocity and acceleration are the derivatives of the recorded position and velocity
     // (central differences over the 1e-4 s output spacing: error ~ h²·x''' ≈ 1e-8 relative).
-    let outcome = run_scene("lgres-ideal", &s, &RunOptions::default(), &mut ()).unwrap();
+    let outcome = run_scene("lgres-ideal", &checked(&s), &RunOptions::default(), &mut ()).unwrap();
     assert!(outcome.summary.response.numerics.is_none());
     let (m, t) = (&outcome.response.motion, &outcome.response.times);
     for k in 1..t.len() - 1 {
@@ -86,7 +93,7 @@ fn short_clearance_run_is_physical() {
     s.run.period = Some(0.15); // one "cycle" of 0.15 s: start-up impact and first contacts
     s.run.cycles = 1;
     s.run.wear_stages = 0;
-    let outcome = run_scene("lgres-short", &s, &RunOptions::default(), &mut ()).unwrap();
+    let outcome = run_scene("lgres-short", &checked(&s), &RunOptions::default(), &mut ()).unwrap();
     let response = &outcome.response;
     assert!(response.times.len() > 1000);
     for c in &response.contact {

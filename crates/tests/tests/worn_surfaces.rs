@@ -68,9 +68,13 @@ fn elastic_contact_on_worn_surfaces_conserves_energy() {
 
 fn elastic_contact_conserves_energy(model: ContactModelName) {
     let dir = worn_folder(&format!("elastic-{model:?}"));
-    let mut scene = lgres::scenes::builtin("lgres-elastic").expect("built-in");
-    scene.run.cycles = 1;
-    set_model(&mut scene, model);
+    let scene = lgres::scenes::builtin("lgres-elastic")
+        .expect("built-in")
+        .edit("lgres-elastic, one cycle", |s| {
+            s.run.cycles = 1;
+            set_model(s, model);
+        })
+        .expect("valid");
     let options = RunOptions {
         surfaces: Some(output::surfaces::folder(dir.clone())),
         ..RunOptions::default()
@@ -126,9 +130,13 @@ fn set_model(scene: &mut scene::Scene, model: ContactModelName) {
 #[test]
 fn missing_or_mismatched_wear_files_are_named_errors() {
     let dir = worn_folder("errors");
-    let mut scene = lgres::scenes::builtin("lgres").expect("built-in");
-    scene.run.cycles = 1;
-    scene.run.wear_stages = 0;
+    let scene = lgres::scenes::builtin("lgres")
+        .expect("built-in")
+        .edit("lgres, one cycle, no wear", |s| {
+            s.run.cycles = 1;
+            s.run.wear_stages = 0;
+        })
+        .expect("valid");
     let run = |dir: &Path| {
         let options = RunOptions {
             surfaces: Some(output::surfaces::folder(dir)),
@@ -180,9 +188,13 @@ fn missing_or_mismatched_wear_files_are_named_errors() {
 fn line_of_centres_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_energy() {
     let dir = std::env::temp_dir().join(format!("wornjoint-default-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let mut scene = lgres::scenes::builtin("lgres").expect("built-in");
-    scene.run.cycles = 1;
-    set_model(&mut scene, ContactModelName::LineOfCentres);
+    let scene = lgres::scenes::builtin("lgres")
+        .expect("built-in")
+        .edit("lgres, one cycle, line of centres", |s| {
+            s.run.cycles = 1;
+            set_model(s, ContactModelName::LineOfCentres);
+        })
+        .expect("valid");
     let options = RunOptions {
         cycles_per_stage: Some(1),
         ..RunOptions::default()
@@ -203,9 +215,13 @@ fn line_of_centres_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_e
     }
     output::artifacts::write_run(&outcome, &dir).expect("writes");
 
-    let mut elastic = lgres::scenes::builtin("lgres-elastic").expect("built-in");
-    elastic.run.cycles = 1;
-    set_model(&mut elastic, ContactModelName::LineOfCentres);
+    let elastic = lgres::scenes::builtin("lgres-elastic")
+        .expect("built-in")
+        .edit("lgres-elastic, one cycle, line of centres", |s| {
+            s.run.cycles = 1;
+            set_model(s, ContactModelName::LineOfCentres);
+        })
+        .expect("valid");
     let options = RunOptions {
         surfaces: Some(output::surfaces::folder(dir.clone())),
         ..RunOptions::default()

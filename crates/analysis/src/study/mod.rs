@@ -27,7 +27,7 @@ use lgres::scenes;
 use lgres::studies::{self, STUDIES};
 use output::artifacts::write_run;
 use output::files::OutputError;
-use scene::{Scene, SceneError};
+use scene::{SceneError, ValidScene};
 use sim::{Progress, RunError, RunOptions, run_scene};
 
 pub use results::{
@@ -149,25 +149,25 @@ impl Progress for Prefixed<'_> {
 }
 
 /// The scene of run `key` with the study's overrides, validated.
-pub fn prepare_scene(key: &str, options: &StudyOptions) -> Result<Scene, StudyError> {
+pub fn prepare_scene(key: &str, options: &StudyOptions) -> Result<ValidScene, StudyError> {
     let base = if key == SINGLE_JUMP_RUN {
         scenes::DEFAULT
     } else {
         key
     };
-    let mut scene = scenes::builtin(base)?;
-    if key == SINGLE_JUMP_RUN {
-        scene.run.adaptive_extrapolation = false;
-    }
-    scene.run.cycles = options.response_cycles;
-    if let Some(rtol) = options.rtol {
-        scene.solver.rtol = rtol;
-    }
-    if let Some(n) = options.cycles_represented {
-        scene.run.amplification = n / f64::from(scene.run.cycles_per_stage.max(1));
-    }
-    scene.validate(&format!("{key} with the study's settings"))?;
-    Ok(scene)
+    let origin = format!("{key} with the study's settings");
+    Ok(scenes::builtin(base)?.edit(&origin, |scene| {
+        if key == SINGLE_JUMP_RUN {
+            scene.run.adaptive_extrapolation = false;
+        }
+        scene.run.cycles = options.response_cycles;
+        if let Some(rtol) = options.rtol {
+            scene.solver.rtol = rtol;
+        }
+        if let Some(n) = options.cycles_represented {
+            scene.run.amplification = n / f64::from(scene.run.cycles_per_stage.max(1));
+        }
+    })?)
 }
 
 impl StudyOptions {
@@ -224,7 +224,7 @@ pub fn run_studies(
             keys.push(key);
         }
     }
-    let prepared: Vec<(&str, Scene)> = keys
+    let prepared: Vec<(&str, ValidScene)> = keys
         .iter()
         .map(|k| prepare_scene(k, options).map(|s| (*k, s)))
         .collect::<Result<_, _>>()?;
@@ -279,7 +279,7 @@ pub fn run_studies(
 /// One scene run of a study and its files.
 fn run_one(
     key: &str,
-    scene: &Scene,
+    scene: &ValidScene,
     options: &StudyOptions,
     progress: Box<dyn Progress + Send + '_>,
 ) -> Result<SceneRun, StudyError> {
