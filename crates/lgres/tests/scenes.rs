@@ -12,6 +12,11 @@ fn issues(err: SceneError) -> Vec<String> {
     }
 }
 
+/// Scene text loaded against the built-in scenes (the errors name it `t`).
+fn load(text: &str) -> Result<scene::ValidScene, SceneError> {
+    scene::load_str(text, "t", BUILTINS)
+}
+
 /// The default scene's text with `from` replaced by `to` (which must occur).
 fn edited(from: &str, to: &str) -> String {
     let text = scenes::source("lgres").unwrap();
@@ -168,7 +173,7 @@ fn older_law_spellings_load_as_contacts_own() {
 #[test]
 fn bad_values_name_field_value_and_reason() {
     let text = edited("clearance = 0.0005", "clearance = 0.06");
-    let msg = issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err());
+    let msg = issues(load(&text).unwrap_err());
     assert_eq!(msg.len(), 1, "{msg:?}");
     assert!(msg[0].starts_with("clearance_joints[0].clearance = 0.06: must be smaller"));
 
@@ -195,22 +200,19 @@ fn bad_values_name_field_value_and_reason() {
     ];
     for (from, to, start) in first_issue {
         let text = edited(from, to);
-        let msg = issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err());
+        let msg = issues(load(&text).unwrap_err());
         assert!(msg[0].starts_with(start), "{from} → {to}: {msg:?}");
     }
 
     let text = edited("name = \"rod2\"", "name = \"rod1\"");
-    let msg = issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err());
+    let msg = issues(load(&text).unwrap_err());
     assert!(
         msg.iter()
             .any(|m| m.starts_with("bodies[1].name = \"rod1\": duplicate"))
     );
 
     let text = edited("x = 0.15441", "x = nan");
-    assert!(
-        issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err())[0]
-            .contains("finite")
-    );
+    assert!(issues(load(&text).unwrap_err())[0].contains("finite"));
 }
 
 #[test]
@@ -222,7 +224,7 @@ fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
         )
     };
     // Below the 0.5 mm of both A and B: one issue per joint, naming the field, value and joint.
-    let msg = issues(scene::load_str(&with("0.0004"), "t", lgres::scenes::BUILTINS).unwrap_err());
+    let msg = issues(load(&with("0.0004")).unwrap_err());
     assert_eq!(msg.len(), 2, "{msg:?}");
     for (m, joint) in msg
         .iter()
@@ -235,16 +237,16 @@ fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
         assert!(m.contains(joint) && m.contains("0.0005 m"), "{m}");
     }
     // Equal is not above.
-    let msg = issues(scene::load_str(&with("0.0005"), "t", lgres::scenes::BUILTINS).unwrap_err());
+    let msg = issues(load(&with("0.0005")).unwrap_err());
     assert_eq!(msg.len(), 2, "{msg:?}");
-    let msg = issues(scene::load_str(&with("-0.001"), "t", lgres::scenes::BUILTINS).unwrap_err());
+    let msg = issues(load(&with("-0.001")).unwrap_err());
     assert_eq!(msg, ["run.clearance_limit = -0.001: must be positive"]);
-    let msg = issues(scene::load_str(&with("inf"), "t", lgres::scenes::BUILTINS).unwrap_err());
+    let msg = issues(load(&with("inf")).unwrap_err());
     assert_eq!(msg, ["run.clearance_limit = inf: must be a finite number"]);
     // A valid limit loads, and survives the round trip through TOML; none is the default.
-    let s = scene::load_str(&with("0.001"), "t", lgres::scenes::BUILTINS).unwrap();
+    let s = load(&with("0.001")).unwrap();
     assert_eq!(s.run.clearance_limit, Some(0.001));
-    let again = scene::load_str(&s.to_toml(), "t", lgres::scenes::BUILTINS).unwrap();
+    let again = load(&s.to_toml()).unwrap();
     assert_eq!(again.run.clearance_limit, Some(0.001));
     assert_eq!(scenes::builtin("lgres").unwrap().run.clearance_limit, None);
     assert!(
@@ -258,48 +260,34 @@ fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
 #[test]
 fn unknown_keys_and_syntax_errors_carry_position() {
     let text = edited("mass = 6.32", "mass = 6.32\nmas = 1.0");
-    let msg = scene::load_str(&text, "t", lgres::scenes::BUILTINS)
-        .unwrap_err()
-        .to_string();
+    let msg = load(&text).unwrap_err().to_string();
     assert!(msg.contains("mas") && msg.contains("line"), "{msg}");
 
     let text = edited("rtol = 1e-6", "rtol = 1e-6\nrtoll = 1.0");
-    let msg = scene::load_str(&text, "t", lgres::scenes::BUILTINS)
-        .unwrap_err()
-        .to_string();
+    let msg = load(&text).unwrap_err().to_string();
     assert!(msg.contains("rtoll"), "{msg}");
 
     let text = edited("law = \"ambrosio\"", "law = \"ambrosia\"");
-    assert!(scene::load_str(&text, "t", lgres::scenes::BUILTINS).is_err());
+    assert!(load(&text).is_err());
 
-    let msg = scene::load_str("description = ", "t", lgres::scenes::BUILTINS)
-        .unwrap_err()
-        .to_string();
+    let msg = load("description = ").unwrap_err().to_string();
     assert!(msg.contains("line 1"), "{msg}");
 
     // Unknown keys in a variant are rejected too (no position: the document was merged).
-    let msg = scene::load_str(
-        "extends = \"lgres\"\n[run]\ncycle = 3\n",
-        "t",
-        lgres::scenes::BUILTINS,
-    )
-    .unwrap_err()
-    .to_string();
+    let msg = load("extends = \"lgres\"\n[run]\ncycle = 3\n")
+        .unwrap_err()
+        .to_string();
     assert!(msg.contains("cycle"), "{msg}");
 }
 
 #[test]
 fn extends_merges_by_name_and_rejects_unknown_bases() {
-    let s = scene::load_str(
-        "extends = \"lgres\"\n[[clearance_joints]]\nname = \"B\"\nclearance = 3e-4\n",
-        "t",
-        lgres::scenes::BUILTINS,
-    )
-    .unwrap();
+    let s = load("extends = \"lgres\"\n[[clearance_joints]]\nname = \"B\"\nclearance = 3e-4\n")
+        .unwrap();
     assert_eq!(s.clearance_joints.len(), 2);
     assert_eq!(s.clearance_joints[0].clearance, 5e-4);
     assert_eq!(s.clearance_joints[1].clearance, 3e-4);
-    let err = scene::load_str("extends = \"nothing\"\n", "t", lgres::scenes::BUILTINS).unwrap_err();
+    let err = load("extends = \"nothing\"\n").unwrap_err();
     assert!(matches!(err, SceneError::Extends { .. }), "{err}");
 }
 
@@ -342,9 +330,7 @@ fn slider_crank_counts() {
 fn contact_model_fields_are_validated_naming_the_field() {
     // Joint A's contact table replaced.
     let with = |contact: &str| edited("contact = { cells = 500 }", &format!("contact = {contact}"));
-    let one = |contact: &str| {
-        issues(scene::load_str(&with(contact), "t", lgres::scenes::BUILTINS).unwrap_err())
-    };
+    let one = |contact: &str| issues(load(&with(contact)).unwrap_err());
     assert_eq!(
         one("{ layer_modulus = -5e14 }"),
         ["clearance_joints[0].contact.layer_modulus = -500000000000000.0: must be positive"]
@@ -357,14 +343,14 @@ fn contact_model_fields_are_validated_naming_the_field() {
         "{msg:?}"
     );
     // Coarser nodes that span whole cells are taken, but not with linearly implicit steps.
-    let coarse = scene::load_str(&with("{ cells = 500 }"), "t", lgres::scenes::BUILTINS).unwrap();
+    let coarse = load(&with("{ cells = 500 }")).unwrap();
     assert_eq!(coarse.clearance_joints[0].contact.cells, Some(500));
     let implicit = with("{ cells = 500 }").replacen(
         "[run]\n",
         "[run]\nwear_stepping = \"linearly-implicit\"\n",
         1,
     );
-    let msg = issues(scene::load_str(&implicit, "t", lgres::scenes::BUILTINS).unwrap_err());
+    let msg = issues(load(&implicit).unwrap_err());
     assert!(
         msg[0].starts_with("clearance_joints[0].contact.cells = 500: run.wear_stepping"),
         "{msg:?}"
@@ -380,7 +366,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
             1,
         )
     };
-    let msg = issues(scene::load_str(&odd_wear("{}"), "t", lgres::scenes::BUILTINS).unwrap_err());
+    let msg = issues(load(&odd_wear("{}")).unwrap_err());
     assert!(
         msg[0].starts_with("clearance_joints[0].wear.cells = 999: Simpson's quadrature"),
         "{msg:?}"
@@ -391,12 +377,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
             .any(|m| m.starts_with("clearance_joints[0].contact.cells = 2001: Simpson's")),
         "{msg:?}"
     );
-    let trapezoid = scene::load_str(
-        &odd_wear("{ quadrature = \"trapezoid\" }"),
-        "t",
-        lgres::scenes::BUILTINS,
-    )
-    .unwrap();
+    let trapezoid = load(&odd_wear("{ quadrature = \"trapezoid\" }")).unwrap();
     let model = trapezoid.clearance_joints[0].contact_model().unwrap();
     let contact::ContactModelKind::Foundation(layer) = model else {
         panic!("{model:?}")
@@ -405,7 +386,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
         (layer.quadrature(), layer.cells()),
         (contact::Quadrature::Trapezoid, 999)
     );
-    let again = scene::load_str(&trapezoid.to_toml(), "t", lgres::scenes::BUILTINS).unwrap();
+    let again = load(&trapezoid.to_toml()).unwrap();
     assert_eq!(
         again.clearance_joints[0].contact.quadrature,
         Some(contact::Quadrature::Trapezoid)
@@ -417,22 +398,12 @@ fn contact_model_fields_are_validated_naming_the_field() {
         "{msg:?}"
     );
     // An unknown model is a type error naming the field.
-    let err = scene::load_str(
-        &with("{ model = \"winkler\" }"),
-        "t",
-        lgres::scenes::BUILTINS,
-    )
-    .unwrap_err();
+    let err = load(&with("{ model = \"winkler\" }")).unwrap_err();
     assert!(err.to_string().contains("model"), "{err}");
     // A valid layer loads and round-trips; the default scene uses the foundation.
-    let s = scene::load_str(
-        &with("{ layer_modulus = 8e11, width = 0.1 }"),
-        "t",
-        lgres::scenes::BUILTINS,
-    )
-    .unwrap();
+    let s = load(&with("{ layer_modulus = 8e11, width = 0.1 }")).unwrap();
     assert_eq!(s.clearance_joints[0].contact.layer_modulus, Some(8e11));
-    let again = scene::load_str(&s.to_toml(), "t", lgres::scenes::BUILTINS).unwrap();
+    let again = load(&s.to_toml()).unwrap();
     assert_eq!(
         again.clearance_joints[0].contact,
         s.clearance_joints[0].contact
@@ -447,7 +418,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
         "transient_window = 0.1\nwear_smoothing_deg = -1.0",
     );
     assert_eq!(
-        issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err()),
+        issues(load(&text).unwrap_err()),
         [
             "run.wear_smoothing_deg = -1.0: must lie in [0, 30] degrees (0: no smoothing; a \
           Gaussian wider than a contact zone would erase the wear pattern)"
@@ -460,12 +431,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
 /// name is refused, naming both. Names that only share a prefix stay allowed.
 #[test]
 fn joint_names_whose_files_collide_are_refused() {
-    let e = scene::load_str(
-        &edited("name = \"B\"", "name = \"A_worn\""),
-        "t",
-        lgres::scenes::BUILTINS,
-    )
-    .unwrap_err();
+    let e = load(&edited("name = \"B\"", "name = \"A_worn\"")).unwrap_err();
     let msg = issues(e);
     assert_eq!(msg.len(), 1, "{msg:?}");
     assert!(
@@ -474,14 +440,7 @@ fn joint_names_whose_files_collide_are_refused() {
             && msg[0].contains("contact_force_A_worn.png"),
         "{msg:?}"
     );
-    assert!(
-        scene::load_str(
-            &edited("name = \"B\"", "name = \"A_2\""),
-            "t",
-            lgres::scenes::BUILTINS
-        )
-        .is_ok()
-    );
+    assert!(load(&edited("name = \"B\"", "name = \"A_2\"")).is_ok());
 }
 
 #[test]
@@ -498,14 +457,7 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
         ("1.5", "must lie in (0, 1]"),
         ("nan", "must be a finite number"),
     ] {
-        let msg = issues(
-            scene::load_str(
-                &with(&format!("wear_tolerance = {bad}")),
-                "t",
-                lgres::scenes::BUILTINS,
-            )
-            .unwrap_err(),
-        );
+        let msg = issues(load(&with(&format!("wear_tolerance = {bad}"))).unwrap_err());
         assert_eq!(msg.len(), 1, "{msg:?}");
         assert!(
             msg[0].starts_with("run.wear_tolerance = ") && msg[0].contains(reason),
@@ -516,7 +468,7 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
         "adaptive_extrapolation = true",
         "adaptive_extrapolation = false",
     );
-    let msg = issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err());
+    let msg = issues(load(&text).unwrap_err());
     assert!(
         msg[0].contains("needs run.adaptive_extrapolation = true"),
         "{msg:?}"
@@ -526,39 +478,20 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
     let text = one_per_cell(with(
         "wear_tolerance = 0.05\nwear_stepping = \"linearly-implicit\"",
     ));
-    let msg = issues(scene::load_str(&text, "t", lgres::scenes::BUILTINS).unwrap_err());
+    let msg = issues(load(&text).unwrap_err());
     assert!(
         msg[0].starts_with("run.wear_tolerance = ") && msg[0].contains("linearly-implicit"),
         "{msg:?}"
     );
-    let bad = scene::load_str(
-        &with("wear_stepping = \"backward\""),
-        "t",
-        lgres::scenes::BUILTINS,
-    )
-    .unwrap_err();
+    let bad = load(&with("wear_stepping = \"backward\"")).unwrap_err();
     assert!(bad.to_string().contains("wear_stepping"), "{bad}");
-    let s = scene::load_str(
-        &one_per_cell(with("wear_stepping = \"linearly-implicit\"")),
-        "t",
-        lgres::scenes::BUILTINS,
-    )
-    .unwrap();
+    let s = load(&one_per_cell(with("wear_stepping = \"linearly-implicit\""))).unwrap();
     assert_eq!(s.run.wear_stepping, wear::WearStepping::LinearlyImplicit);
     assert_eq!(
-        scene::load_str(&s.to_toml(), "t", lgres::scenes::BUILTINS)
-            .unwrap()
-            .run
-            .wear_stepping,
+        load(&s.to_toml()).unwrap().run.wear_stepping,
         wear::WearStepping::LinearlyImplicit
     );
-    let s = scene::load_str(&with("wear_tolerance = 0.05"), "t", lgres::scenes::BUILTINS).unwrap();
+    let s = load(&with("wear_tolerance = 0.05")).unwrap();
     assert_eq!(s.run.wear_tolerance, Some(0.05));
-    assert_eq!(
-        scene::load_str(&s.to_toml(), "t", lgres::scenes::BUILTINS)
-            .unwrap()
-            .run
-            .wear_tolerance,
-        Some(0.05)
-    );
+    assert_eq!(load(&s.to_toml()).unwrap().run.wear_tolerance, Some(0.05));
 }

@@ -73,6 +73,18 @@ fn peak(record: &Startup, joint: usize, t_max: f64) -> (f64, f64) {
         )
 }
 
+/// The largest distance between joint `k`'s journal-centre paths in `a` and `b` over the
+/// start-up window (t ≤ 0.02 s), m; `a` and `b` share their output times.
+fn startup_difference(a: &Startup, b: &Startup, k: usize) -> f64 {
+    a.paths[k]
+        .iter()
+        .zip(&b.paths[k])
+        .zip(&a.times)
+        .filter(|(_, t)| **t <= 0.02)
+        .map(|((p, q), _)| (p[0] - q[0]).hypot(p[1] - q[1]))
+        .fold(0.0, f64::max)
+}
+
 /// At a tight tolerance the start-up window (t ≤ 0.02 s: the first impacts at A and B) is
 /// resolved by both formulations to well below the clearance; the paths may differ by the
 /// integration error only. Bound: 1e-6 m (0.2 % of the 0.5 mm clearance; at rtol 1e-10 the
@@ -85,13 +97,7 @@ fn startup_paths_and_first_impacts_agree() {
     let joint = startup(Formulation::JointCoordinates, rtol, t_end, dt);
     assert_eq!(cartesian.times, joint.times);
     for (k, name) in ["A", "B"].into_iter().enumerate() {
-        let difference = cartesian.paths[k]
-            .iter()
-            .zip(&joint.paths[k])
-            .zip(&cartesian.times)
-            .filter(|(_, t)| **t <= 0.02)
-            .map(|((a, b), _)| (a[0] - b[0]).hypot(a[1] - b[1]))
-            .fold(0.0, f64::max);
+        let difference = startup_difference(&cartesian, &joint, k);
         let (fc, tc) = peak(&cartesian, k, t_end);
         let (fj, tj) = peak(&joint, k, t_end);
         let relative = (fc - fj).abs() / fc;
@@ -111,13 +117,7 @@ fn startup_paths_and_first_impacts_agree() {
         startup(Formulation::JointCoordinates, 1e-6, t_end, dt),
     );
     for (k, name) in ["A", "B"].into_iter().enumerate() {
-        let difference = coarse_c.paths[k]
-            .iter()
-            .zip(&coarse_j.paths[k])
-            .zip(&coarse_c.times)
-            .filter(|(_, t)| **t <= 0.02)
-            .map(|((a, b), _)| (a[0] - b[0]).hypot(a[1] - b[1]))
-            .fold(0.0, f64::max);
+        let difference = startup_difference(&coarse_c, &coarse_j, k);
         let ((fc, tc), (fj, tj)) = (peak(&coarse_c, k, t_end), peak(&coarse_j, k, t_end));
         eprintln!(
             "rtol 1e-6, joint {name}: path difference {difference:.3e} m; first impact cartesian \

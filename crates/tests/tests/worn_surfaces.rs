@@ -8,7 +8,7 @@
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 
-use scene::{ContactModelName, ContactSpec};
+use scene::{ContactModelName, ContactSpec, ValidScene};
 use sim::surfaces::SurfacesError;
 use sim::{RunError, RunOptions, run_scene};
 
@@ -68,18 +68,8 @@ fn elastic_contact_on_worn_surfaces_conserves_energy() {
 
 fn elastic_contact_conserves_energy(model: ContactModelName) {
     let dir = worn_folder(&format!("elastic-{model:?}"));
-    let scene = lgres::scenes::builtin("lgres-elastic")
-        .expect("built-in")
-        .edit("lgres-elastic, one cycle", |s| {
-            s.run.cycles = 1;
-            set_model(s, model);
-        })
-        .expect("valid");
-    let options = RunOptions {
-        surfaces: Some(output::surfaces::folder(dir.clone())),
-        ..RunOptions::default()
-    };
-    let outcome = run_scene("lgres-elastic", &scene, &options, &mut ()).expect("runs");
+    let scene = one_cycle_on("lgres-elastic", model);
+    let outcome = run_scene("lgres-elastic", &scene, &from_surfaces(&dir), &mut ()).expect("runs");
     let r = &outcome.summary.response;
     eprintln!(
         "elastic LGRES on 20 µm dents ({model:?}): dissipated {:.4} J per cycle (A {:.4}, B {:.4})",
@@ -127,6 +117,25 @@ fn set_model(scene: &mut scene::Scene, model: ContactModelName) {
     }
 }
 
+/// The built-in scene `name` for one response cycle, its clearance joints on `model`.
+fn one_cycle_on(name: &str, model: ContactModelName) -> ValidScene {
+    lgres::scenes::builtin(name)
+        .expect("built-in")
+        .edit(&format!("{name}, one cycle, {model:?}"), |s| {
+            s.run.cycles = 1;
+            set_model(s, model);
+        })
+        .expect("valid")
+}
+
+/// The run's options for a start from the surfaces in `dir`.
+fn from_surfaces(dir: &Path) -> RunOptions {
+    RunOptions {
+        surfaces: Some(output::surfaces::folder(dir)),
+        ..RunOptions::default()
+    }
+}
+
 #[test]
 fn missing_or_mismatched_wear_files_are_named_errors() {
     let dir = worn_folder("errors");
@@ -137,18 +146,12 @@ fn missing_or_mismatched_wear_files_are_named_errors() {
             s.run.wear_stages = 0;
         })
         .expect("valid");
-    let run = |dir: &Path| {
-        let options = RunOptions {
-            surfaces: Some(output::surfaces::folder(dir)),
-            ..RunOptions::default()
-        };
-        match run_scene("lgres", &scene, &options, &mut ()) {
-            Err(e @ RunError::Surfaces(_)) => {
-                assert!(e.is_bad_input(), "{e}");
-                e
-            }
-            other => panic!("expected a surfaces error, got {other:?}"),
+    let run = |dir: &Path| match run_scene("lgres", &scene, &from_surfaces(dir), &mut ()) {
+        Err(e @ RunError::Surfaces(_)) => {
+            assert!(e.is_bad_input(), "{e}");
+            e
         }
+        other => panic!("expected a surfaces error, got {other:?}"),
     };
     std::fs::remove_file(dir.join("wear_B_stage1.csv")).expect("removes");
     let e = run(&dir);
@@ -188,13 +191,7 @@ fn missing_or_mismatched_wear_files_are_named_errors() {
 fn line_of_centres_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_energy() {
     let dir = std::env::temp_dir().join(format!("wornjoint-default-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let scene = lgres::scenes::builtin("lgres")
-        .expect("built-in")
-        .edit("lgres, one cycle, line of centres", |s| {
-            s.run.cycles = 1;
-            set_model(s, ContactModelName::LineOfCentres);
-        })
-        .expect("valid");
+    let scene = one_cycle_on("lgres", ContactModelName::LineOfCentres);
     let options = RunOptions {
         cycles_per_stage: Some(1),
         ..RunOptions::default()
@@ -215,18 +212,9 @@ fn line_of_centres_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_e
     }
     output::artifacts::write_run(&outcome, &dir).expect("writes");
 
-    let elastic = lgres::scenes::builtin("lgres-elastic")
-        .expect("built-in")
-        .edit("lgres-elastic, one cycle, line of centres", |s| {
-            s.run.cycles = 1;
-            set_model(s, ContactModelName::LineOfCentres);
-        })
-        .expect("valid");
-    let options = RunOptions {
-        surfaces: Some(output::surfaces::folder(dir.clone())),
-        ..RunOptions::default()
-    };
-    let outcome = run_scene("lgres-elastic", &elastic, &options, &mut ()).expect("runs");
+    let elastic = one_cycle_on("lgres-elastic", ContactModelName::LineOfCentres);
+    let outcome =
+        run_scene("lgres-elastic", &elastic, &from_surfaces(&dir), &mut ()).expect("runs");
     let dissipated = outcome.summary.response.dissipated_per_cycle_j;
     eprintln!("elastic LGRES on the default run's surfaces: {dissipated:.4} J per cycle");
     assert!(dissipated.abs() < 0.05, "{dissipated} J per cycle");
