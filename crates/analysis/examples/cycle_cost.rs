@@ -19,7 +19,7 @@ use std::path::Path;
 
 use multibody::{Formulation, OutputTimes, SimulationOptions, SimulationResult, State};
 use output::surfaces::load_last_stage;
-use sim::build::{Built, Surfaces, build, unworn_joints};
+use sim::build::{BuiltScene, Surfaces, build, unworn_joints};
 use sim::simulation_options;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -87,7 +87,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
 /// The counted region: the cycle's integration alone.
 #[inline(never)]
 fn measured_cycle(
-    built: &mut Built,
+    built: &mut BuiltScene,
     state: &State,
     options: &SimulationOptions,
 ) -> Result<SimulationResult, multibody::SimulationError> {

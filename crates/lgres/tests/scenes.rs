@@ -17,6 +17,11 @@ fn load(text: &str) -> Result<scene::ValidScene, SceneError> {
     scene::load_str(text, "t", BUILTINS)
 }
 
+/// The issues `load` finds in scene text it must refuse.
+fn refused(text: &str) -> Vec<String> {
+    issues(load(text).expect_err("must be refused"))
+}
+
 /// The default scene's text with `from` replaced by `to` (which must occur).
 fn edited(from: &str, to: &str) -> String {
     let text = scenes::source("lgres").unwrap();
@@ -173,7 +178,7 @@ fn older_law_spellings_load_as_contacts_own() {
 #[test]
 fn bad_values_name_field_value_and_reason() {
     let text = edited("clearance = 0.0005", "clearance = 0.06");
-    let msg = issues(load(&text).unwrap_err());
+    let msg = refused(&text);
     assert_eq!(msg.len(), 1, "{msg:?}");
     assert!(msg[0].starts_with("clearance_joints[0].clearance = 0.06: must be smaller"));
 
@@ -200,19 +205,19 @@ fn bad_values_name_field_value_and_reason() {
     ];
     for (from, to, start) in first_issue {
         let text = edited(from, to);
-        let msg = issues(load(&text).unwrap_err());
+        let msg = refused(&text);
         assert!(msg[0].starts_with(start), "{from} → {to}: {msg:?}");
     }
 
     let text = edited("name = \"rod2\"", "name = \"rod1\"");
-    let msg = issues(load(&text).unwrap_err());
+    let msg = refused(&text);
     assert!(
         msg.iter()
             .any(|m| m.starts_with("bodies[1].name = \"rod1\": duplicate"))
     );
 
     let text = edited("x = 0.15441", "x = nan");
-    assert!(issues(load(&text).unwrap_err())[0].contains("finite"));
+    assert!(refused(&text)[0].contains("finite"));
 }
 
 #[test]
@@ -224,7 +229,7 @@ fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
         )
     };
     // Below the 0.5 mm of both A and B: one issue per joint, naming the field, value and joint.
-    let msg = issues(load(&with("0.0004")).unwrap_err());
+    let msg = refused(&with("0.0004"));
     assert_eq!(msg.len(), 2, "{msg:?}");
     for (m, joint) in msg
         .iter()
@@ -237,11 +242,11 @@ fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
         assert!(m.contains(joint) && m.contains("0.0005 m"), "{m}");
     }
     // Equal is not above.
-    let msg = issues(load(&with("0.0005")).unwrap_err());
+    let msg = refused(&with("0.0005"));
     assert_eq!(msg.len(), 2, "{msg:?}");
-    let msg = issues(load(&with("-0.001")).unwrap_err());
+    let msg = refused(&with("-0.001"));
     assert_eq!(msg, ["run.clearance_limit = -0.001: must be positive"]);
-    let msg = issues(load(&with("inf")).unwrap_err());
+    let msg = refused(&with("inf"));
     assert_eq!(msg, ["run.clearance_limit = inf: must be a finite number"]);
     // A valid limit loads, and survives the round trip through TOML; none is the default.
     let s = load(&with("0.001")).unwrap();
@@ -330,7 +335,7 @@ fn slider_crank_counts() {
 fn contact_model_fields_are_validated_naming_the_field() {
     // Joint A's contact table replaced.
     let with = |contact: &str| edited("contact = { cells = 500 }", &format!("contact = {contact}"));
-    let one = |contact: &str| issues(load(&with(contact)).unwrap_err());
+    let one = |contact: &str| refused(&with(contact));
     assert_eq!(
         one("{ layer_modulus = -5e14 }"),
         ["clearance_joints[0].contact.layer_modulus = -500000000000000.0: must be positive"]
@@ -350,7 +355,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
         "[run]\nwear_stepping = \"linearly-implicit\"\n",
         1,
     );
-    let msg = issues(load(&implicit).unwrap_err());
+    let msg = refused(&implicit);
     assert!(
         msg[0].starts_with("clearance_joints[0].contact.cells = 500: run.wear_stepping"),
         "{msg:?}"
@@ -366,7 +371,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
             1,
         )
     };
-    let msg = issues(load(&odd_wear("{}")).unwrap_err());
+    let msg = refused(&odd_wear("{}"));
     assert!(
         msg[0].starts_with("clearance_joints[0].wear.cells = 999: Simpson's quadrature"),
         "{msg:?}"
@@ -418,7 +423,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
         "transient_window = 0.1\nwear_smoothing_deg = -1.0",
     );
     assert_eq!(
-        issues(load(&text).unwrap_err()),
+        refused(&text),
         [
             "run.wear_smoothing_deg = -1.0: must lie in [0, 30] degrees (0: no smoothing; a \
           Gaussian wider than a contact zone would erase the wear pattern)"
@@ -468,7 +473,7 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
         "adaptive_extrapolation = true",
         "adaptive_extrapolation = false",
     );
-    let msg = issues(load(&text).unwrap_err());
+    let msg = refused(&text);
     assert!(
         msg[0].contains("needs run.adaptive_extrapolation = true"),
         "{msg:?}"
@@ -478,7 +483,7 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
     let text = one_per_cell(with(
         "wear_tolerance = 0.05\nwear_stepping = \"linearly-implicit\"",
     ));
-    let msg = issues(load(&text).unwrap_err());
+    let msg = refused(&text);
     assert!(
         msg[0].starts_with("run.wear_tolerance = ") && msg[0].contains("linearly-implicit"),
         "{msg:?}"

@@ -18,7 +18,7 @@ mod common;
 use common::bench_median;
 use criterion::{Criterion, criterion_group, criterion_main};
 use multibody::{Formulation, OutputTimes, SimulationOptions, SolverStatistics, State};
-use sim::build::{Built, Surfaces, build, unworn_joints};
+use sim::build::{BuiltScene, Surfaces, build, unworn_joints};
 use sim::simulation_options;
 
 fn cycle(c: &mut Criterion) {
@@ -26,7 +26,7 @@ fn cycle(c: &mut Criterion) {
     let period = scene.cycle_period().expect("driven scene");
     let unworn = unworn_joints(&scene).expect("wear parameters");
     assert!(unworn.iter().all(Option::is_some), "both joints wear");
-    let setup = || -> (Built, State) {
+    let setup = || -> (BuiltScene, State) {
         let built = build(
             &scene,
             Surfaces {
@@ -85,8 +85,8 @@ fn cycle(c: &mut Criterion) {
 /// bench helper drops outputs outside the timed region).
 fn simulate(
     options: &SimulationOptions,
-    (mut built, state): (Built, State),
-) -> (SolverStatistics, Built) {
+    (mut built, state): (BuiltScene, State),
+) -> (SolverStatistics, BuiltScene) {
     let result = built
         .system
         .simulate(&state, options, &mut ())

@@ -98,7 +98,7 @@ impl JointHandle {
 
 /// A system built from a scene, with the handles of its clearance joints.
 #[derive(Debug)]
-pub struct Built {
+pub struct BuiltScene {
     /// The mechanism; elements: gravity first, then the clearance joints.
     pub system: System,
     /// Active clearance joints in scene order.
@@ -163,7 +163,7 @@ fn model_err(field: impl Into<String>) -> impl FnOnce(ModelError) -> BuildError 
 }
 
 /// Builds the system of `scene` with the given surfaces.
-pub fn build(scene: &Scene, surfaces: Surfaces<'_>) -> Result<Built, BuildError> {
+pub fn build(scene: &Scene, surfaces: Surfaces<'_>) -> Result<BuiltScene, BuildError> {
     let active = scene.active_clearance_joints().count();
     if !surfaces.worn.is_empty() && surfaces.worn.len() != active {
         return Err(BuildError::SurfaceCount {
@@ -302,7 +302,7 @@ pub fn build(scene: &Scene, surfaces: Surfaces<'_>) -> Result<Built, BuildError>
             model,
         });
     }
-    Ok(Built { system, joints })
+    Ok(BuiltScene { system, joints })
 }
 
 fn body_id(scene: &Scene, field: &str, name: &str) -> Result<Option<BodyId>, BuildError> {

@@ -242,14 +242,13 @@ pub fn run_scene(
             let mut wear_summary = None;
             let mut worn = None;
             if scene.run.wear_stages > 0 && initial.iter().any(Option::is_some) {
-                let (history, ws, surfaces) =
-                    stages(&scene, &initial, period, scene_k, options.threads, progress)?;
-                wear_history = history;
-                wear_summary = Some(ws);
+                let staged = stages(&scene, &initial, period, scene_k, options.threads, progress)?;
+                wear_history = staged.history;
+                wear_summary = Some(staged.summary);
                 if !options.skip_worn_response {
-                    let run = respond(
+                    let (worn_response, worn_summary) = respond(
                         &scene,
-                        &surfaces,
+                        &staged.surfaces,
                         &times,
                         &ideal,
                         body,
@@ -258,11 +257,11 @@ pub fn run_scene(
                     )?;
                     // Worn surfaces may legitimately open the clearance past the limit: warn only.
                     if let Err(e) =
-                        validity::check_penetration(&scene, "worn response", &run.0.contact)
+                        validity::check_penetration(&scene, "worn response", &worn_response.contact)
                     {
                         progress.note(&format!("warning: {e}"));
                     }
-                    worn = Some(run);
+                    worn = Some((worn_response, worn_summary));
                 }
             }
             (response, summary, wear_summary, worn)

@@ -10,8 +10,8 @@ use super::{
     ContactSeries, MechanismFrames, Motion, Progress, Response, ResponseSummary, RunError,
     simulation_options,
 };
-use crate::build::{Built, JointHandle, Surfaces, build};
-use crate::validity::{Limits, Tally};
+use crate::build::{BuiltScene, JointHandle, Surfaces, build};
+use crate::validity::{Limits, ValidityTally};
 use scene::Scene;
 
 /// The ideal mechanism at the output times: the recorded body's motion, and every body's pose
@@ -30,7 +30,7 @@ pub(super) struct Recorder<'a> {
     pub(super) motion: Motion,
     pub(super) contact: Vec<ContactSeries>,
     /// Validity measures per joint (same order as `contact`).
-    pub(super) validity: Vec<Tally>,
+    pub(super) validity: Vec<ValidityTally>,
     pub(super) progress: &'a mut dyn Progress,
     pub(super) record: bool,
     /// Output-frame indices at which every body's pose is recorded (increasing).
@@ -96,7 +96,7 @@ impl Observer for Recorder<'_> {
 }
 
 /// Assemble `built` from the scene's initial poses at t = 0.
-pub(super) fn assemble(built: &Built, what: &str) -> Result<multibody::State, RunError> {
+pub(super) fn assemble(built: &BuiltScene, what: &str) -> Result<multibody::State, RunError> {
     let (q0, qd0) = built.system.initial_guess();
     let state = built
         .system
@@ -127,7 +127,7 @@ pub(super) fn respond(
 /// needs only the animation's frame indices, so the ideal reference can be computed
 /// meanwhile ([`super::run_scene`]).
 pub(super) struct Simulated {
-    built: Built,
+    built: BuiltScene,
     joints: Vec<JointHandle>,
     initial_energy: Vec<f64>,
     result: multibody::SimulationResult,
@@ -190,7 +190,7 @@ pub(super) fn simulate(
             .collect(),
         validity: joints
             .iter()
-            .map(|j| Tally::new(j.clearance, Limits::default(), &j.model))
+            .map(|j| ValidityTally::new(j.clearance, Limits::default(), &j.model))
             .collect(),
         progress,
         record: true,

@@ -7,22 +7,28 @@ use std::time::Instant;
 
 use clearance::{Ensemble, StageRuns, StageSimulation, WearStagesError, run_ensemble_stages};
 use multibody::{OutputTimes, SimulationError, SimulationResult};
-use wear::{Extrapolation, GeometryLimits, RunContext, StagePlan, WearStepping, WornJoint};
+use wear::{Extrapolation, GeometryLimits, RunContext, StagePlan, WornJoint};
 
-use super::life::{clearance_limit, life_curves};
-use super::outcome::StageHalvesSummary;
+use super::life::life_curves;
 use super::record::{Recorder, assemble};
-use super::summary::STAGE_HALVES_TOLERANCE;
-use super::{
-    JointWearHistory, JointWearSummary, Motion, Progress, RunError, SubstepSummary, WearSummary,
-    simulation_options,
-};
+use super::{JointWearHistory, Motion, Progress, RunError, WearSummary, simulation_options};
 use crate::build::{BuildError, Surfaces, build};
 use contact::{ContactModel, ShapeLimits};
-use scene::Scene;
+use scene::{RunSettings, Scene};
 
-/// Per-stage history, summary and final surfaces (one slot per active clearance joint).
-type Staged = (Vec<JointWearHistory>, WearSummary, Vec<Option<WornJoint>>);
+mod wear_summary;
+
+use wear_summary::StagesRan;
+
+/// What the wear stages give the run.
+pub(super) struct StagesOutcome {
+    /// Per wearing joint: its surfaces after each stage and its life curve.
+    pub(super) history: Vec<JointWearHistory>,
+    /// How the stages were run, for `summary.json` and the report.
+    pub(super) summary: WearSummary,
+    /// The final surfaces, one slot per active clearance joint (`None`: it does not wear).
+    pub(super) surfaces: Vec<Option<WornJoint>>,
+}
 
 /// A scene's K-cycle runs for the stage driver: the scene built on the current surfaces,
 /// wearing after the start-up window, observed for progress only.
@@ -176,9 +182,8 @@ impl StageRuns for SceneRuns<'_> {
     }
 }
 
-/// Runs the wear stages; returns the per-stage history, the summary and the final surfaces
-/// (one slot per active clearance joint). `scene_cycles_per_stage` is the scene's own K
-/// before any override, which the summary reports beside the K run.
+/// Runs the wear stages (plan, runs, history, summary). `scene_cycles_per_stage` is the
+/// scene's own K before any override, which the summary reports beside the K run.
 pub(super) fn stages(
     scene: &Scene,
     initial: &[Option<WornJoint>],
@@ -186,12 +191,77 @@ pub(super) fn stages(
     scene_cycles_per_stage: u32,
     threads: Option<usize>,
     progress: &mut dyn Progress,
-) -> Result<Staged, RunError> {
+) -> Result<StagesOutcome, RunError> {
     let started = Instant::now();
     let r = &scene.run;
     let k = r.cycles_per_stage.max(1);
     let shape_limits = shape_limits(scene)?;
-    let (max_slope_change, max_curvature_change) = r.shape_change_bounds(shape_limits.is_some());
+    let shape_change_bounds = r.shape_change_bounds(shape_limits.is_some());
+    let plan = stage_plan(r, shape_limits, shape_change_bounds);
+    // Gather wear after the start-up window only (see the module docs).
+    let wear_start = r.transient_window;
+    let slots = wearing_slots(initial);
+    let mut joints: Vec<WornJoint> = initial.iter().flatten().cloned().collect();
+    let start = joints.clone();
+    let mut runs = SceneRuns {
+        scene,
+        slots: &slots,
+        wear_start,
+        t_end: wear_start + f64::from(k) * period,
+        period,
+        k,
+        progress: &mut *progress,
+        clock: None,
+    };
+    let staged = run_ensemble_stages(&mut joints, &plan, ensemble(r, threads), &mut runs)
+        .map_err(run_error)?;
+    let (curves, cycles_applied) = life_curves(&start, &staged.reports, k);
+    let names = scene
+        .active_clearance_joints()
+        .zip(initial)
+        .filter(|(_, w)| w.is_some())
+        .map(|(c, _)| c.name.clone());
+    let history: Vec<JointWearHistory> = joints
+        .iter()
+        .enumerate()
+        .zip(names)
+        .zip(curves)
+        .map(|(((i, j), name), life)| JointWearHistory {
+            name,
+            bearing_radius: j.bearing().nominal_radius(),
+            pin_radius: j.pin().nominal_radius(),
+            stages: staged.surfaces.iter().map(|s| s[i].clone()).collect(),
+            life,
+        })
+        .collect();
+    let ran = StagesRan {
+        settings: r,
+        plan: &plan,
+        k,
+        scene_cycles_per_stage,
+        staged: &staged,
+        shape_limited: shape_limits.is_some(),
+        shape_change_bounds,
+    };
+    let summary = ran.summary(&history, cycles_applied, wear_start, started, progress);
+    let surfaces = slots
+        .iter()
+        .map(|index| index.and_then(|i| joints.get(i).cloned()))
+        .collect();
+    Ok(StagesOutcome {
+        history,
+        summary,
+        surfaces,
+    })
+}
+
+/// The stage plan of the run settings `r`: how each stage is extrapolated, smoothed and
+/// stepped, and where it stops. `shape_limits` are the contact models' tightest.
+fn stage_plan(
+    r: &RunSettings,
+    shape_limits: Option<ShapeLimits>,
+    (max_slope_change, max_curvature_change): (f64, f64),
+) -> StagePlan {
     let extrapolation =
         if let (true, Some(tolerance)) = (r.adaptive_extrapolation, r.wear_tolerance) {
             Extrapolation::Controlled {
@@ -213,7 +283,7 @@ pub(super) fn stages(
                 warn_fraction: r.max_clearance_change,
             }
         };
-    let plan = StagePlan::new(r.wear_stages as usize, r.amplification, extrapolation)
+    StagePlan::new(r.wear_stages as usize, r.amplification, extrapolation)
         .with_smoothing(r.wear_smoothing_deg.to_radians())
         .with_stepping(r.wear_stepping)
         .with_geometry_limits(
@@ -221,274 +291,51 @@ pub(super) fn stages(
             shape_limits
                 .filter(|_| r.adaptive_extrapolation && r.stop_at_validity_limits)
                 .map(|l| GeometryLimits::new(l.slope, l.curvature)),
-        );
-    // Gather wear after the start-up window only (see the module docs).
-    let wear_start = r.transient_window;
-    let t_end = wear_start + f64::from(k) * period;
-    let slots: Vec<Option<usize>> = {
-        let mut next = 0;
-        initial
-            .iter()
-            .map(|w| {
-                w.as_ref().map(|_| {
-                    next += 1;
-                    next - 1
-                })
+        )
+}
+
+/// Per active clearance joint: its index among the wearing joints, if it wears.
+fn wearing_slots(initial: &[Option<WornJoint>]) -> Vec<Option<usize>> {
+    let mut next = 0;
+    initial
+        .iter()
+        .map(|w| {
+            w.as_ref().map(|_| {
+                next += 1;
+                next - 1
             })
-            .collect()
-    };
-    let mut joints: Vec<WornJoint> = initial.iter().flatten().cloned().collect();
-    let names: Vec<String> = scene
-        .active_clearance_joints()
-        .zip(initial)
-        .filter(|(_, w)| w.is_some())
-        .map(|(c, _)| c.name.clone())
-        .collect();
-    let start = joints.clone();
-    let mut runs = SceneRuns {
-        scene,
-        slots: &slots,
-        wear_start,
-        t_end,
-        period,
-        k,
-        progress: &mut *progress,
-        clock: None,
-    };
+        })
+        .collect()
+}
+
+/// The trajectories of a sub-step (`run.trajectories`) on at most `threads` threads (default:
+/// the machine's cores).
+fn ensemble(r: &RunSettings, threads: Option<usize>) -> Ensemble {
     let threads = threads.unwrap_or_else(|| {
         std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
     });
     let trajectories = r.trajectories.max(1) as usize;
-    let ensemble = Ensemble::new(trajectories, threads.min(trajectories));
-    let staged =
-        run_ensemble_stages(&mut joints, &plan, ensemble, &mut runs).map_err(|e| match e {
-            WearStagesError::Wear(e) => RunError::Wear(e),
-            WearStagesError::Build { source, .. } => source,
-            WearStagesError::Simulation { context, source } => RunError::Simulation {
-                what: run_name(context),
-                source,
-            },
-            WearStagesError::NotWearing { context, element } => RunError::LostWearBuffer {
-                what: run_name(context),
-                joint: format!("element {element}"),
-            },
-            WearStagesError::Threads { threads, source } => RunError::Threads {
-                threads,
-                message: source.to_string(),
-            },
-        })?;
-    let (curves, cycles_applied) = life_curves(&start, &staged.reports, k);
-    let history: Vec<JointWearHistory> = joints
-        .iter()
-        .enumerate()
-        .zip(&names)
-        .zip(curves)
-        .map(|(((i, j), name), life)| JointWearHistory {
-            name: name.clone(),
-            bearing_radius: j.bearing().nominal_radius(),
-            pin_radius: j.pin().nominal_radius(),
-            stages: staged.surfaces.iter().map(|s| s[i].clone()).collect(),
-            life,
-        })
-        .collect();
-    let mut substeps = Vec::new();
-    let mut runs_per_stage = Vec::new();
-    let mut rejected_runs = Vec::new();
-    let mut details = Vec::new();
-    let mut warnings = Vec::new();
-    let mut ended_at_limits = Vec::new();
-    for (stage, report) in staged.reports.iter().enumerate() {
-        substeps.push(report.substeps.len());
-        // The stage's first run among all runs (the halves differences are per run).
-        let first: usize = runs_per_stage.iter().sum();
-        runs_per_stage.push(report.run_weights.len());
-        rejected_runs.push(report.rejected_runs());
-        details.extend(report.substeps.iter().map(|r| {
-            SubstepSummary {
-                stage: stage + 1,
-                amplification: r.amplification,
-                max_depth_m: r.max_depth,
-                change_fraction: r.max_change_fraction,
-                slope_change: r.joints.iter().map(|j| j.slope_change).fold(0.0, f64::max),
-                curvature_change: r
-                    .joints
-                    .iter()
-                    .map(|j| j.curvature_change)
-                    .fold(0.0, f64::max),
-                halves_difference: staged
-                    .halves_differences
-                    .get(first + r.context.substep)
-                    .copied()
-                    .flatten(),
-                error_estimate: r.error_estimate,
-            }
-        }));
-        if let Some(w) = report.warning {
-            let text = format!("warning: {w}");
-            warnings.push(text);
-        }
-        let applied = report
-            .ended_at_limits
-            .map(|amplification| amplification * f64::from(k));
-        if let (Some(cycles), Some(limits)) = (applied, plan.geometry_limits) {
-            warnings.push(format!(
-                "note: stage {} ended after {cycles:.3e} of its {:.3e} cycles ({:.2} %): the worn \
-                 geometry reached the contact model's slope limit {} (run.stop_at_validity_limits)",
-                stage + 1,
-                plan.amplification * f64::from(k),
-                100.0 * cycles / (plan.amplification * f64::from(k)),
-                limits.slope
-            ));
-        }
-        ended_at_limits.push(applied);
-    }
-    let max_halves_difference = details
-        .iter()
-        .filter_map(|d| d.halves_difference)
-        .reduce(f64::max);
-    let stage_halves: Vec<Option<StageHalvesSummary>> = staged
-        .stage_halves
-        .iter()
-        .map(|h| {
-            h.map(|h| StageHalvesSummary {
-                peak_depth: h.peak_depth,
-                worn_volume: h.worn_volume,
-            })
-        })
-        .collect();
-    let worst = stage_halves
-        .iter()
-        .map(|h| h.map(|h| h.peak_depth.max(h.worn_volume)))
-        .collect::<Option<Vec<f64>>>()
-        .and_then(|all| all.into_iter().reduce(f64::max));
-    let converged = worst.is_some_and(|d| d <= STAGE_HALVES_TOLERANCE);
-    match worst {
-        None if r.trajectories > 1 => warnings.push(format!(
-            "warning: {} trajectories per sub-step: with an odd number the convergence of the \
-             stage's wear in K cannot be checked (its halves are half of the trajectories \
-             each); give an even run.trajectories",
-            r.trajectories
-        )),
-        None => warnings.push(format!(
-            "warning: K = {k} simulated cycle(s) per sub-step: with odd K the convergence of \
-             the stage's wear in K cannot be checked; give an even K (--cycles-per-stage 2 or \
-             more)"
-        )),
-        Some(d) if d > STAGE_HALVES_TOLERANCE => warnings.push(format!(
-            "warning: the stage's wear extrapolated from each half of its K = {k} cycles alone \
-             differs by up to {:.0} % in peak depth or worn volume (tolerance {:.0} %): the \
-             stage's wear is not converged in K",
-            100.0 * d,
-            100.0 * STAGE_HALVES_TOLERANCE
-        )),
-        Some(_) => {}
-    }
-    for w in &warnings {
-        progress.note(w);
-    }
-    let joints_summary = history
-        .iter()
-        .filter_map(|h| h.stages.last().map(|j| (h, j)))
-        .map(|(h, j)| {
-            let (b, p) = (j.bearing().peak(), j.pin().peak());
-            let (bd, ba, pd, pa) = (b.depth, b.angle, p.depth, p.angle);
-            let ranges = |p: &wear::WornProfile| {
-                p.concentrated_ranges(0.5)
-                    .iter()
-                    .map(|r| r.degrees())
-                    .collect()
-            };
-            JointWearSummary {
-                name: h.name.clone(),
-                bearing_peak_depth_m: bd,
-                bearing_peak_angle_deg: ba.to_degrees(),
-                pin_peak_depth_m: pd,
-                pin_peak_angle_deg: pa.to_degrees(),
-                bearing_ranges_deg: ranges(j.bearing()),
-                pin_ranges_deg: ranges(j.pin()),
-                max_local_clearance_m: j.max_local_clearance(),
-                clearance_limit: r
-                    .clearance_limit
-                    .map(|limit| clearance_limit(&h.life, limit)),
-            }
-        })
-        .collect();
-    let mut surfaces = vec![None; initial.len()];
-    for (slot, index) in slots.iter().enumerate() {
-        if let Some(i) = index {
-            surfaces[slot] = joints.get(*i).cloned();
-        }
-    }
-    let mut summary = WearSummary {
-        stages: r.wear_stages,
-        cycles_per_stage: k,
-        scene_cycles_per_stage,
-        trajectories: r.trajectories,
-        amplification: r.amplification,
-        cycles_represented_per_stage: f64::from(k) * r.amplification,
-        cycles_applied,
-        wear_start_s: wear_start,
-        extrapolation: if let Extrapolation::Controlled {
-            tolerance,
-            min_fraction,
-            max_fraction,
-            ..
-        } = plan.extrapolation
-        {
-            format!(
-                "controlled (tolerance {} %; the first sub-step's predictor changes a local \
-                 clearance by at most {} %, none by more than {} %)",
-                percent(tolerance),
-                percent(min_fraction),
-                percent(max_fraction)
-            )
-        } else if r.adaptive_extrapolation {
-            if shape_limits.is_some()
-                || max_slope_change.is_finite()
-                || max_curvature_change.is_finite()
-            {
-                format!(
-                    "adaptive (each sub-step changes a local clearance by at most {} %, its \
-                     slope by at most {} c0/rad and its curvature by at most {} c0/rad²)",
-                    percent(r.max_clearance_change),
-                    max_slope_change,
-                    max_curvature_change
-                )
-            } else {
-                format!(
-                    "adaptive (each sub-step changes a local clearance by at most {} %)",
-                    percent(r.max_clearance_change)
-                )
-            }
-        } else {
-            "single-jump (the paper's)".into()
-        },
-        substeps_per_stage: substeps,
-        runs_per_stage,
-        rejected_runs_per_stage: rejected_runs,
-        substeps: details,
-        max_halves_difference,
-        stage_halves,
-        converged,
-        cycles_applied_at_limits: ended_at_limits,
-        warnings,
-        joints: joints_summary,
-        wall_time_s: started.elapsed().as_secs_f64(),
-    };
-    // Which stepping ran (error-controlled stages are explicit whatever the scene says).
-    if plan.stepping == WearStepping::LinearlyImplicit
-        && !matches!(plan.extrapolation, Extrapolation::Controlled { .. })
-    {
-        summary.extrapolation.push_str(
-            ", linearly implicit (the wear's stiffness taken from the cycles' contact zones)",
-        );
-    }
-    Ok((history, summary, surfaces))
+    Ensemble::new(trajectories, threads.min(trajectories))
 }
 
-/// `fraction` as a percentage for a sentence: 2.5 for 0.025, 5 for 0.05 (no binary residue).
-fn percent(fraction: f64) -> f64 {
-    (fraction * 1e8).round() / 1e6
+/// The stage driver's failure as the run's, named after the run it happened in.
+fn run_error(e: WearStagesError<RunError>) -> RunError {
+    match e {
+        WearStagesError::Wear(e) => RunError::Wear(e),
+        WearStagesError::Build { source, .. } => source,
+        WearStagesError::Simulation { context, source } => RunError::Simulation {
+            what: run_name(context),
+            source,
+        },
+        WearStagesError::NotWearing { context, element } => RunError::LostWearBuffer {
+            what: run_name(context),
+            joint: format!("element {element}"),
+        },
+        WearStagesError::Threads { threads, source } => RunError::Threads {
+            threads,
+            message: source.to_string(),
+        },
+    }
 }
 
 /// The tightest shape limits the active joints' contact models name (`None`: none of them

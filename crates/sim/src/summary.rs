@@ -4,12 +4,12 @@
 use multibody::SimulationResult;
 
 use super::{Deviation, JointSummary, Numerics, PeakStats, Response, ResponseSummary};
-use crate::build::{Built, JointHandle};
+use crate::build::{BuiltScene, JointHandle};
 use scene::Scene;
 
 /// What a dynamic run leaves for its energy books.
 pub(super) struct Audit<'a> {
-    pub(super) built: &'a Built,
+    pub(super) built: &'a BuiltScene,
     pub(super) result: &'a SimulationResult,
     pub(super) joints: &'a [JointHandle],
     /// Elastic energy stored in each joint at the start (joint order).

@@ -10,7 +10,7 @@ use super::{
 };
 use clearance::WornClearanceForce;
 use scene::{Integrator, Scene};
-use sim::build::{Built, Surfaces, build, unworn_joints};
+use sim::build::{BuiltScene, Surfaces, build, unworn_joints};
 use sim::simulation_options;
 
 /// Records the rod position and journal-centre paths at output frames.
@@ -61,7 +61,7 @@ struct Setup<'a> {
 }
 
 impl Setup<'_> {
-    fn build(&self, scene: &Scene, wear: bool) -> Result<(Built, State), String> {
+    fn build(&self, scene: &Scene, wear: bool) -> Result<(BuiltScene, State), String> {
         let unworn = if wear {
             unworn_joints(scene).map_err(|e| e.to_string())?
         } else {

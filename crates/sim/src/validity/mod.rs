@@ -40,10 +40,10 @@
 
 mod measures;
 
-pub use measures::{Limits, MIN_ELASTIC_SHARE, Tally, Validity};
+pub use measures::{Limits, MIN_ELASTIC_SHARE, Validity, ValidityTally};
 
 use super::{ContactSeries, RunError};
-use crate::build::Built;
+use crate::build::BuiltScene;
 use scene::ClearanceJoint;
 use scene::Scene;
 use scene::limits::MAX_PENETRATION_FRACTION;
@@ -80,7 +80,7 @@ pub fn check_penetration(
 /// first contact force is the elastic force of a penetration far beyond anything Hertz contact
 /// describes (a probe reported 5e10 N). Checked after assembly, which may move the file's poses.
 pub fn check_initial_penetration(
-    built: &Built,
+    built: &BuiltScene,
     state: &multibody::State,
     what: &str,
 ) -> Result<(), RunError> {
