@@ -45,6 +45,22 @@ fn foundation() -> Result<ContactModelKind, Box<dyn std::error::Error>> {
     ))
 }
 
+/// Each stage's worn volume (the first joint's, printed after `label`) against the Archard
+/// volume of `stage × amplification` runs, `K_d m g ω R_pin T` each, within 2e-3.
+fn check_stage_volumes(label: &str, surfaces: &[Vec<WornJoint>], amplification: f64) {
+    let per_run = 1e-13 * MASS * 9.81 * SPEED * PIN_RADIUS * (T_END - WEAR_FROM);
+    for (stage, s) in surfaces.iter().enumerate() {
+        let expected = (stage + 1) as f64 * amplification * per_run;
+        let volume = s[0].worn_volume();
+        eprintln!(
+            "{label}stage {}: worn volume {volume:.5e} m³, Archard {expected:.5e} m³ ({:+.3} %)",
+            stage + 1,
+            100.0 * (volume / expected - 1.0)
+        );
+        assert!((volume / expected - 1.0).abs() < 2e-3);
+    }
+}
+
 /// The hanging shaft on `surfaces`, wearing from [`WEAR_FROM`], halves split at 1 s.
 fn hanging_shaft(
     surfaces: &WornJoint,
@@ -101,21 +117,11 @@ fn stages_add_the_archard_volume(
     let mut runs = |_: RunContext, surfaces: &[WornJoint]| hanging_shaft(&surfaces[0], model);
     let stages = run_wear_stages(&mut joints, &plan, &mut runs).map_err(|e| e.to_string())?;
 
-    let per_run = 1e-13 * MASS * 9.81 * SPEED * PIN_RADIUS * (T_END - WEAR_FROM);
     assert_eq!(stages.reports.len(), 2);
     assert_eq!(stages.surfaces.len(), 2);
-    for (stage, surfaces) in stages.surfaces.iter().enumerate() {
-        let expected = (stage + 1) as f64 * amplification * per_run;
-        let volume = surfaces[0].worn_volume();
-        eprintln!(
-            "{model:?} stage {}: worn volume {volume:.5e} m³, Archard {expected:.5e} m³ ({:+.3} %)",
-            stage + 1,
-            100.0 * (volume / expected - 1.0)
-        );
-        // 2e-3: the step across WEAR_FROM is lost (≤ 1e-3 of the run) and the deposit
-        // spreads the pressure over the arc, not its chord (+θ²/6 ≈ 1e-4 for this load).
-        assert!((volume / expected - 1.0).abs() < 2e-3);
-    }
+    // 2e-3: the step across WEAR_FROM is lost (≤ 1e-3 of the run) and the deposit spreads the
+    // pressure over the arc, not its chord (+θ²/6 ≈ 1e-4 for this load).
+    check_stage_volumes(&format!("{model:?} "), &stages.surfaces, amplification);
     // The bearing wears where the load presses: at the bottom.
     let bottom = stages.surfaces[1][0].bearing().peak();
     assert!(
@@ -202,7 +208,6 @@ fn an_ensemble_continues_its_trajectories_and_wears_the_archard_volume_on_any_th
         amplification,
         Extrapolation::SingleJump { warn_fraction: 0.1 },
     );
-    let per_run = 1e-13 * MASS * 9.81 * SPEED * PIN_RADIUS * (T_END - WEAR_FROM);
     let mut surfaces = Vec::new();
     for threads in [1, 2] {
         let starts = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
@@ -223,18 +228,9 @@ fn an_ensemble_continues_its_trajectories_and_wears_the_archard_volume_on_any_th
         assert_eq!(starts.len(), 4);
         assert_eq!(&starts[..2], &[0.0, 0.0]);
         assert!((starts[2] - 1.0).abs() < 1e-12 && (starts[3] - 1.5).abs() < 1e-12);
-        for (stage, s) in stages.surfaces.iter().enumerate() {
-            let expected = (stage + 1) as f64 * amplification * per_run;
-            let volume = s[0].worn_volume();
-            eprintln!(
-                "  stage {}: worn volume {volume:.5e} m³, Archard {expected:.5e} m³ ({:+.3} %)",
-                stage + 1,
-                100.0 * (volume / expected - 1.0)
-            );
-            // As for one trajectory, less the step lost across WEAR_FROM: each trajectory's
-            // window starts exactly at a step here.
-            assert!((volume / expected - 1.0).abs() < 2e-3);
-        }
+        // As for one trajectory, less the step lost across WEAR_FROM: each trajectory's
+        // window starts exactly at a step here.
+        check_stage_volumes("  ", &stages.surfaces, amplification);
         for d in &stages.halves_differences {
             let d = d.ok_or("two trajectories are two halves")?;
             eprintln!(

@@ -73,3 +73,23 @@ pub(crate) fn positive(parameter: &'static str, value: f64) -> Result<f64, Conta
 pub(crate) fn non_negative(parameter: &'static str, value: f64) -> Result<f64, ContactError> {
     in_range(parameter, value, |v| v >= 0.0, ">= 0")
 }
+
+/// A law as scene files read and write it, through its parameters: `TryFrom` validates them
+/// (its `from_params`), `From` gives them back (its `params`).
+macro_rules! through_params {
+    ($law:ty, $params:ty) => {
+        impl TryFrom<$params> for $law {
+            type Error = ContactError;
+            fn try_from(params: $params) -> Result<Self, ContactError> {
+                Self::from_params(params)
+            }
+        }
+
+        impl From<$law> for $params {
+            fn from(law: $law) -> Self {
+                law.params()
+            }
+        }
+    };
+}
+pub(crate) use through_params;

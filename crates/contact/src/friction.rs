@@ -2,7 +2,7 @@
 //! partials. The kernel applies `−F_t t` to the pin, so a positive `F_t` opposes a positive
 //! sliding velocity `v_t` of the pin on the bearing.
 
-use crate::error::{ContactError, in_range, non_negative};
+use crate::error::{ContactError, in_range, non_negative, through_params};
 
 /// Friction force and its partials.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -121,18 +121,7 @@ impl FrictionLaw for Ambrosio {
     }
 }
 
-impl TryFrom<AmbrosioParams> for Ambrosio {
-    type Error = ContactError;
-    fn try_from(params: AmbrosioParams) -> Result<Self, ContactError> {
-        Self::from_params(params)
-    }
-}
-
-impl From<Ambrosio> for AmbrosioParams {
-    fn from(law: Ambrosio) -> Self {
-        law.params
-    }
-}
+through_params!(Ambrosio, AmbrosioParams);
 
 /// Plain Coulomb friction `F_t = c_f F_n sgn(v_t)` (with `sgn(0) = 0`). Discontinuous at
 /// `v_t = 0`: for comparisons and explicit integrators, not for stiff ones.
@@ -166,6 +155,16 @@ impl Coulomb {
         })
     }
 
+    /// The law from its parameters, validated.
+    pub fn from_params(params: CoulombParams) -> Result<Self, ContactError> {
+        Self::new(params.coefficient)
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> CoulombParams {
+        CoulombParams::new(self.coefficient)
+    }
+
     /// The coefficient `c_f`.
     pub fn coefficient(&self) -> f64 {
         self.coefficient
@@ -188,20 +187,7 @@ impl FrictionLaw for Coulomb {
     }
 }
 
-impl TryFrom<CoulombParams> for Coulomb {
-    type Error = ContactError;
-    fn try_from(params: CoulombParams) -> Result<Self, ContactError> {
-        Self::new(params.coefficient)
-    }
-}
-
-impl From<Coulomb> for CoulombParams {
-    fn from(law: Coulomb) -> Self {
-        Self {
-            coefficient: law.coefficient,
-        }
-    }
-}
+through_params!(Coulomb, CoulombParams);
 
 /// No friction.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -247,7 +233,7 @@ impl FrictionLawKind {
     pub fn from_params(params: FrictionLawParams) -> Result<Self, ContactError> {
         Ok(match params {
             FrictionLawParams::Ambrosio(p) => Self::Ambrosio(Ambrosio::from_params(p)?),
-            FrictionLawParams::Coulomb(p) => Self::Coulomb(Coulomb::try_from(p)?),
+            FrictionLawParams::Coulomb(p) => Self::Coulomb(Coulomb::from_params(p)?),
             FrictionLawParams::None => Self::None,
         })
     }
@@ -256,24 +242,13 @@ impl FrictionLawKind {
     pub fn params(&self) -> FrictionLawParams {
         match self {
             Self::Ambrosio(law) => FrictionLawParams::Ambrosio(law.params()),
-            Self::Coulomb(law) => FrictionLawParams::Coulomb((*law).into()),
+            Self::Coulomb(law) => FrictionLawParams::Coulomb(law.params()),
             Self::None => FrictionLawParams::None,
         }
     }
 }
 
-impl TryFrom<FrictionLawParams> for FrictionLawKind {
-    type Error = ContactError;
-    fn try_from(params: FrictionLawParams) -> Result<Self, ContactError> {
-        Self::from_params(params)
-    }
-}
-
-impl From<FrictionLawKind> for FrictionLawParams {
-    fn from(law: FrictionLawKind) -> Self {
-        law.params()
-    }
-}
+through_params!(FrictionLawKind, FrictionLawParams);
 
 impl FrictionLaw for FrictionLawKind {
     #[inline]

@@ -15,6 +15,8 @@
 //! `types`, `outline`, `dual` → `pair` → `model` → the models → `kind` → this module.
 //! docs/architecture.md lists what adding a model takes.
 
+use nalgebra::Vector2;
+
 use crate::error::ContactError;
 use crate::friction::{FrictionLaw, FrictionLawKind};
 use crate::normal::{NormalLaw, NormalLawKind};
@@ -218,7 +220,29 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_body: &BodyState,
         samples: usize,
     ) -> OutlineOverlap {
-        self.pair.outline_overlap(bearing_body, pin_body, samples)
+        let pair = &self.pair;
+        let bearing_centre = bearing_body.position() + bearing_body.rotate(&pair.bearing_centre);
+        let pin_centre = pin_body.position() + pin_body.rotate(&pair.pin_centre);
+        let mut deepest = OutlineOverlap {
+            depth: f64::NEG_INFINITY,
+            angle: 0.0,
+        };
+        for k in 0..samples.max(1) {
+            let alpha = std::f64::consts::TAU * k as f64 / samples.max(1) as f64;
+            let (s, c) = (alpha + pin_body.theta).sin_cos();
+            let point = pin_centre + Vector2::new(c, s) * pair.pin_profile.sample(alpha).radius;
+            let offset = point - bearing_centre;
+            let angle = offset.y.atan2(offset.x);
+            let depth = offset.norm()
+                - pair
+                    .bearing_profile
+                    .sample(angle - bearing_body.theta)
+                    .radius;
+            if depth > deepest.depth {
+                deepest = OutlineOverlap { depth, angle };
+            }
+        }
+        deepest
     }
 }
 

@@ -18,7 +18,7 @@
 //! `F_n = max(0, ·)`, with all partials zero where it clamps.
 
 use crate::diagnostics::ContactDiagnostics;
-use crate::error::{ContactError, in_range, positive};
+use crate::error::{ContactError, in_range, positive, through_params};
 
 /// Default floor on the onset velocity `δ̇⁻` of the damped laws (m/s).
 pub const DEFAULT_ONSET_VELOCITY_FLOOR: f64 = 1e-4;
@@ -271,18 +271,7 @@ macro_rules! damped_hertz_law {
             }
         }
 
-        impl TryFrom<DampedHertzParams> for $name {
-            type Error = ContactError;
-            fn try_from(params: DampedHertzParams) -> Result<Self, ContactError> {
-                Self::from_params(params)
-            }
-        }
-
-        impl From<$name> for DampedHertzParams {
-            fn from(law: $name) -> Self {
-                law.params
-            }
-        }
+        through_params!($name, DampedHertzParams);
     };
 }
 
@@ -338,6 +327,16 @@ impl Hertz {
         })
     }
 
+    /// The law from its parameters, validated.
+    pub fn from_params(params: HertzParams) -> Result<Self, ContactError> {
+        Self::new(params.exponent)
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> HertzParams {
+        HertzParams::new(self.exponent)
+    }
+
     /// The exponent `n`.
     pub fn exponent(&self) -> f64 {
         self.exponent
@@ -370,20 +369,7 @@ impl NormalLaw for Hertz {
     }
 }
 
-impl TryFrom<HertzParams> for Hertz {
-    type Error = ContactError;
-    fn try_from(params: HertzParams) -> Result<Self, ContactError> {
-        Self::new(params.exponent)
-    }
-}
-
-impl From<Hertz> for HertzParams {
-    fn from(law: Hertz) -> Self {
-        Self {
-            exponent: law.exponent,
-        }
-    }
-}
+through_params!(Hertz, HertzParams);
 
 /// Any normal law, chosen at run time (scene files). Serialised through [`NormalLawParams`],
 /// e.g. `{"law": "lankarani_nikravesh", "restitution": 0.9}`, and validated on load. Generic
@@ -428,7 +414,7 @@ impl NormalLawKind {
             }
             NormalLawParams::HuntCrossley(p) => Self::HuntCrossley(HuntCrossley::from_params(p)?),
             NormalLawParams::Flores(p) => Self::Flores(Flores::from_params(p)?),
-            NormalLawParams::Hertz(p) => Self::Hertz(Hertz::try_from(p)?),
+            NormalLawParams::Hertz(p) => Self::Hertz(Hertz::from_params(p)?),
         })
     }
 
@@ -438,23 +424,12 @@ impl NormalLawKind {
             Self::LankaraniNikravesh(law) => NormalLawParams::LankaraniNikravesh(law.params()),
             Self::HuntCrossley(law) => NormalLawParams::HuntCrossley(law.params()),
             Self::Flores(law) => NormalLawParams::Flores(law.params()),
-            Self::Hertz(law) => NormalLawParams::Hertz((*law).into()),
+            Self::Hertz(law) => NormalLawParams::Hertz(law.params()),
         }
     }
 }
 
-impl TryFrom<NormalLawParams> for NormalLawKind {
-    type Error = ContactError;
-    fn try_from(params: NormalLawParams) -> Result<Self, ContactError> {
-        Self::from_params(params)
-    }
-}
-
-impl From<NormalLawKind> for NormalLawParams {
-    fn from(law: NormalLawKind) -> Self {
-        law.params()
-    }
-}
+through_params!(NormalLawKind, NormalLawParams);
 
 impl NormalLaw for NormalLawKind {
     #[inline]

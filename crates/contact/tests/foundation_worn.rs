@@ -28,30 +28,11 @@ fn elastic_force_is_the_gradient_of_the_stored_energy_on_worn_outlines() {
             let (b, p) = common::states_from(z);
             joint.forces(&b, &p, None).diagnostics.elastic_energy
         };
-        let q = [
-            forces.bearing.x,
-            forces.bearing.y,
-            forces.bearing.z,
-            forces.pin.x,
-            forces.pin.y,
-            forces.pin.z,
-        ];
-        let scale = q.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        for col in 0..6 {
-            let h = if col % 3 == 2 { 1e-9 } else { 1e-10 };
-            let (mut up, mut down) = (z, z);
-            up[col] += h;
-            down[col] -= h;
-            let gradient = (energy(&up) - energy(&down)) / (2.0 * h);
-            let error = (q[col] + gradient).abs() / scale;
-            worst = worst.max(error);
-            assert!(
-                error < 1e-5,
-                "sample {sample} column {col}: Q {} vs −∂V {}",
-                q[col],
-                -gradient
-            );
-        }
+        let q = common::force_vector(&forces);
+        let step = |col: usize| if col % 3 == 2 { 1e-9 } else { 1e-10 };
+        let case = format!("sample {sample}");
+        let error = common::energy_gradient_error(&z, &q, step, energy, 1e-5, &case);
+        worst = worst.max(error);
     }
     eprintln!("worst |Q + ∇V| / max|Q| over 40 worn states: {worst:.2e}");
 }
@@ -73,29 +54,19 @@ where
         assert!(forces.diagnostics.in_contact);
         let plain = joint.forces(&bearing, &pin, Some(onset));
         assert_eq!(plain.pin, forces.pin, "the f64 and dual evaluations agree");
-        let scale = [
-            forces.bearing.x,
-            forces.bearing.y,
-            forces.bearing.z,
-            forces.pin.x,
-            forces.pin.y,
-            forces.pin.z,
-        ]
-        .iter()
-        .fold(0.0f64, |m, v| m.max(v.abs()));
+        let scale = common::force_vector(&forces)
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()));
         for col in 0..12 {
             let h = match col {
                 0 | 1 | 3 | 4 => 1e-11,
                 2 | 5 => 1e-10,
                 _ => 1e-8,
             };
-            let (mut up, mut down) = (z, z);
-            up[col] += h;
-            down[col] -= h;
-            let fp = common::generalized_forces(joint, &up, onset);
-            let fm = common::generalized_forces(joint, &down, onset);
-            for row in 0..6 {
-                let numeric = (fp[row] - fm[row]) / (2.0 * h);
+            let column = common::central_difference(&z, col, h, |z| {
+                common::generalized_forces(joint, z, onset)
+            });
+            for (row, numeric) in column.into_iter().enumerate() {
                 // Scale: the force per unit change of the column's variable at a 1 m arm.
                 let column_scale = if col < 6 { scale / 1e-5 } else { scale / 1.0 };
                 let error = (analytic[(row, col)] - numeric).abs() / column_scale;
@@ -223,6 +194,28 @@ fn a_dent_splits_the_contact_into_two_zones_and_nodes_carry_the_load() {
     assert!(free.diagnostics.penetration < 0.0);
 }
 
+/// A pin 1 µm into its bearing on the round joint A: its eccentricity, the force on it by the
+/// quadrature of the exact overlap ([`quadrature_force`]), and the bearing at rest at the origin.
+fn one_micrometre_overlap() -> (f64, f64, BodyState) {
+    let line_modulus = Foundation::calibrated(&steel(), &steel()).line_modulus();
+    let (ri, rj) = (BEARING_RADIUS, BEARING_RADIUS - CLEARANCE);
+    let delta = 1e-6;
+    let e = CLEARANCE + delta;
+    let quadrature = quadrature_force(line_modulus, e, ri, rj);
+    (e, quadrature, BodyState::at_rest(0.0, 0.0, 0.0))
+}
+
+/// How many placements of the zone between two nodes the resolution tests average over.
+const PLACEMENTS: usize = 16;
+
+/// Pins at eccentricity `e` whose zone centres step from one of `nodes` nodes to the next.
+fn placements(e: f64, nodes: usize) -> impl Iterator<Item = BodyState> {
+    (0..PLACEMENTS).map(move |p| {
+        let phi = (p as f64 + 0.5) / PLACEMENTS as f64 * std::f64::consts::TAU / nodes as f64;
+        BodyState::at_rest(e * phi.cos(), e * phi.sin(), 0.0)
+    })
+}
+
 /// The validity measure `resolution_error` (0.96/n² per zone of `n` nodes, weighted by load)
 /// against the error the nodes actually make, measured against the quadrature of the exact
 /// overlap: a 1 µm overlap on 125–2000 nodes, so zones of 2.5 to 40 nodes, at 16 placements of
@@ -232,12 +225,7 @@ fn a_dent_splits_the_contact_into_two_zones_and_nodes_carry_the_load() {
 /// the error 3.5–4.5-fold (3.9–4.0 measured: why `contact.cells` may subdivide the wear cells).
 #[test]
 fn the_resolution_estimate_matches_the_error_the_nodes_make() {
-    let line_modulus = Foundation::calibrated(&steel(), &steel()).line_modulus();
-    let (ri, rj) = (BEARING_RADIUS, BEARING_RADIUS - CLEARANCE);
-    let delta = 1e-6;
-    let e = CLEARANCE + delta;
-    let quadrature = quadrature_force(line_modulus, e, ri, rj);
-    let bearing = BodyState::at_rest(0.0, 0.0, 0.0);
+    let (e, quadrature, bearing) = one_micrometre_overlap();
     let mut previous: Option<f64> = None;
     for nodes in [125, 250, 500, 1000, 2000] {
         let joint = round_joint([0.0, 0.0], [0.0, 0.0], hertz(), Frictionless).with_model(
@@ -249,15 +237,11 @@ fn the_resolution_estimate_matches_the_error_the_nodes_make() {
             ),
         );
         let (mut measured, mut estimated, mut width) = (0.0, 0.0, 0.0);
-        let placements = 16;
-        for p in 0..placements {
-            // Zone centres from one node to the next.
-            let phi = (p as f64 + 0.5) / placements as f64 * std::f64::consts::TAU / nodes as f64;
-            let pin = BodyState::at_rest(e * phi.cos(), e * phi.sin(), 0.0);
+        for pin in placements(e, nodes) {
             let f = joint.forces(&bearing, &pin, None);
-            measured += (f.pin.x.hypot(f.pin.y) / quadrature - 1.0).abs() / placements as f64;
-            estimated += f.diagnostics.resolution_error / placements as f64;
-            width += f64::from(f.diagnostics.narrowest_zone_cells) / placements as f64;
+            measured += (f.pin.x.hypot(f.pin.y) / quadrature - 1.0).abs() / PLACEMENTS as f64;
+            estimated += f.diagnostics.resolution_error / PLACEMENTS as f64;
+            width += f64::from(f.diagnostics.narrowest_zone_cells) / PLACEMENTS as f64;
         }
         eprintln!(
             "{nodes:5} nodes: zones of {width:.1} nodes, measured error {:.3} %, estimated {:.3} %",
@@ -289,12 +273,7 @@ fn the_resolution_estimate_matches_the_error_the_nodes_make() {
 /// 0.0004 / 0.015 / 0.061 % at 2000.
 #[test]
 fn simpsons_quadrature_is_within_its_resolution_estimate() {
-    let line_modulus = Foundation::calibrated(&steel(), &steel()).line_modulus();
-    let (ri, rj) = (BEARING_RADIUS, BEARING_RADIUS - CLEARANCE);
-    let delta = 1e-6;
-    let e = CLEARANCE + delta;
-    let quadrature = quadrature_force(line_modulus, e, ri, rj);
-    let bearing = BodyState::at_rest(0.0, 0.0, 0.0);
+    let (e, quadrature, bearing) = one_micrometre_overlap();
     for nodes in [126, 250, 500, 1000, 2000] {
         let layer = Foundation::calibrated(&steel(), &steel())
             .with_cells(nodes)
@@ -308,19 +287,16 @@ fn simpsons_quadrature_is_within_its_resolution_estimate() {
         let (simpson, trapezoid) = (joint(layer), joint(trapezoid));
         let (mut measured, mut estimated, mut worst, mut ratio) = (0.0, 0.0, 0.0_f64, 0.0_f64);
         let mut trapezoid_error = 0.0;
-        let placements = 16;
-        for p in 0..placements {
-            let phi = (p as f64 + 0.5) / placements as f64 * std::f64::consts::TAU / nodes as f64;
-            let pin = BodyState::at_rest(e * phi.cos(), e * phi.sin(), 0.0);
+        for pin in placements(e, nodes) {
             let f = simpson.forces(&bearing, &pin, None);
             let error = (f.pin.x.hypot(f.pin.y) / quadrature - 1.0).abs();
-            measured += error / placements as f64;
+            measured += error / PLACEMENTS as f64;
             worst = worst.max(error);
             ratio = ratio.max(error / f.diagnostics.resolution_error);
-            estimated += f.diagnostics.resolution_error / placements as f64;
+            estimated += f.diagnostics.resolution_error / PLACEMENTS as f64;
             let t = trapezoid.forces(&bearing, &pin, None);
             trapezoid_error +=
-                (t.pin.x.hypot(t.pin.y) / quadrature - 1.0).abs() / placements as f64;
+                (t.pin.x.hypot(t.pin.y) / quadrature - 1.0).abs() / PLACEMENTS as f64;
         }
         eprintln!(
             "{nodes:5} nodes: Simpson's error {:.4} % (worst {:.4} %, worst/estimate {ratio:.2}), \

@@ -191,24 +191,12 @@ fn forces_and_moments_balance_about_any_point() {
     let mut in_contact = 0;
     for _ in 0..500 {
         let bearing = BodyState::new(
-            [
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-3.0..3.0),
-            ],
-            [
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-5.0..5.0),
-            ],
+            common::symmetric(&mut rng, [1.0, 1.0, 3.0]),
+            common::symmetric(&mut rng, [1.0, 1.0, 5.0]),
         );
         let mut pin = BodyState::new(
             [0.0, 0.0, rng.random_range(-3.0..3.0)],
-            [
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-1.0..1.0),
-                rng.random_range(-5.0..5.0),
-            ],
+            common::symmetric(&mut rng, [1.0, 1.0, 5.0]),
         );
         let angle: f64 = rng.random_range(-3.2..3.2);
         let depth = CLEARANCE + rng.random_range(-2e-5..3e-5);

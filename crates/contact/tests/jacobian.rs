@@ -12,8 +12,8 @@
 mod common;
 
 use common::{
-    BEARING_RADIUS, CLEARANCE, WavyProfile, generalized_forces, random_state, state_vector,
-    worn_joint,
+    BEARING_RADIUS, CLEARANCE, WavyProfile, central_difference, generalized_forces, random_state,
+    state_vector, worn_joint,
 };
 use contact::{
     BodyState, ClearanceJoint, ContactJacobian, FrictionLaw, FrictionLawKind, NormalLaw,
@@ -51,13 +51,10 @@ where
 {
     let mut jacobian = ContactJacobian::zeros();
     for col in 0..12 {
-        let (mut plus, mut minus) = (*z, *z);
-        plus[col] += steps[col];
-        minus[col] -= steps[col];
-        let fp = generalized_forces(joint, &plus, onset);
-        let fm = generalized_forces(joint, &minus, onset);
-        for row in 0..6 {
-            jacobian[(row, col)] = (fp[row] - fm[row]) / (2.0 * steps[col]);
+        let column =
+            central_difference(z, col, steps[col], |z| generalized_forces(joint, z, onset));
+        for (row, value) in column.into_iter().enumerate() {
+            jacobian[(row, col)] = value;
         }
     }
     jacobian
@@ -167,28 +164,18 @@ fn check_regime<B, P, N, F>(
     eprintln!("{regime:?}: worst |J − J_fd| / tolerance over {samples} samples = {worst_seen:.3}");
 }
 
+/// Deep sliding, near touch, inside the friction ramp and below the stick velocity, each from
+/// its own seed. 1 + χ v_n/δ̇⁻ ≥ 0.28 with χ = 0.1425 (L–N at c_e = 0.9): away from the clamp.
 #[test]
-fn jacobian_matches_finite_differences_deep_contact_sliding() {
-    // 1 + χ v_n/δ̇⁻ ≥ 0.28 with χ = 0.1425 (L–N at c_e = 0.9): away from the clamp.
-    check_regime(&worn_joint(), Regime::DeepSliding, 1, 300, 5.0);
-}
-
-#[test]
-fn jacobian_matches_finite_differences_near_touch() {
-    // 1 + χ v_n/δ̇⁻ ≥ 0.28 with χ = 0.1425 (L–N at c_e = 0.9): away from the clamp.
-    check_regime(&worn_joint(), Regime::NearTouch, 2, 300, 5.0);
-}
-
-#[test]
-fn jacobian_matches_finite_differences_in_friction_ramp() {
-    // 1 + χ v_n/δ̇⁻ ≥ 0.28 with χ = 0.1425 (L–N at c_e = 0.9): away from the clamp.
-    check_regime(&worn_joint(), Regime::FrictionRamp, 3, 300, 5.0);
-}
-
-#[test]
-fn jacobian_matches_finite_differences_below_stick_velocity() {
-    // 1 + χ v_n/δ̇⁻ ≥ 0.28 with χ = 0.1425 (L–N at c_e = 0.9): away from the clamp.
-    check_regime(&worn_joint(), Regime::Sticking, 4, 100, 5.0);
+fn jacobian_matches_finite_differences_in_every_regime() {
+    for (regime, seed, samples) in [
+        (Regime::DeepSliding, 1, 300),
+        (Regime::NearTouch, 2, 300),
+        (Regime::FrictionRamp, 3, 300),
+        (Regime::Sticking, 4, 100),
+    ] {
+        check_regime(&worn_joint(), regime, seed, samples, 5.0);
+    }
 }
 
 #[test]

@@ -10,7 +10,10 @@
 
 mod common;
 
-use common::{CLEARANCE, generalized_forces, random_state, round_joint, state_vector, states_from};
+use common::{
+    CLEARANCE, central_difference, central_slope, generalized_forces, random_state, round_joint,
+    state_vector, states_from,
+};
 use contact::{
     CircularProfile, ClearanceJoint, ContactModel, Frictionless, Hertz, LinearSpring,
     ValidityMeasure,
@@ -88,13 +91,8 @@ fn jacobian_matches_central_differences_and_force_is_minus_the_energy_gradient()
         let scale = forces.pin.norm().max(forces.bearing.norm());
         for col in 0..12 {
             let h = if col % 3 == 2 { 1e-6 } else { 1e-9 };
-            let (mut plus, mut minus) = (z, z);
-            plus[col] += h;
-            minus[col] -= h;
-            let fp = generalized_forces(&joint, &plus, 0.0);
-            let fm = generalized_forces(&joint, &minus, 0.0);
-            for row in 0..6 {
-                let numeric = (fp[row] - fm[row]) / (2.0 * h);
+            let column = central_difference(&z, col, h, |z| generalized_forces(&joint, z, 0.0));
+            for (row, numeric) in column.into_iter().enumerate() {
                 let row_scale = analytic.row(row).amax().max(f64::MIN_POSITIVE);
                 worst_jacobian =
                     worst_jacobian.max((analytic[(row, col)] - numeric).abs() / row_scale);
@@ -105,7 +103,7 @@ fn jacobian_matches_central_differences_and_force_is_minus_the_energy_gradient()
                     let (b, p) = states_from(z);
                     joint.forces(&b, &p, None).diagnostics.elastic_energy
                 };
-                let gradient = (energy(&plus) - energy(&minus)) / (2.0 * h);
+                let gradient = central_slope(&z, col, h, energy);
                 let force = [forces.bearing, forces.pin][col / 3][col % 3];
                 worst_gradient = worst_gradient.max((force + gradient).abs() / scale);
             }

@@ -45,8 +45,7 @@ fn pin_on_turning_bearing_matches_archard() {
     let total = dt * steps as f64;
     let state = |t: f64| loaded(force, speed, delta, pin_angle, bearing_start - omega * t);
 
-    let joint = joint(cells);
-    let mut stage = joint.start_stage();
+    let mut stage = joint(cells).start_stage();
     for s in 0..steps {
         let t = s as f64 * dt;
         stage
@@ -160,8 +159,7 @@ fn surfaces_stay_frozen_until_the_stage_is_applied() {
 
 #[test]
 fn bad_diagnostics_and_steps_name_the_field() {
-    let joint = joint(100);
-    let mut stage = joint.start_stage();
+    let mut stage = joint(100).start_stage();
     let good = loaded(2000.0, 0.1, 5e-6, 2.0, 4.0);
     let named = |r: Result<(), WearError>| match r {
         Err(WearError::InvalidParameter { name, .. }) => name,
@@ -212,21 +210,13 @@ fn paper_sliding_wears_with_the_geometric_contact_point_speed() {
 #[test]
 fn node_deposits_carry_the_archard_volume_exactly() {
     use contact::NodeLoad;
-    use wear::{WearParams, WornJoint};
     for (cells, node_cells) in [(1000, 1000), (720, 1000), (1000, 360)] {
-        let params = WearParams::new(1.8e-13, 0.1, cells).unwrap();
-        let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
+        let joint = joint(cells);
         let mut stage = joint.start_stage();
         let arc = R_PIN * TAU / node_cells as f64;
         let node = |k: usize, force: f64, speed: f64| NodeLoad {
-            cell: k,
-            pin_angle: (k as f64 + 0.5) * TAU / node_cells as f64,
             bearing_angle: 1.234 + 0.0137 * k as f64,
-            normal_force: force,
-            arc,
-            material_sliding: speed,
-            paper_sliding: 0.0,
-            stiffness: 1e9,
+            ..node(k, node_cells, force, speed)
         };
         let start: Vec<NodeLoad> = (10..40).map(|k| node(k, 50.0 + k as f64, -0.3)).collect();
         let end: Vec<NodeLoad> = (12..45).map(|k| node(k, 80.0 - k as f64, 0.25)).collect();
@@ -252,9 +242,7 @@ fn node_deposits_carry_the_archard_volume_exactly() {
         assert_eq!(stage.pin()[cells / 2 + 100], 0.0);
     }
     // A NaN node is refused and leaves the record as it was.
-    let params = WearParams::new(1.8e-13, 0.1, 100).unwrap();
-    let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
-    let mut stage = joint.start_stage();
+    let mut stage = joint(100).start_stage();
     let bad = NodeLoad {
         normal_force: f64::NAN,
         arc: 1e-3,
@@ -271,26 +259,11 @@ fn node_deposits_carry_the_archard_volume_exactly() {
 #[test]
 fn nodes_coarser_than_the_cells_wear_an_even_load_evenly() {
     use contact::NodeLoad;
-    use wear::{WearParams, WornJoint};
     for (cells, node_cells) in [(1000, 500), (1000, 250), (1000, 360)] {
-        let params = WearParams::new(1.8e-13, 0.1, cells).unwrap();
-        let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
-        let mut stage = joint.start_stage();
+        let mut stage = joint(cells).start_stage();
         let arc = R_PIN * TAU / node_cells as f64;
         let nodes: Vec<NodeLoad> = (0..node_cells)
-            .map(|k| {
-                let angle = (k as f64 + 0.5) * TAU / node_cells as f64;
-                NodeLoad {
-                    cell: k,
-                    pin_angle: angle,
-                    bearing_angle: angle,
-                    normal_force: 40.0,
-                    arc,
-                    material_sliding: 0.2,
-                    paper_sliding: 0.0,
-                    stiffness: 1e9,
-                }
-            })
+            .map(|k| node(k, node_cells, 40.0, 0.2))
             .collect();
         let dt = 1e-4;
         stage.accumulate_nodes(&nodes, &nodes, dt).unwrap();
@@ -309,9 +282,8 @@ fn nodes_coarser_than_the_cells_wear_an_even_load_evenly() {
 /// given width (periodic across 0/2π), and leaves a uniform layer alone.
 #[test]
 fn smoothing_keeps_the_volume_and_spreads_a_spike() {
-    use wear::{StageWear, WearParams, WornJoint};
-    let params = WearParams::new(1.8e-13, 0.1, 200).unwrap();
-    let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
+    use wear::StageWear;
+    let joint = joint(200);
     let mut spike = vec![0.0; 200];
     spike[1] = 1e-6;
     let mut wear = StageWear::from_depths(&joint, spike.clone(), vec![2e-7; 200]).unwrap();
@@ -335,27 +307,16 @@ fn smoothing_keeps_the_volume_and_spreads_a_spike() {
 #[test]
 fn node_deposits_carry_their_relaxation_and_a_whole_circle_zone_relaxes_even_wear() {
     use contact::NodeLoad;
-    use wear::{WearParams, WornJoint};
     // Nodes on every pin cell centre, meeting the bearing at the same angle, all alike.
     let cells = 200;
-    let params = WearParams::new(1.8e-13, 0.1, cells).unwrap();
-    let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
+    let joint = joint(cells);
     let arc = R_PIN * TAU / cells as f64;
     let (stiffness, speed, dt) = (4e9, 0.3, 1e-4);
     // A turning pin: its even wear comes from nodes all around (here all at once).
     let nodes: Vec<NodeLoad> = (0..cells)
-        .map(|k| {
-            let angle = (k as f64 + 0.5) * TAU / cells as f64;
-            NodeLoad {
-                cell: k,
-                pin_angle: angle,
-                bearing_angle: angle,
-                normal_force: 100.0,
-                arc,
-                material_sliding: speed,
-                paper_sliding: 0.0,
-                stiffness,
-            }
+        .map(|k| NodeLoad {
+            stiffness,
+            ..node(k, cells, 100.0, speed)
         })
         .collect();
     let mut stage = joint.start_stage().gathering_zones(true);
@@ -389,13 +350,11 @@ fn node_deposits_carry_their_relaxation_and_a_whole_circle_zone_relaxes_even_wea
 #[test]
 fn a_turning_pins_even_wear_passes_the_implicit_step() {
     use contact::NodeLoad;
-    use wear::{WearParams, WornJoint};
     // The load stays at the bearing's bottom while the pin turns a cell per instant: a zone
     // of 10 nodes meets the same bearing cells each time, and every pin cell once in each of
     // the zone's places. The pin wears evenly (steady), the bearing a flat patch.
     let cells = 200;
-    let params = WearParams::new(1.8e-13, 0.1, cells).unwrap();
-    let joint = WornJoint::new(&params, R_BEARING, R_PIN).unwrap();
+    let joint = joint(cells);
     let per_cell = TAU / cells as f64;
     let arc = R_PIN * per_cell;
     let mut stage = joint.start_stage().gathering_zones(true);

@@ -8,29 +8,30 @@ use contact::SurfaceProfile;
 use std::convert::Infallible;
 use wear::{
     Extrapolation, GeometryLimits, RunContext, StagePlan, StageWear, StagingError, WearError,
-    WornJoint, run_stages,
+    WornJoint, WornProfile, run_stages,
 };
 
 /// Wear localized around cell 250 (bearing) and 260 (pin), proportional to the current local
 /// clearance `c0 + h/2` of each cell: it accelerates as the joint opens.
 fn clearance_proportional(joint: &WornJoint, rate: f64) -> StageWear {
-    let bump = |k: usize, at: usize| (-((k as f64 - at as f64) / 8.0).powi(2)).exp();
     let c0 = joint.nominal_clearance();
-    let b = joint
-        .bearing()
-        .depth()
+    let worn = |surface: &WornProfile, at: usize| -> Vec<f64> {
+        let bump = |k: usize| (-((k as f64 - at as f64) / 8.0).powi(2)).exp();
+        let depth = surface.depth().iter().enumerate();
+        depth
+            .map(|(k, h)| rate * (c0 + h / 2.0) * bump(k))
+            .collect()
+    };
+    StageWear::from_depths(joint, worn(joint.bearing(), 250), worn(joint.pin(), 260)).unwrap()
+}
+
+/// Each joint's [`clearance_proportional`] wear at its own rate: a runner's result.
+fn proportional(joints: &[WornJoint], rates: &[f64]) -> Result<Vec<StageWear>, Infallible> {
+    Ok(joints
         .iter()
-        .enumerate()
-        .map(|(k, h)| rate * (c0 + h / 2.0) * bump(k, 250))
-        .collect();
-    let p = joint
-        .pin()
-        .depth()
-        .iter()
-        .enumerate()
-        .map(|(k, h)| rate * (c0 + h / 2.0) * bump(k, 260))
-        .collect();
-    StageWear::from_depths(joint, b, p).unwrap()
+        .zip(rates)
+        .map(|(joint, &rate)| clearance_proportional(joint, rate))
+        .collect())
 }
 
 /// Largest relative change of the clearance of aligned cell pairs, `c0 + (h_b + h_p)/2`.
@@ -70,10 +71,7 @@ fn adaptive_split_obeys_fraction_and_sums_to_factor() {
             assert_ne!(js, &history.last().unwrap()[..]);
         }
         history.push(js.to_vec());
-        Ok::<_, Infallible>(vec![
-            clearance_proportional(&js[0], 1e-4),
-            clearance_proportional(&js[1], 2e-5),
-        ])
+        proportional(js, &[1e-4, 2e-5])
     })
     .unwrap();
     history.push(joints.clone());
@@ -162,7 +160,7 @@ fn single_jump_warns_only_when_too_large() {
     let plan = StagePlan::paper(1).with_extrapolation(Extrapolation::single_jump());
     let mut big = vec![joint(1000)];
     let r = run_stages(&mut big, &plan, |_, js: &[WornJoint]| {
-        Ok::<_, Infallible>(vec![clearance_proportional(&js[0], 1e-4)])
+        proportional(js, &[1e-4])
     })
     .unwrap();
     let warning = r[0].warning.expect("a ×20,000 jump of 2 c0 must warn");
@@ -172,7 +170,7 @@ fn single_jump_warns_only_when_too_large() {
     assert!(warning.to_string().contains("stage 1:"), "{warning}");
     let mut small = vec![joint(1000)];
     let r = run_stages(&mut small, &plan, |_, js: &[WornJoint]| {
-        Ok::<_, Infallible>(vec![clearance_proportional(&js[0], 1e-7)])
+        proportional(js, &[1e-7])
     })
     .unwrap();
     assert!(r[0].warning.is_none());
@@ -189,7 +187,7 @@ fn substep_limit_and_runner_errors_surface() {
     });
     let mut js = vec![joint(1000)];
     let err = run_stages(&mut js, &plan, |_, js: &[WornJoint]| {
-        Ok::<_, Infallible>(vec![clearance_proportional(&js[0], 1e-4)])
+        proportional(js, &[1e-4])
     })
     .unwrap_err();
     assert!(
@@ -301,7 +299,7 @@ fn geometry_limits_end_a_stage_at_the_limit() {
     let plan = fraction_only(1).with_geometry_limits(Some(GeometryLimits::new(0.3, f64::INFINITY)));
     let mut js = vec![joint(1000)];
     let reports = run_stages(&mut js, &plan, |_, current: &[WornJoint]| {
-        Ok::<_, Infallible>(vec![clearance_proportional(&current[0], 1e-6)])
+        proportional(current, &[1e-6])
     })
     .unwrap();
     let report = &reports[0];
@@ -338,10 +336,7 @@ fn substeps_report_the_life_curve_of_each_joint() {
     let mut seen: Vec<Vec<WornJoint>> = Vec::new();
     let reports = run_stages(&mut joints, &plan, |_, js: &[WornJoint]| {
         seen.push(js.to_vec());
-        Ok::<_, Infallible>(vec![
-            clearance_proportional(&js[0], 1e-4),
-            clearance_proportional(&js[1], 3e-5),
-        ])
+        proportional(js, &[1e-4, 3e-5])
     })
     .unwrap();
     seen.push(joints.clone());

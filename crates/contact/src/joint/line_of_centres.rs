@@ -73,10 +73,6 @@ impl ContactModel for LineOfCentres {
         "line-of-centres"
     }
 
-    fn nodes(&self) -> Option<usize> {
-        None
-    }
-
     fn validity_measures(&self) -> &'static [ValidityMeasure] {
         &[
             ValidityMeasure::SlopeRatio,
@@ -102,14 +98,8 @@ impl ContactModel for LineOfCentres {
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactKernel<B, P, N, F>
     for LineOfCentres
 {
-    fn forces(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        at: JointState,
-        visit: Visit,
-    ) -> ContactForces {
-        let _ = visit;
-        pair.line_forces(at.bearing, at.pin, at.onset_velocity)
+    fn forces(&self, pair: &ContactPair<B, P, N, F>, at: JointState, _: Visit) -> ContactForces {
+        pair.line_forces(at)
     }
 
     fn forces_and_jacobian(
@@ -117,7 +107,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         pair: &ContactPair<B, P, N, F>,
         at: JointState,
     ) -> (ContactForces, ContactJacobian) {
-        pair.line_forces_and_jacobian(at.bearing, at.pin, at.onset_velocity)
+        pair.line_forces_and_jacobian(at)
     }
 
     fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64 {
@@ -143,35 +133,25 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
 
     /// The line-of-centres forces (see the module docs).
     #[inline]
-    fn line_forces(
-        &self,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        onset_velocity: Option<f64>,
-    ) -> ContactForces {
+    fn line_forces(&self, at: JointState) -> ContactForces {
+        let (bearing_body, pin_body) = (at.bearing, at.pin);
         let geometry = self.geometry(bearing_body, pin_body);
         let kin = kinematics_from(&geometry, bearing_body, pin_body);
         if kin.penetration < 0.0 {
             return free_forces(&kin, bearing_body, pin_body);
         }
         if !self.uses_round_kernel() {
-            return self
-                .general_values(&geometry, &kin, bearing_body, pin_body, onset_velocity)
-                .forces;
+            return self.general_values(&geometry, &kin, at).forces;
         }
         let stiffness = self.stiffness(kin.bearing.radius, kin.pin.radius);
-        let onset = onset_velocity.unwrap_or(kin.normal_velocity);
+        let onset = at.onset_velocity.unwrap_or(kin.normal_velocity);
         let (normal, friction) = self.laws(stiffness, &kin, onset);
         assemble(&kin, bearing_body, pin_body, &normal, friction.force)
     }
 
     /// The line-of-centres forces and their exact partials.
-    fn line_forces_and_jacobian(
-        &self,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        onset_velocity: Option<f64>,
-    ) -> (ContactForces, ContactJacobian) {
+    fn line_forces_and_jacobian(&self, at: JointState) -> (ContactForces, ContactJacobian) {
+        let (bearing_body, pin_body) = (at.bearing, at.pin);
         let geometry = self.geometry(bearing_body, pin_body);
         let kin = kinematics_from(&geometry, bearing_body, pin_body);
         if kin.penetration < 0.0 {
@@ -181,15 +161,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
             );
         }
         if !self.uses_round_kernel() {
-            return self.general_forces_and_jacobian(
-                &geometry,
-                &kin,
-                bearing_body,
-                pin_body,
-                onset_velocity,
-            );
+            return self.general_forces_and_jacobian(&geometry, &kin, at);
         }
-        let onset = onset_velocity.unwrap_or(kin.normal_velocity);
+        let onset = at.onset_velocity.unwrap_or(kin.normal_velocity);
         let (n, t) = (kin.normal, kin.tangent);
         let p = PositionPartials::new(&geometry);
         let (d_rho, d_phi) = (p.d_rho, p.d_phi);

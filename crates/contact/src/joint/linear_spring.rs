@@ -13,7 +13,7 @@
 
 use nalgebra::{Matrix2, Vector2};
 
-use super::model::{ContactKernel, ContactModel, ShapeLimits, ValidityMeasure, Visit};
+use super::model::{ContactKernel, ContactModel, ValidityMeasure, Visit};
 use super::pair::ContactPair;
 use super::types::{BodyState, ContactForces, ContactJacobian, JointState};
 use crate::diagnostics::ContactDiagnostics;
@@ -40,12 +40,12 @@ impl LinearSpring {
         self.stiffness
     }
 
-    /// The forces, their partials when `jacobian` is asked for, at the given states.
+    /// The forces at the given states, their partials into `jacobian` (left zero apart).
     fn evaluate<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
         &self,
         pair: &ContactPair<B, P, N, F>,
         at: JointState,
-        jacobian: Option<&mut ContactJacobian>,
+        jacobian: &mut ContactJacobian,
     ) -> ContactForces {
         let (bearing_body, pin_body) = (at.bearing, at.pin);
         let kin = pair.kinematics(bearing_body, pin_body);
@@ -80,45 +80,41 @@ impl LinearSpring {
         diagnostics.normal_force = magnitude;
         diagnostics.elastic_force = magnitude;
         diagnostics.elastic_energy = 0.5 * self.stiffness * depth * depth;
-        if let Some(jacobian) = jacobian {
-            // F = −k (e − c n) with the local clearance c held fixed:
-            // ∂F/∂e = −k (I − (c/|e|)(I − n nᵀ)).
-            let clearance = kin.eccentricity_norm - depth;
-            let d_force_d_e = -self.stiffness
-                * (Matrix2::identity()
-                    - (Matrix2::identity() - n * n.transpose())
-                        * (clearance / kin.eccentricity_norm));
-            // Columns of ∂e/∂q: x_i, y_i, θ_i, x_j, y_j, θ_j.
-            let d_e = [
-                Vector2::new(-1.0, 0.0),
-                Vector2::new(0.0, -1.0),
-                -perp(&bearing_arm),
-                Vector2::new(1.0, 0.0),
-                Vector2::new(0.0, 1.0),
-                perp(&pin_arm),
-            ];
-            for (column, d) in d_e.iter().enumerate() {
-                let d_pin_force = d_force_d_e * d;
-                // The arms turn with their own body's angle only.
-                let d_pin_arm = if column == 5 {
-                    perp(&pin_arm)
-                } else {
-                    Vector2::zeros()
-                };
-                let d_bearing_arm = if column == 2 {
-                    perp(&bearing_arm)
-                } else {
-                    Vector2::zeros()
-                };
-                jacobian[(0, column)] = -d_pin_force.x;
-                jacobian[(1, column)] = -d_pin_force.y;
-                jacobian[(2, column)] =
-                    cross(&d_bearing_arm, &-pin_force) + cross(&bearing_arm, &-d_pin_force);
-                jacobian[(3, column)] = d_pin_force.x;
-                jacobian[(4, column)] = d_pin_force.y;
-                jacobian[(5, column)] =
-                    cross(&d_pin_arm, &pin_force) + cross(&pin_arm, &d_pin_force);
-            }
+        // F = −k (e − c n) with the local clearance c held fixed:
+        // ∂F/∂e = −k (I − (c/|e|)(I − n nᵀ)).
+        let clearance = kin.eccentricity_norm - depth;
+        let d_force_d_e = -self.stiffness
+            * (Matrix2::identity()
+                - (Matrix2::identity() - n * n.transpose()) * (clearance / kin.eccentricity_norm));
+        // Columns of ∂e/∂q: x_i, y_i, θ_i, x_j, y_j, θ_j.
+        let d_e = [
+            Vector2::new(-1.0, 0.0),
+            Vector2::new(0.0, -1.0),
+            -perp(&bearing_arm),
+            Vector2::new(1.0, 0.0),
+            Vector2::new(0.0, 1.0),
+            perp(&pin_arm),
+        ];
+        for (column, d) in d_e.iter().enumerate() {
+            let d_pin_force = d_force_d_e * d;
+            // The arms turn with their own body's angle only.
+            let d_pin_arm = if column == 5 {
+                perp(&pin_arm)
+            } else {
+                Vector2::zeros()
+            };
+            let d_bearing_arm = if column == 2 {
+                perp(&bearing_arm)
+            } else {
+                Vector2::zeros()
+            };
+            jacobian[(0, column)] = -d_pin_force.x;
+            jacobian[(1, column)] = -d_pin_force.y;
+            jacobian[(2, column)] =
+                cross(&d_bearing_arm, &-pin_force) + cross(&bearing_arm, &-d_pin_force);
+            jacobian[(3, column)] = d_pin_force.x;
+            jacobian[(4, column)] = d_pin_force.y;
+            jacobian[(5, column)] = cross(&d_pin_arm, &pin_force) + cross(&pin_arm, &d_pin_force);
         }
         ContactForces {
             bearing: nalgebra::Vector3::new(
@@ -137,31 +133,18 @@ impl ContactModel for LinearSpring {
         "linear-spring"
     }
 
-    fn nodes(&self) -> Option<usize> {
-        None
-    }
-
     /// Exact on round surfaces only: judged by the profile slope at its contacts.
     fn validity_measures(&self) -> &'static [ValidityMeasure] {
         &[ValidityMeasure::SlopeRatio]
-    }
-
-    fn shape_limits(&self) -> Option<ShapeLimits> {
-        None
     }
 }
 
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactKernel<B, P, N, F>
     for LinearSpring
 {
-    fn forces(
-        &self,
-        pair: &ContactPair<B, P, N, F>,
-        at: JointState,
-        visit: Visit,
-    ) -> ContactForces {
-        let _ = visit;
-        self.evaluate(pair, at, None)
+    /// The forces with their Jacobian, a few products more: one evaluation serves both.
+    fn forces(&self, pair: &ContactPair<B, P, N, F>, at: JointState, _: Visit) -> ContactForces {
+        self.forces_and_jacobian(pair, at).0
     }
 
     fn forces_and_jacobian(
@@ -170,7 +153,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         at: JointState,
     ) -> (ContactForces, ContactJacobian) {
         let mut jacobian = ContactJacobian::zeros();
-        let forces = self.evaluate(pair, at, Some(&mut jacobian));
+        let forces = self.evaluate(pair, at, &mut jacobian);
         (forces, jacobian)
     }
 

@@ -23,16 +23,20 @@ pub trait ContactModel: Copy + Debug + PartialEq + Send + Sync {
 
     /// How many nodes the model resolves the pin's outline into, when it does: its wear is
     /// then deposited node by node from [`NodeLoad`]s, else from the one contact point of the
-    /// diagnostics.
-    fn nodes(&self) -> Option<usize>;
+    /// diagnostics. None by default: a model of one contact point.
+    fn nodes(&self) -> Option<usize> {
+        None
+    }
 
     /// The measures by which a response of this model is judged valid, in the order their
     /// verdicts are reported.
     fn validity_measures(&self) -> &'static [ValidityMeasure];
 
-    /// The shape the worn outlines must keep for the model to describe them (`None`: any).
-    /// Wear stepping stops a stage where the next sub-step would leave it.
-    fn shape_limits(&self) -> Option<ShapeLimits>;
+    /// The shape the worn outlines must keep for the model to describe them (`None`, the
+    /// default: any). Wear stepping stops a stage where the next sub-step would leave it.
+    fn shape_limits(&self) -> Option<ShapeLimits> {
+        None
+    }
 }
 
 /// What a [`ContactModel`] evaluates on a pair of outlines of types `B`, `P` with laws `N`,

@@ -5,7 +5,7 @@
 use nalgebra::Vector2;
 
 use super::outline::OutlineBounds;
-use super::types::{BodyState, JointSurface, OutlineOverlap, SlidingVelocity};
+use super::types::{JointSurface, SlidingVelocity};
 use crate::error::{ContactError, finite, positive};
 use crate::material::Material;
 use crate::surface::SurfaceProfile;
@@ -144,43 +144,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N, F> ContactPair<B, P, N, F> {
     /// Which sliding velocity the friction law sees.
     pub fn friction_sliding(&self) -> SlidingVelocity {
         self.friction_sliding
-    }
-
-    /// The true overlap of the two outlines: the largest distance by which a point of the pin's
-    /// outline (sampled at `samples` body-frame angles) lies outside the bearing's outline,
-    /// measured radially from the bearing centre, and the global direction of that point.
-    ///
-    /// For round surfaces it equals the penetration `δ` (up to the sampling); on worn ones it
-    /// shows contacts the line-of-centres `δ` misses (a pin touching the side of a dent).
-    /// Negative when the outlines are apart. Costs two profile samples per point.
-    pub fn outline_overlap(
-        &self,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        samples: usize,
-    ) -> OutlineOverlap {
-        let bearing_centre = bearing_body.position() + bearing_body.rotate(&self.bearing_centre);
-        let pin_centre = pin_body.position() + pin_body.rotate(&self.pin_centre);
-        let mut deepest = OutlineOverlap {
-            depth: f64::NEG_INFINITY,
-            angle: 0.0,
-        };
-        for k in 0..samples.max(1) {
-            let alpha = std::f64::consts::TAU * k as f64 / samples.max(1) as f64;
-            let (s, c) = (alpha + pin_body.theta).sin_cos();
-            let point = pin_centre + Vector2::new(c, s) * self.pin_profile.sample(alpha).radius;
-            let offset = point - bearing_centre;
-            let angle = offset.y.atan2(offset.x);
-            let depth = offset.norm()
-                - self
-                    .bearing_profile
-                    .sample(angle - bearing_body.theta)
-                    .radius;
-            if depth > deepest.depth {
-                deepest = OutlineOverlap { depth, angle };
-            }
-        }
-        deepest
     }
 }
 

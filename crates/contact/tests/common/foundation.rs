@@ -198,14 +198,7 @@ pub fn random_body(rng: &mut ChaCha8Rng, speed: f64) -> BodyState {
         }
     };
     let velocity = [rate(speed), rate(speed), rate(spin)];
-    BodyState::new(
-        [
-            rng.random_range(-0.1..0.1),
-            rng.random_range(-0.1..0.1),
-            rng.random_range(-3.0..3.0),
-        ],
-        velocity,
-    )
+    BodyState::new(super::symmetric(rng, [0.1, 0.1, 3.0]), velocity)
 }
 
 /// The force on the pin of a linear layer over a round pin offset by `e` in a round bearing, by

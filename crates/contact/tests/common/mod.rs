@@ -5,8 +5,8 @@
 pub mod foundation;
 
 use contact::{
-    Ambrosio, BodyState, CircularProfile, ClearanceJoint, FrictionLaw, ImpactMemory, JointSurface,
-    LankaraniNikravesh, Material, NormalLaw, RadiusSample, SurfaceProfile,
+    Ambrosio, BodyState, CircularProfile, ClearanceJoint, ContactForces, FrictionLaw, ImpactMemory,
+    JointSurface, LankaraniNikravesh, Material, NormalLaw, RadiusSample, SurfaceProfile,
 };
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -203,6 +203,57 @@ where
     None
 }
 
+/// Three draws, from `(−a, a)` for each limit `a` in turn.
+pub fn symmetric(rng: &mut ChaCha8Rng, limits: [f64; 3]) -> [f64; 3] {
+    limits.map(|a| rng.random_range(-a..a))
+}
+
+/// `(f(z + h e_col) − f(z − h e_col))/(2h)` for each component of `f`: its central difference
+/// along coordinate `col` of the state vector `z`.
+pub fn central_difference<const R: usize>(
+    z: &[f64; 12],
+    col: usize,
+    h: f64,
+    f: impl Fn(&[f64; 12]) -> [f64; R],
+) -> [f64; R] {
+    let (mut plus, mut minus) = (*z, *z);
+    plus[col] += h;
+    minus[col] -= h;
+    let (fp, fm) = (f(&plus), f(&minus));
+    std::array::from_fn(|k| (fp[k] - fm[k]) / (2.0 * h))
+}
+
+/// [`central_difference`] of a scalar, e.g. the stored energy.
+pub fn central_slope(z: &[f64; 12], col: usize, h: f64, f: impl Fn(&[f64; 12]) -> f64) -> f64 {
+    central_difference(z, col, h, |z| [f(z)])[0]
+}
+
+/// `|Q_k + ∂V/∂q_k| / max|Q|` at each position coordinate `k` of `z`, with the generalized
+/// forces `forces` and `∂V/∂q_k` the [`central_slope`] of the stored energy `energy` with step
+/// `step(k)`: each asserted below `tolerance` (a failure names `case`), the largest returned.
+pub fn energy_gradient_error(
+    z: &[f64; 12],
+    forces: &[f64; 6],
+    step: impl Fn(usize) -> f64,
+    energy: impl Fn(&[f64; 12]) -> f64,
+    tolerance: f64,
+    case: &str,
+) -> f64 {
+    let scale = forces.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut worst: f64 = 0.0;
+    for (k, force) in forces.iter().enumerate() {
+        let gradient = central_slope(z, k, step(k), &energy);
+        let error = (force + gradient).abs() / scale;
+        worst = worst.max(error);
+        assert!(
+            error < tolerance,
+            "{case}, coordinate {k}: Q = {force:e}, −∂V/∂q = {:e}",
+            -gradient
+        );
+    }
+    worst
+}
+
 pub fn state_vector(bearing: &BodyState, pin: &BodyState) -> [f64; 12] {
     [
         bearing.x,
@@ -239,7 +290,11 @@ where
     F: FrictionLaw,
 {
     let (bearing, pin) = states_from(z);
-    let f = joint.forces(&bearing, &pin, Some(onset));
+    force_vector(&joint.forces(&bearing, &pin, Some(onset)))
+}
+
+/// The generalized forces on the bearing's coordinates, then on the pin's.
+pub fn force_vector(f: &ContactForces) -> [f64; 6] {
     [
         f.bearing.x,
         f.bearing.y,
@@ -266,24 +321,12 @@ where
     F: FrictionLaw,
 {
     let bearing = BodyState::new(
-        [
-            rng.random_range(-0.1..0.1),
-            rng.random_range(-0.1..0.1),
-            rng.random_range(-3.0..3.0),
-        ],
-        [
-            rng.random_range(-0.2..0.2),
-            rng.random_range(-0.2..0.2),
-            rng.random_range(-2.0..2.0),
-        ],
+        symmetric(rng, [0.1, 0.1, 3.0]),
+        symmetric(rng, [0.2, 0.2, 2.0]),
     );
     let mut pin = BodyState::new(
         [bearing.x, bearing.y, rng.random_range(-3.0..3.0)],
-        [
-            rng.random_range(-0.2..0.2),
-            rng.random_range(-0.2..0.2),
-            rng.random_range(-2.0..2.0),
-        ],
+        symmetric(rng, [0.2, 0.2, 2.0]),
     );
     // Fixed-point iteration on the pin position: δ depends on the direction through the radii.
     let phi: f64 = rng.random_range(-3.1..3.1);

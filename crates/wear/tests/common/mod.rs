@@ -1,7 +1,8 @@
 //! Shared fixtures: LGRES joint B geometry and synthetic contact states.
 #![allow(dead_code)]
 
-use contact::ContactDiagnostics;
+use contact::{ContactDiagnostics, NodeLoad};
+use std::f64::consts::TAU;
 use wear::{WearParams, WornJoint};
 
 pub const R_BEARING: f64 = 0.080;
@@ -34,5 +35,22 @@ pub fn loaded(
         pin_angle,
         bearing_angle,
         ..Default::default()
+    }
+}
+
+/// Node `k` of `nodes` around the pin at its cell's centre, carrying its arc `R_j 2π/nodes`,
+/// meeting the bearing at the same angle: normal force `force` (N), material sliding `speed`
+/// (m/s), stiffness 1e9 N/m.
+pub fn node(k: usize, nodes: usize, force: f64, speed: f64) -> NodeLoad {
+    let angle = (k as f64 + 0.5) * TAU / nodes as f64;
+    NodeLoad {
+        cell: k,
+        pin_angle: angle,
+        bearing_angle: angle,
+        normal_force: force,
+        arc: R_PIN * TAU / nodes as f64,
+        material_sliding: speed,
+        paper_sliding: 0.0,
+        stiffness: 1e9,
     }
 }

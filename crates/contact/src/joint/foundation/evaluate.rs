@@ -7,9 +7,7 @@ use super::geometry::{Body, offset};
 use super::layer::Foundation;
 use crate::friction::FrictionLaw;
 use crate::joint::dual::Dual;
-use crate::joint::model::{
-    ContactKernel, ContactModel, NodeLoad, ShapeLimits, ValidityMeasure, Visit,
-};
+use crate::joint::model::{ContactKernel, ContactModel, ValidityMeasure, Visit};
 use crate::joint::outline::{Pose, Skip};
 use crate::joint::pair::ContactPair;
 use crate::joint::types::{BodyState, ContactForces, ContactJacobian, JointState};
@@ -21,16 +19,14 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
     fn foundation_forces(
         &self,
         foundation: &Foundation,
-        bearing: &BodyState,
-        pin: &BodyState,
-        onset_velocity: Option<f64>,
-        visit: Option<&mut dyn FnMut(&NodeLoad)>,
+        at: JointState,
+        visit: Visit,
     ) -> ContactForces {
         let out = self.foundation_eval(
             foundation,
-            state_array(bearing),
-            state_array(pin),
-            onset_velocity,
+            state_array(at.bearing),
+            state_array(at.pin),
+            at.onset_velocity,
             visit,
         );
         ContactForces {
@@ -44,9 +40,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
     fn foundation_forces_and_jacobian(
         &self,
         foundation: &Foundation,
-        bearing: &BodyState,
-        pin: &BodyState,
-        onset_velocity: Option<f64>,
+        at: JointState,
     ) -> (ContactForces, ContactJacobian) {
         let seed = |state: &BodyState, offset: usize| -> [Dual; 6] {
             let values = state_array(state);
@@ -62,9 +56,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         };
         let out = self.foundation_eval(
             foundation,
-            seed(bearing, 0),
-            seed(pin, 3),
-            onset_velocity,
+            seed(at.bearing, 0),
+            seed(at.pin, 3),
+            at.onset_velocity,
             None,
         );
         let mut jacobian = ContactJacobian::zeros();
@@ -161,6 +155,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
     }
 }
 
+/// No shape limits (the default): the layer follows any outline.
 impl ContactModel for Foundation {
     fn name(&self) -> &'static str {
         "foundation"
@@ -179,11 +174,6 @@ impl ContactModel for Foundation {
             ValidityMeasure::OverlapRatio,
             ValidityMeasure::ResolutionError,
         ]
-    }
-
-    /// None: the layer follows any outline.
-    fn shape_limits(&self) -> Option<ShapeLimits> {
-        None
     }
 }
 
@@ -207,7 +197,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         at: JointState,
         visit: Visit,
     ) -> ContactForces {
-        pair.foundation_forces(self, at.bearing, at.pin, at.onset_velocity, visit)
+        pair.foundation_forces(self, at, visit)
     }
 
     fn forces_and_jacobian(
@@ -215,7 +205,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         pair: &ContactPair<B, P, N, F>,
         at: JointState,
     ) -> (ContactForces, ContactJacobian) {
-        pair.foundation_forces_and_jacobian(self, at.bearing, at.pin, at.onset_velocity)
+        pair.foundation_forces_and_jacobian(self, at)
     }
 
     fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64 {

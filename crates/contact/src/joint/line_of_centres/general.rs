@@ -28,11 +28,10 @@ use super::{
     ArmPartials, COL_THETA_I, COL_THETA_J, COL_VEL_I, COL_VEL_J, Loads, PositionPartials, Row,
     Rows2, diagnostics, moment_partials, perp, rotate_columns,
 };
-use crate::BodyState;
 use crate::friction::{FrictionForce, FrictionLaw};
 use crate::joint::pair::ContactPair;
 use crate::joint::types::{
-    ContactForces, ContactJacobian, Geometry, JointKinematics, SlidingVelocity,
+    ContactForces, ContactJacobian, Geometry, JointKinematics, JointState, SlidingVelocity,
 };
 use crate::normal::{NormalForce, NormalLaw};
 use crate::surface::SurfaceProfile;
@@ -62,10 +61,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         &self,
         geometry: &Geometry,
         kin: &JointKinematics,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        onset_velocity: Option<f64>,
+        at: JointState,
     ) -> GeneralValues {
+        let (bearing_body, pin_body) = (at.bearing, at.pin);
         let n = kin.normal;
         let t = kin.tangent;
         let rho = kin.eccentricity_norm;
@@ -82,7 +80,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         let delta_rate = m.dot(&e_rate) + s_i * bearing_body.omega - s_j * pin_body.omega;
 
         let stiffness = self.stiffness(r_i, r_j);
-        let onset = onset_velocity.unwrap_or(delta_rate);
+        let onset = at.onset_velocity.unwrap_or(delta_rate);
         let normal = self
             .normal_law
             .evaluate(stiffness, kin.penetration, delta_rate, onset);
@@ -171,18 +169,16 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         &self,
         geometry: &Geometry,
         kin: &JointKinematics,
-        bearing_body: &BodyState,
-        pin_body: &BodyState,
-        onset_velocity: Option<f64>,
+        at: JointState,
     ) -> (ContactForces, ContactJacobian) {
-        let v = self.general_values(geometry, kin, bearing_body, pin_body, onset_velocity);
+        let v = self.general_values(geometry, kin, at);
         let n = kin.normal;
         let t = kin.tangent;
         let rho = kin.eccentricity_norm;
         let (r_i, r_j) = (kin.bearing.radius, kin.pin.radius);
         let (s_i, s_j) = (kin.bearing.slope, kin.pin.slope);
         let (c_i, c_j) = (kin.bearing.curvature, kin.pin.curvature);
-        let (omega_i, omega_j) = (bearing_body.omega, pin_body.omega);
+        let (omega_i, omega_j) = (at.bearing.omega, at.pin.omega);
         let e_rate = kin.eccentricity_rate;
         let unit = |column: usize| {
             let mut row = Row::zeros();
@@ -249,7 +245,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         let d_g_j = -((d_force + d_w * k_j + d_k_j * w) * s_j) - d_s_j * (normal.force + w * k_j);
 
         // Friction along t̂ under the load F_n |m|.
-        let arms = ArmPartials::new(geometry, kin, bearing_body, pin_body, &p);
+        let arms = ArmPartials::new(geometry, kin, at.bearing, at.pin, &p);
         let d_load = d_force * v.m_norm + d_m_norm * normal.force;
         let d_sliding: Row = match self.friction_sliding {
             SlidingVelocity::Material => {
