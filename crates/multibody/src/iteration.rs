@@ -302,12 +302,20 @@ pub(crate) mod tests {
         ((i as f64 + 1.3) * (j as f64 + 0.7) * seed).sin()
     }
 
-    /// Zeroes row `n` (the first of the lower blocks) of a `2n × 2n` block matrix: its
-    /// `S = Q − (b/a) P` gets a zero row, a singular iteration matrix.
-    pub(crate) fn zero_first_lower_row(matrix: &mut DMatrix<f64>, n: usize) {
+    /// Zeroes row `n` (the first of the lower blocks) of the `2n × 2n` block `matrix`, so that
+    /// its `S = Q − (b/a) P` gets a zero row (a singular iteration matrix), factors it with
+    /// `BlockLu<R>` and tries a solve: how it was factored, and whether the solve failed.
+    pub(crate) fn factor_singular<R: ReducedLu + Default>(
+        mut matrix: DMatrix<f64>,
+        n: usize,
+    ) -> (Factored, bool) {
         for j in 0..2 * n {
             matrix[(n, j)] = 0.0;
         }
+        let mut solver = BlockLu::<R>::default();
+        solver.factor(&matrix);
+        let mut rhs = vec![1.0; 2 * n];
+        (solver.factored(), solver.solve_slice(&mut rhs).is_err())
     }
 
     /// `[[I, −c I], [−c A, I − c B]]` for a pseudo-random `A`, `B` (n = 15 as in the LGRES).
@@ -385,12 +393,9 @@ pub(crate) mod tests {
     #[test]
     fn a_singular_matrix_is_an_error_at_the_solve() {
         let n = 3;
-        let mut matrix = iteration_matrix(n, 1e-3);
-        zero_first_lower_row(&mut matrix, n);
-        let mut solver = SecondOrderLu::default();
-        solver.factor(&matrix);
-        assert_eq!(solver.factored(), Factored::No);
-        let mut rhs = vec![1.0; 2 * n];
-        assert!(solver.solve_slice(&mut rhs).is_err());
+        let (factored, solve_failed) =
+            factor_singular::<DenseReduced>(iteration_matrix(n, 1e-3), n);
+        assert_eq!(factored, Factored::No);
+        assert!(solve_failed);
     }
 }

@@ -6,6 +6,23 @@
 
 use nalgebra::DMatrix;
 
+/// Copies `matrix` into the square `factors` of the same order, to be factored in place:
+/// the order and the copy.
+fn load<'a>(factors: &'a mut DMatrix<f64>, matrix: &DMatrix<f64>) -> (usize, &'a mut [f64]) {
+    let size = factors.nrows();
+    assert_eq!(matrix.shape(), (size, size), "matrix size");
+    let a = factors.as_mut_slice();
+    a.copy_from_slice(matrix.as_slice());
+    (size, a)
+}
+
+/// What a solve with the square `factors` works on: their order, their entries and the first
+/// `order` entries of the right-hand side `b`.
+fn view<'a>(factors: &'a DMatrix<f64>, b: &'a mut [f64]) -> (usize, &'a [f64], &'a mut [f64]) {
+    let size = factors.nrows();
+    (size, factors.as_slice(), &mut b[..size])
+}
+
 /// LU factors of a square matrix, kept in place together with the row permutation.
 #[derive(Debug, Clone)]
 pub(crate) struct DenseLu {
@@ -43,15 +60,11 @@ impl DenseLu {
         matrix: &DMatrix<f64>,
         relative_tolerance: f64,
     ) -> Result<(), SingularPivot> {
-        let size = self.factors.nrows();
-        assert_eq!(matrix.shape(), (size, size), "matrix size");
-        let source = matrix.as_slice();
-        let a = self.factors.as_mut_slice();
-        a.copy_from_slice(source);
-        let scale = source
+        let scale = matrix
             .iter()
             .fold(0.0f64, |m, v| m.max(v.abs()))
             .max(f64::MIN_POSITIVE);
+        let (size, a) = load(&mut self.factors, matrix);
         for k in 0..size {
             let column_k = &a[k * size..(k + 1) * size];
             let mut pivot_row = k;
@@ -94,11 +107,9 @@ impl DenseLu {
 
     /// Solves `A x = b` in place, with `A` the last matrix factored successfully.
     pub fn solve_in_place(&self, b: &mut [f64]) {
-        let size = self.factors.nrows();
-        let a = self.factors.as_slice();
-        let b = &mut b[..size];
-        for k in 0..size {
-            b.swap(k, self.pivots[k]);
+        let (size, a, b) = view(&self.factors, b);
+        for (k, &pivot) in self.pivots.iter().enumerate() {
+            b.swap(k, pivot);
         }
         for c in 0..size {
             let value = b[c];
@@ -153,10 +164,7 @@ impl DenseCholesky {
         matrix: &DMatrix<f64>,
         relative_tolerance: f64,
     ) -> Result<(), SingularPivot> {
-        let size = self.factors.nrows();
-        assert_eq!(matrix.shape(), (size, size), "matrix size");
-        let a = self.factors.as_mut_slice();
-        a.copy_from_slice(matrix.as_slice());
+        let (size, a) = load(&mut self.factors, matrix);
         let scale = (0..size)
             .fold(0.0f64, |m, k| m.max(a[k * size + k].abs()))
             .max(f64::MIN_POSITIVE);
@@ -196,9 +204,7 @@ impl DenseCholesky {
 
     /// Solves `S x = b` in place, with `S` the last matrix factored successfully.
     pub fn solve_in_place(&self, b: &mut [f64]) {
-        let size = self.factors.nrows();
-        let a = self.factors.as_slice();
-        let b = &mut b[..size];
+        let (size, a, b) = view(&self.factors, b);
         // L y = b (column oriented).
         for c in 0..size {
             let end = self.envelope[c];
@@ -287,19 +293,24 @@ fn row_pivots(matrix: &DMatrix<f64>, relative_tolerance: f64) -> Vec<Option<f64>
 mod tests {
     use super::*;
 
+    /// Asserts that `solve` turns `matrix · x` back into `x = (1, −2, 0.5)` within `tolerance`.
+    fn check_solves(matrix: &DMatrix<f64>, solve: impl FnOnce(&mut [f64]), tolerance: f64) {
+        let x = [1.0, -2.0, 0.5];
+        let mut b: Vec<f64> = (0..3)
+            .map(|r| (0..3).map(|c| matrix[(r, c)] * x[c]).sum())
+            .collect();
+        solve(&mut b);
+        for (got, want) in b.iter().zip(x) {
+            assert!((got - want).abs() < tolerance, "{got} vs {want}");
+        }
+    }
+
     #[test]
     fn solves_a_permuted_system() {
         let a = DMatrix::from_row_slice(3, 3, &[0.0, 2.0, 1.0, 1.0, 1.0, 0.0, 3.0, 0.0, 4.0]);
-        let x = [1.0, -2.0, 0.5];
-        let mut b: Vec<f64> = (0..3)
-            .map(|r| (0..3).map(|c| a[(r, c)] * x[c]).sum())
-            .collect();
         let mut lu = DenseLu::new(3);
         lu.factor(&a, 1e-14).expect("nonsingular");
-        lu.solve_in_place(&mut b);
-        for (got, want) in b.iter().zip(x) {
-            assert!((got - want).abs() < 1e-14);
-        }
+        check_solves(&a, |b| lu.solve_in_place(b), 1e-14);
     }
 
     #[test]
@@ -315,16 +326,9 @@ mod tests {
     fn cholesky_solves_and_reports_rank_deficiency() {
         let b = DMatrix::from_row_slice(3, 3, &[2.0, 1.0, 0.0, 0.0, 1.0, 3.0, 1.0, 0.0, 1.0]);
         let s = &b * b.transpose();
-        let x = [1.0, -2.0, 0.5];
-        let mut rhs: Vec<f64> = (0..3)
-            .map(|r| (0..3).map(|c| s[(r, c)] * x[c]).sum())
-            .collect();
         let mut cholesky = DenseCholesky::new(3);
         cholesky.factor(&s, 1e-12).expect("positive definite");
-        cholesky.solve_in_place(&mut rhs);
-        for (got, want) in rhs.iter().zip(x) {
-            assert!((got - want).abs() < 1e-13, "{got} vs {want}");
-        }
+        check_solves(&s, |rhs| cholesky.solve_in_place(rhs), 1e-13);
         let deficient = DMatrix::from_row_slice(2, 3, &[1.0, 2.0, 3.0, 2.0, 4.0, 6.0]);
         let s = &deficient * deficient.transpose();
         let mut cholesky = DenseCholesky::new(2);

@@ -272,31 +272,34 @@ impl Model {
         Ok(BodyId(self.bodies.len() - 1))
     }
 
-    fn check_anchor(
+    /// Checks the two anchors of `joint` in order (a body that exists, a finite point; `what`
+    /// names the anchor in the error), then that they are on different bodies.
+    fn check_ends(
         &self,
         joint: &str,
-        anchor: &Anchor,
-        what: &'static str,
+        ends: [(&Anchor, &'static str); 2],
     ) -> Result<(), ModelError> {
-        if let Some(BodyId(index)) = anchor.body
-            && index >= self.bodies.len()
-        {
-            return Err(ModelError::MissingBody {
-                owner: "joint",
-                name: joint.to_string(),
-                index,
-                count: self.bodies.len(),
-            });
+        for (anchor, what) in ends {
+            if let Some(BodyId(index)) = anchor.body
+                && index >= self.bodies.len()
+            {
+                return Err(ModelError::MissingBody {
+                    owner: "joint",
+                    name: joint.to_string(),
+                    index,
+                    count: self.bodies.len(),
+                });
+            }
+            if !finite2(anchor.point) {
+                return Err(ModelError::NonFiniteJointGeometry {
+                    joint: joint.to_string(),
+                    what,
+                    x: anchor.point[0],
+                    y: anchor.point[1],
+                });
+            }
         }
-        if !finite2(anchor.point) {
-            return Err(ModelError::NonFiniteJointGeometry {
-                joint: joint.to_string(),
-                what,
-                x: anchor.point[0],
-                y: anchor.point[1],
-            });
-        }
-        Ok(())
+        check_distinct(joint, ends[0].0.body, ends[1].0.body)
     }
 
     /// Adds a revolute joint making the anchors `i` and `j` coincide.
@@ -307,9 +310,7 @@ impl Model {
         j: Anchor,
     ) -> Result<JointId, ModelError> {
         let name = name.into();
-        self.check_anchor(&name, &i, "anchor i")?;
-        self.check_anchor(&name, &j, "anchor j")?;
-        check_distinct(&name, i.body, j.body)?;
+        self.check_ends(&name, [(&i, "anchor i"), (&j, "anchor j")])?;
         self.joints.push(Joint::Revolute { name, i, j });
         Ok(JointId(self.joints.len() - 1))
     }
@@ -324,9 +325,7 @@ impl Model {
         rotation: RotationLock,
     ) -> Result<JointId, ModelError> {
         let name = name.into();
-        self.check_anchor(&name, &base, "base anchor")?;
-        self.check_anchor(&name, &slider, "slider anchor")?;
-        check_distinct(&name, base.body, slider.body)?;
+        self.check_ends(&name, [(&base, "base anchor"), (&slider, "slider anchor")])?;
         if !finite2(axis) {
             return Err(ModelError::NonFiniteJointGeometry {
                 joint: name,

@@ -89,40 +89,29 @@ fn joints_and_drivers_must_refer_to_existing_items() {
         )
         .expect_err("same body");
     assert!(matches!(error, ModelError::DegenerateJoint { .. }));
-    let error = model
-        .add_prismatic(
+    // A slot along `axis` from the ground origin, and a motor on the angle of `joint`.
+    let add_slot = |model: &mut Model, axis| {
+        model.add_prismatic(
             "slot",
             Anchor::ground(0.0, 0.0),
-            [0.0, 0.0],
+            axis,
             Anchor::on(body, 0.0, 0.0),
             RotationLock::Free,
         )
-        .expect_err("zero axis");
+    };
+    let add_motor = |model: &mut Model, joint| {
+        model.add_driver(
+            "motor",
+            DriveTarget::JointAngle(joint),
+            Box::new(Constant(0.0)),
+        )
+    };
+    let error = add_slot(&mut model, [0.0, 0.0]).expect_err("zero axis");
     assert!(matches!(error, ModelError::ZeroAxis { .. }));
-    let error = model
-        .add_driver(
-            "motor",
-            DriveTarget::JointAngle(JointId(2)),
-            Box::new(Constant(0.0)),
-        )
-        .expect_err("missing joint");
+    let error = add_motor(&mut model, JointId(2)).expect_err("missing joint");
     assert!(matches!(error, ModelError::MissingJoint { index: 2, .. }));
-    let slot = model
-        .add_prismatic(
-            "slot",
-            Anchor::ground(0.0, 0.0),
-            [1.0, 0.0],
-            Anchor::on(body, 0.0, 0.0),
-            RotationLock::Free,
-        )
-        .expect("valid");
-    let error = model
-        .add_driver(
-            "motor",
-            DriveTarget::JointAngle(slot),
-            Box::new(Constant(0.0)),
-        )
-        .expect_err("angle of a prismatic joint");
+    let slot = add_slot(&mut model, [1.0, 0.0]).expect("valid");
+    let error = add_motor(&mut model, slot).expect_err("angle of a prismatic joint");
     assert!(
         matches!(error, ModelError::WrongJointKind { .. }),
         "{error}"

@@ -5,8 +5,8 @@
 
 mod common;
 
-use common::assembled;
 use common::lgres_scene::Lgres;
+use common::{assembled, max_abs_diff};
 use multibody::{
     AbsoluteTolerances, Formulation, Gravity, OutputTimes, SimulationOptions, SimulationResult,
     System, Trajectory,
@@ -47,14 +47,6 @@ fn dynamics_and_kinematics(
         .kinematics(&result.trajectory.times, &start.q)
         .expect("kinematics");
     (result, solution)
-}
-
-/// Largest `|a_i − b_i|`.
-fn max_difference(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(a, b)| (a - b).abs())
-        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -120,7 +112,7 @@ fn one_period_sweeps_the_reported_ranges() {
     );
     // Back where it started after one period.
     let last = times.len() - 1;
-    let closure = max_difference(solution.q(last), solution.q(0));
+    let closure = max_abs_diff(solution.q(last), solution.q(0));
     assert!(closure < 1e-9, "{closure}");
 }
 
@@ -135,14 +127,14 @@ fn driven_dynamics_follows_the_kinematics() {
     // With no degree of freedom left, the integrated motion can differ from the constraint
     // solution only by drift, which Baumgarte keeps at the integration tolerance.
     for frame in 0..result.trajectory.len() {
-        let dq = max_difference(solution.q(frame), result.trajectory.q(frame));
+        let dq = max_abs_diff(solution.q(frame), result.trajectory.q(frame));
         assert!(dq < 1e-8, "t = {}: {dq:e}", result.trajectory.times[frame]);
         // The multipliers (joint reactions, drive force) agree to the same relative order.
         let scale = solution
             .lambda(frame)
             .iter()
             .fold(1.0_f64, |a, l| a.max(l.abs()));
-        let dl = max_difference(solution.lambda(frame), result.trajectory.lambda(frame));
+        let dl = max_abs_diff(solution.lambda(frame), result.trajectory.lambda(frame));
         assert!(
             dl < 1e-5 * scale,
             "t = {}: λ differs by {dl:e} of {scale}",
@@ -178,7 +170,7 @@ fn both_formulations_follow_the_kinematics_to_a_nanometre() {
         options.formulation = formulation;
         let (result, solution) = dynamics_and_kinematics(&mut system, &options);
         let dq = (0..result.trajectory.len())
-            .map(|f| max_difference(solution.q(f), result.trajectory.q(f)))
+            .map(|f| max_abs_diff(solution.q(f), result.trajectory.q(f)))
             .fold(0.0, f64::max);
         println!(
             "{formulation:?}: ideal LGRES vs kinematics over one period, max |Δq| {dq:e} ({} steps)",

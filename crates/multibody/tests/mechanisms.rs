@@ -5,18 +5,11 @@ mod common;
 
 use std::f64::consts::PI;
 
-use common::{FourBar, Replay, SliderCrank, angle_driver, assembled, with_gravity};
+use common::{FourBar, Replay, SliderCrank, angle_driver, assembled, max_abs_diff, with_gravity};
 use multibody::{
     AbsoluteTolerances, ConstraintOwner, DriverId, Model, OutputTimes, Ramp, SimulationOptions,
     System, Trajectory,
 };
-
-fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-}
 
 /// Drives the crank at 2 rad/s through most of a turn; positions must match the closed form
 /// to 1e-10 (Newton converges to ~1e-15, so this is tight but not flaky), and velocities must

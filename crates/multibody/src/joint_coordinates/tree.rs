@@ -62,21 +62,32 @@ enum Link {
         sign: f64,
     },
     /// The slider is the child: coordinates slide, then the angle unless locked.
-    Slider {
-        base_point: [f64; 2],
-        slider_point: [f64; 2],
-        axis: [f64; 2],
-        lock: Option<f64>,
-    },
+    Slider(Prismatic),
     /// The base (which carries the axis) is the child: the angle unless locked, then the slide.
-    Base {
-        slider_point: [f64; 2],
-        base_point: [f64; 2],
-        axis: [f64; 2],
-        lock: Option<f64>,
-    },
+    Base(Prismatic),
     /// `x, y, θ` of a body no ideal joint ties to the ground.
     Floating,
+}
+
+/// A prismatic tree joint's geometry, whichever of its bodies is the child: each point in the
+/// frame of its body, the axis in the base's (global for the ground).
+#[derive(Debug, Clone, Copy)]
+struct Prismatic {
+    base_point: [f64; 2],
+    slider_point: [f64; 2],
+    axis: [f64; 2],
+    /// The relative angle `θ_slider − θ_base` where it is locked.
+    lock: Option<f64>,
+}
+
+impl Prismatic {
+    /// The relative angle `θ_slider − θ_base` and its rates: the locked one, else coordinate `k`.
+    fn angle<T: Scalar>(&self, z: &[T], zd: &[T], zdd: &[T], k: usize) -> (T, T, T) {
+        match self.lock {
+            Some(angle) => (T::constant(angle), zero(), zero()),
+            None => (z[k], zd[k], zdd[k]),
+        }
+    }
 }
 
 /// What one coordinate does to the bodies of its subtree.
@@ -163,14 +174,14 @@ impl Tree {
             let first = motions.len();
             match link {
                 Link::Revolute { sign, .. } => motions.push(Motion::Rotation { sign }),
-                Link::Slider { lock, .. } => {
+                Link::Slider(prismatic) => {
                     motions.push(Motion::Translation);
-                    if lock.is_none() {
+                    if prismatic.lock.is_none() {
                         motions.push(Motion::Rotation { sign: 1.0 });
                     }
                 }
-                Link::Base { lock, .. } => {
-                    if lock.is_none() {
+                Link::Base(prismatic) => {
+                    if prismatic.lock.is_none() {
                         motions.push(Motion::Rotation { sign: -1.0 });
                     }
                     motions.push(Motion::Translation);
@@ -301,9 +312,9 @@ impl Tree {
                 // The joint's angle or slide coordinate is its own driver convention.
                 let coordinate = match (target, joint.link) {
                     (DriveTarget::JointAngle(_), Link::Revolute { .. }) => joint.first,
-                    (DriveTarget::JointSlide(_), Link::Slider { .. }) => joint.first,
-                    (DriveTarget::JointSlide(_), Link::Base { lock, .. }) => {
-                        joint.first + usize::from(lock.is_none())
+                    (DriveTarget::JointSlide(_), Link::Slider(_)) => joint.first,
+                    (DriveTarget::JointSlide(_), Link::Base(prismatic)) => {
+                        joint.first + usize::from(prismatic.lock.is_none())
                     }
                     _ => return None,
                 };
@@ -318,38 +329,26 @@ impl Tree {
                 match (joint.link, which) {
                     (Link::Floating, _) => Some((first + which as usize, 0.0, 1.0)),
                     (Link::Revolute { sign, .. }, Coordinate::Theta) => Some((first, 0.0, sign)),
-                    (Link::Slider { lock: None, .. }, Coordinate::Theta) => {
+                    (Link::Slider(Prismatic { lock: None, .. }), Coordinate::Theta) => {
                         Some((first + 1, 0.0, 1.0))
                     }
-                    (Link::Base { lock: None, .. }, Coordinate::Theta) => Some((first, 0.0, -1.0)),
-                    (
-                        Link::Slider {
-                            base_point,
-                            slider_point,
-                            axis,
-                            lock: Some(angle),
-                        },
-                        Coordinate::X | Coordinate::Y,
-                    ) => {
-                        // r = P_base + z u − R(α) s_slider, u the (global) axis.
-                        let c = which as usize;
-                        let arm: V2<f64> = rotate(angle, slider_point);
-                        affine(base_point[c] - arm[c], axis[c], first)
+                    (Link::Base(Prismatic { lock: None, .. }), Coordinate::Theta) => {
+                        Some((first, 0.0, -1.0))
                     }
-                    (
-                        Link::Base {
-                            slider_point,
-                            base_point,
-                            axis,
-                            lock: Some(angle),
-                        },
-                        Coordinate::X | Coordinate::Y,
-                    ) => {
-                        // r = P_slider − z R(−α) axis − R(−α) s_base.
+                    (Link::Slider(prismatic), Coordinate::X | Coordinate::Y) => {
+                        // r = P_base + z u − R(α) s_slider, u the (global) axis.
+                        let angle = prismatic.lock?;
                         let c = which as usize;
-                        let u: V2<f64> = rotate(-angle, axis);
-                        let arm: V2<f64> = rotate(-angle, base_point);
-                        affine(slider_point[c] - arm[c], -u[c], first)
+                        let arm: V2<f64> = rotate(angle, prismatic.slider_point);
+                        affine(prismatic.base_point[c] - arm[c], prismatic.axis[c], first)
+                    }
+                    (Link::Base(prismatic), Coordinate::X | Coordinate::Y) => {
+                        // r = P_slider − z R(−α) axis − R(−α) s_base.
+                        let angle = prismatic.lock?;
+                        let c = which as usize;
+                        let u: V2<f64> = rotate(-angle, prismatic.axis);
+                        let arm: V2<f64> = rotate(-angle, prismatic.base_point);
+                        affine(prismatic.slider_point[c] - arm[c], -u[c], first)
                     }
                     _ => None,
                 }
@@ -414,56 +413,40 @@ impl Tree {
                     let d = scale(T::constant(-1.0), rotate_by(trig, child_point));
                     (r, v, a) = offset((p, vp_, ap_), w, al, d);
                 }
-                Link::Slider {
-                    base_point,
-                    slider_point,
-                    axis,
-                    lock,
-                } => {
-                    let u = rotate_by(trig_p, axis);
+                Link::Slider(prismatic) => {
+                    let u = rotate_by(trig_p, prismatic.axis);
                     out.axes[k] = u;
-                    let rel = add(rotate_by(trig_p, base_point), scale(z[k], u));
+                    let rel = add(rotate_by(trig_p, prismatic.base_point), scale(z[k], u));
                     let (p, vp_, ap_) = field(rel);
                     let vs = add(vp_, scale(zd[k], u));
                     let as_ = add(ap_, add(scale(zdd[k], u), scale(two * wp * zd[k], perp(u))));
-                    let (phi, phid, phidd) = match lock {
-                        Some(angle) => (T::constant(angle), zero(), zero()),
-                        None => {
-                            out.axes[k + 1] = p;
-                            (z[k + 1], zd[k + 1], zdd[k + 1])
-                        }
-                    };
+                    if prismatic.lock.is_none() {
+                        out.axes[k + 1] = p;
+                    }
+                    let (phi, phid, phidd) = prismatic.angle(z, zd, zdd, k + 1);
                     th = thp + phi;
                     w = wp + phid;
                     al = alp + phidd;
                     trig = sin_cos(th);
-                    let d = scale(T::constant(-1.0), rotate_by(trig, slider_point));
+                    let d = scale(T::constant(-1.0), rotate_by(trig, prismatic.slider_point));
                     (r, v, a) = offset((p, vs, as_), w, al, d);
                 }
-                Link::Base {
-                    slider_point,
-                    base_point,
-                    axis,
-                    lock,
-                } => {
-                    let (p, vp_, ap_) = field(rotate_by(trig_p, slider_point));
-                    let (phi, phid, phidd) = match lock {
-                        Some(angle) => (T::constant(angle), zero(), zero()),
-                        None => {
-                            out.axes[k] = p;
-                            (z[k], zd[k], zdd[k])
-                        }
-                    };
-                    let ks = k + usize::from(lock.is_none());
+                Link::Base(prismatic) => {
+                    let (p, vp_, ap_) = field(rotate_by(trig_p, prismatic.slider_point));
+                    if prismatic.lock.is_none() {
+                        out.axes[k] = p;
+                    }
+                    let (phi, phid, phidd) = prismatic.angle(z, zd, zdd, k);
+                    let ks = k + usize::from(prismatic.lock.is_none());
                     th = thp - phi;
                     w = wp - phid;
                     al = alp - phidd;
                     trig = sin_cos(th);
-                    let u = rotate_by(trig, axis);
+                    let u = rotate_by(trig, prismatic.axis);
                     out.axes[ks] = scale(T::constant(-1.0), u);
                     let d = scale(
                         T::constant(-1.0),
-                        add(scale(z[ks], u), rotate_by(trig, base_point)),
+                        add(scale(z[ks], u), rotate_by(trig, prismatic.base_point)),
                     );
                     let (rd, vd, ad) = offset((p, vp_, ap_), w, al, d);
                     r = rd;
@@ -535,47 +518,36 @@ impl Tree {
             let k = joint.first;
             // The slide u·(P_s − P_b) and its rate, the axis turning with the base (angle
             // `th_base`, rate `w_base`).
-            let slide =
-                |base: Option<usize>, base_point, slider: Option<usize>, slider_point, axis| {
-                    let (_, th_base, _, w_base) = pose(base);
-                    let u: V2<f64> = rotate(th_base, axis);
-                    let (pb, vb) = point(base, base_point);
-                    let (ps, vs) = point(slider, slider_point);
-                    let gap = sub(ps, pb);
-                    (
-                        dot(u, gap),
-                        w_base * dot(perp(u), gap) + dot(u, sub(vs, vb)),
-                    )
-                };
+            let slide = |base: Option<usize>, slider: Option<usize>, prismatic: Prismatic| {
+                let (_, th_base, _, w_base) = pose(base);
+                let u: V2<f64> = rotate(th_base, prismatic.axis);
+                let (pb, vb) = point(base, prismatic.base_point);
+                let (ps, vs) = point(slider, prismatic.slider_point);
+                let gap = sub(ps, pb);
+                (
+                    dot(u, gap),
+                    w_base * dot(perp(u), gap) + dot(u, sub(vs, vb)),
+                )
+            };
             match joint.link {
                 Link::Revolute { sign, .. } => {
                     z[k] = sign * (thc - thp);
                     zd[k] = sign * (wc - wp);
                 }
-                Link::Slider {
-                    base_point,
-                    slider_point,
-                    axis,
-                    lock,
-                } => {
-                    (z[k], zd[k]) = slide(parent, base_point, child, slider_point, axis);
-                    if lock.is_none() {
+                Link::Slider(prismatic) => {
+                    (z[k], zd[k]) = slide(parent, child, prismatic);
+                    if prismatic.lock.is_none() {
                         z[k + 1] = thc - thp;
                         zd[k + 1] = wc - wp;
                     }
                 }
-                Link::Base {
-                    slider_point,
-                    base_point,
-                    axis,
-                    lock,
-                } => {
-                    let ks = k + usize::from(lock.is_none());
-                    if lock.is_none() {
+                Link::Base(prismatic) => {
+                    let ks = k + usize::from(prismatic.lock.is_none());
+                    if prismatic.lock.is_none() {
                         z[k] = thp - thc;
                         zd[k] = wp - wc;
                     }
-                    (z[ks], zd[ks]) = slide(child, base_point, parent, slider_point, axis);
+                    (z[ks], zd[ks]) = slide(child, parent, prismatic);
                 }
                 Link::Floating => {
                     z[k..k + 3].copy_from_slice(&[rc[0], rc[1], thc]);
@@ -619,20 +591,16 @@ fn link(joint: &Joint, child: usize) -> Link {
                 RotationLock::At(angle) => Some(*angle),
                 RotationLock::Free => None,
             };
+            let prismatic = Prismatic {
+                base_point: base.point,
+                slider_point: slider.point,
+                axis: *axis,
+                lock,
+            };
             if is_child(slider.body) {
-                Link::Slider {
-                    base_point: base.point,
-                    slider_point: slider.point,
-                    axis: *axis,
-                    lock,
-                }
+                Link::Slider(prismatic)
             } else {
-                Link::Base {
-                    slider_point: slider.point,
-                    base_point: base.point,
-                    axis: *axis,
-                    lock,
-                }
+                Link::Base(prismatic)
             }
         }
     }

@@ -17,6 +17,22 @@ pub fn bar(model: &mut Model, name: &str, mass: f64, length: f64, pose: [f64; 3]
         .expect("valid body")
 }
 
+/// Largest `|a_i − b_i|`.
+pub fn max_abs_diff(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The near and far ends (`∓length/2` along its x axis) of a bar of `length`.
+pub fn ends(body: BodyId, length: f64) -> (Anchor, Anchor) {
+    (
+        Anchor::on(body, -0.5 * length, 0.0),
+        Anchor::on(body, 0.5 * length, 0.0),
+    )
+}
+
 /// Adds a revolute joint making the anchors `i` and `j` coincide.
 pub fn pin(model: &mut Model, name: &str, i: Anchor, j: Anchor) -> JointId {
     model.add_revolute(name, i, j).expect("valid joint")
@@ -59,24 +75,11 @@ impl SliderCrank {
         let slider = model
             .add_body(Body::new("slider", 3.0, 0.01, [q[6], q[7], q[8]]))
             .expect("valid body");
-        let pivot = pin(
-            &mut model,
-            "O",
-            Anchor::ground(0.0, 0.0),
-            Anchor::on(crank, -0.5 * self.r, 0.0),
-        );
-        pin(
-            &mut model,
-            "A",
-            Anchor::on(crank, 0.5 * self.r, 0.0),
-            Anchor::on(rod, -0.5 * self.l, 0.0),
-        );
-        pin(
-            &mut model,
-            "B",
-            Anchor::on(rod, 0.5 * self.l, 0.0),
-            Anchor::on(slider, 0.0, 0.0),
-        );
+        let (crank_near, crank_far) = ends(crank, self.r);
+        let (rod_near, rod_far) = ends(rod, self.l);
+        let pivot = pin(&mut model, "O", Anchor::ground(0.0, 0.0), crank_near);
+        pin(&mut model, "A", crank_far, rod_near);
+        pin(&mut model, "B", rod_far, Anchor::on(slider, 0.0, 0.0));
         model
             .add_prismatic(
                 "guide",
@@ -147,30 +150,13 @@ impl FourBar {
         let crank = bar(&mut model, "crank", 1.0, self.a, pose(0));
         let coupler = bar(&mut model, "coupler", 2.0, self.b, pose(3));
         let rocker = bar(&mut model, "rocker", 1.5, self.c, pose(6));
-        let pivot = pin(
-            &mut model,
-            "O2",
-            Anchor::ground(0.0, 0.0),
-            Anchor::on(crank, -0.5 * self.a, 0.0),
-        );
-        pin(
-            &mut model,
-            "A",
-            Anchor::on(crank, 0.5 * self.a, 0.0),
-            Anchor::on(coupler, -0.5 * self.b, 0.0),
-        );
-        pin(
-            &mut model,
-            "B",
-            Anchor::on(coupler, 0.5 * self.b, 0.0),
-            Anchor::on(rocker, 0.5 * self.c, 0.0),
-        );
-        pin(
-            &mut model,
-            "O4",
-            Anchor::ground(self.d, 0.0),
-            Anchor::on(rocker, -0.5 * self.c, 0.0),
-        );
+        let (crank_near, crank_far) = ends(crank, self.a);
+        let (coupler_near, coupler_far) = ends(coupler, self.b);
+        let (rocker_near, rocker_far) = ends(rocker, self.c);
+        let pivot = pin(&mut model, "O2", Anchor::ground(0.0, 0.0), crank_near);
+        pin(&mut model, "A", crank_far, coupler_near);
+        pin(&mut model, "B", coupler_far, rocker_far);
+        pin(&mut model, "O4", Anchor::ground(self.d, 0.0), rocker_near);
         (model, pivot)
     }
 }
