@@ -9,9 +9,9 @@ use crate::animation;
 use crate::files::{Cell, Column, CsvWriter, OutputError, write_atomic, write_csv, write_json};
 use crate::life_plot::{LifeCurve, life_curve};
 use crate::plot::{self, DEFAULT_SIZE, Figure, Series};
-use crate::report::{Captioned, FILES_MARK, REPORT_FILE};
+use crate::report::{Captioned, FILES_MARK, REPORT_FILE, RunFigure};
 use scene::file_names::{JointFile, is_file_name_safe};
-use sim::{LifePoint, Response, RunOutcome};
+use sim::{LifePoint, Response, RunOutcome, Summary};
 
 const QUANTITIES: [(&str, &str, &str); 6] = [
     ("x", "m", "x displacement"),
@@ -35,19 +35,51 @@ pub fn write_run(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, Outpu
     // The animations (most of the writing's cost) are drawn on their own threads while the
     // CSVs and figures are written; the files and their order stay the same, and an
     // error of the files before the animations is reported first, as when written in turn.
-    let (files, animations) = std::thread::scope(|s| {
+    let (written, animations) = std::thread::scope(|s| {
         let animations = s.spawn(|| animation_files(outcome, dir));
-        let files = data_files(outcome, dir);
+        let written = data_files(outcome, dir);
         let animations = animations
             .join()
             .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        files.and_then(|files| Ok((files, animations?)))
+        written.and_then(|written| Ok((written, animations?)))
     })?;
-    let mut files = files;
+    let Written {
+        mut files, figures, ..
+    } = written;
     files.extend(animations.iter().map(|a| a.path.clone()));
-    let report = crate::report::write_run_report(outcome, dir, &files, &animations)?;
+    let figures: Vec<Captioned> = animations.into_iter().chain(figures).collect();
+    let report = crate::report::write_run_report(outcome, dir, &files, &figures)?;
     files.push(report);
     Ok(files)
+}
+
+/// What the writers wrote, in order, and the figures among it, captioned as they are drawn.
+struct Written<'a> {
+    /// The run's summary, which the captions quote.
+    summary: &'a Summary,
+    files: Vec<PathBuf>,
+    figures: Vec<Captioned>,
+}
+
+impl<'a> Written<'a> {
+    fn new(summary: &'a Summary) -> Self {
+        Self {
+            summary,
+            files: Vec::new(),
+            figures: Vec::new(),
+        }
+    }
+
+    fn file(&mut self, path: PathBuf) {
+        self.files.push(path);
+    }
+
+    /// The figure drawn at `path`.
+    fn figure(&mut self, path: PathBuf, figure: RunFigure) {
+        self.figures
+            .push(figure.captioned(path.clone(), self.summary));
+        self.files.push(path);
+    }
 }
 
 /// The report of `outcome` as an HTML fragment for a notebook (`_repr_html_`): the page
@@ -70,16 +102,15 @@ pub fn notebook_html(outcome: &RunOutcome) -> Result<String, OutputError> {
 }
 
 /// Every file of [`write_run`] but the animations and the report, in order.
-fn data_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
-    let mut files = Vec::new();
-    let body = &outcome.summary.response_body;
-    files.extend(response_files(&outcome.response, body, dir, "")?);
+fn data_files<'a>(outcome: &'a RunOutcome, dir: &Path) -> Result<Written<'a>, OutputError> {
+    let mut files = Written::new(&outcome.summary);
+    response_files(&mut files, &outcome.response, dir, "")?;
     if let Some(worn) = &outcome.worn_response {
-        files.extend(response_files(worn, body, dir, "_worn")?);
+        response_files(&mut files, worn, dir, "_worn")?;
     }
     for joint in &outcome.wear {
         for (k, stage) in joint.stages.iter().enumerate() {
-            files.push(crate::surfaces::write_stage(
+            files.file(crate::surfaces::write_stage(
                 dir,
                 &joint.name,
                 k + 1,
@@ -108,7 +139,7 @@ fn data_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
             DEFAULT_SIZE,
             &surfaces,
         )?;
-        files.push(path);
+        files.figure(path, RunFigure::Wear { joint: &joint.name });
         if let Some(last) = joint.stages.last() {
             let peak = last.bearing().peak().depth.max(last.pin().peak().depth);
             let clearance = joint.bearing_radius - joint.pin_radius;
@@ -131,18 +162,18 @@ fn data_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
                     exaggeration,
                 },
             )?;
-            files.push(path);
+            files.figure(path, RunFigure::WornOutline { joint: &joint.name });
         }
     }
     if !outcome.wear.is_empty() {
-        files.extend(life_files(outcome, dir)?);
+        life_files(&mut files, outcome, dir)?;
     }
     let path = dir.join("summary.json");
     write_json(&path, &outcome.summary)?;
-    files.push(path);
+    files.file(path);
     let path = dir.join("scene.toml");
     write_atomic(&path, outcome.scene.to_toml().as_bytes())?;
-    files.push(path);
+    files.file(path);
     Ok(files)
 }
 
@@ -183,6 +214,7 @@ fn animation_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<Captioned>, O
         };
         out.push(Captioned {
             path,
+            rank: 0,
             caption: format!(
                 "mechanism{suffix}.gif: the mechanism over one drive cycle after the {} s \
                  start-up window {on} ({} frames), the ideal mechanism in grey behind.\
@@ -201,8 +233,7 @@ fn col<'a>(name: &'a str, unit: &'a str) -> Column<'a> {
 
 /// `wear_life.csv` (every wearing joint's life curve, one row per sub-step after a row at 0
 /// cycles) and one `wear_life_<joint>.png` per joint.
-fn life_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputError> {
-    let mut files = Vec::new();
+fn life_files(files: &mut Written, outcome: &RunOutcome, dir: &Path) -> Result<(), OutputError> {
     let path = dir.join("wear_life.csv");
     let mut csv = CsvWriter::create(
         &path,
@@ -233,7 +264,7 @@ fn life_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
             ])?;
         }
     }
-    files.push(csv.finish()?);
+    files.file(csv.finish()?);
     let limits = outcome.summary.wear.as_ref().map(|w| &w.joints);
     for joint in &outcome.wear {
         let column = |f: fn(&LifePoint) -> f64| joint.life.iter().map(f).collect::<Vec<f64>>();
@@ -263,19 +294,20 @@ fn life_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<PathBuf>, OutputEr
                 limit,
             },
         )?;
-        files.push(path);
+        files.figure(path, RunFigure::WearLife { joint: &joint.name });
     }
-    Ok(files)
+    Ok(())
 }
 
 /// `response{suffix}.csv`, `contact{suffix}.csv` and their figures.
 fn response_files(
+    files: &mut Written,
     r: &Response,
-    body: &str,
     dir: &Path,
     suffix: &str,
-) -> Result<Vec<PathBuf>, OutputError> {
-    let mut files = Vec::new();
+) -> Result<(), OutputError> {
+    let body = &files.summary.response_body;
+    let worn_joints = !suffix.is_empty();
     let (sim, ideal) = (r.motion.series(), r.ideal.series());
     let deviation: Vec<Vec<f64>> = sim
         .iter()
@@ -292,7 +324,7 @@ fn response_files(
         columns.push((col(&names[k][1], unit), ideal[k]));
         columns.push((col(&names[k][2], unit), &deviation[k]));
     }
-    files.push(write_csv(
+    files.file(write_csv(
         dir.join(format!("response{suffix}.csv")),
         &columns,
     )?);
@@ -332,7 +364,7 @@ fn response_files(
                 columns.push((col(&n[k], units[k]), data[k]));
             }
         }
-        files.push(write_csv(
+        files.file(write_csv(
             dir.join(format!("contact{suffix}.csv")),
             &columns,
         )?);
@@ -369,11 +401,17 @@ fn response_files(
                     },
                 ],
             )?;
-            files.push(path);
+            files.figure(
+                path,
+                RunFigure::Response {
+                    quantity: q,
+                    worn: worn_joints,
+                },
+            );
         }
     }
     for c in &r.contact {
-        let path = dir.join(JointFile::Force(!suffix.is_empty()).name(&c.name));
+        let path = dir.join(JointFile::Force(worn_joints).name(&c.name));
         let title = format!("Contact force at joint {}{worn}", c.name);
         let kn: Vec<f64> = c.normal_force.iter().map(|f| f * 1e-3).collect();
         let kt: Vec<f64> = c.friction_force.iter().map(|f| f * 1e-3).collect();
@@ -398,8 +436,14 @@ fn response_files(
                 },
             ],
         )?;
-        files.push(path);
-        let path = dir.join(JointFile::Journal(!suffix.is_empty()).name(&c.name));
+        files.figure(
+            path,
+            RunFigure::ContactForce {
+                joint: &c.name,
+                worn: worn_joints,
+            },
+        );
+        let path = dir.join(JointFile::Journal(worn_joints).name(&c.name));
         plot::journal_path(
             &path,
             &format!(
@@ -411,7 +455,13 @@ fn response_files(
             &c.ey_bearing,
             c.clearance,
         )?;
-        files.push(path);
+        files.figure(
+            path,
+            RunFigure::Journal {
+                joint: &c.name,
+                worn: worn_joints,
+            },
+        );
     }
-    Ok(files)
+    Ok(())
 }

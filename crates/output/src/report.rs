@@ -14,26 +14,111 @@ use sim::{
 /// The report's file name in a run's folder.
 pub const REPORT_FILE: &str = "report.html";
 
-/// A figure the report shows beside the ones it recognises by name: its file and caption (the
-/// animations, whose captions say how much the clearance is magnified).
+/// A figure a run drew: its file and what to look at in it. The writer that draws a figure
+/// captions it ([`RunFigure`], or its own words for the animations), so the report never reads
+/// a figure's meaning back from its file name.
 #[derive(Debug, Clone)]
 pub struct Captioned {
     /// The image file, in the run's folder.
     pub path: PathBuf,
     /// What to look at in it.
     pub caption: String,
+    /// Where it stands among the figures ([`RunFigure::rank`]; the animations first, 0).
+    pub(crate) rank: usize,
 }
 
-/// Writes `<dir>/report.html` for `outcome`, embedding the images among `files` (the files the
-/// run wrote, in `dir`) and the `extra` figures first.
+/// What a figure of a run shows, as the writer that draws it knows it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum RunFigure<'a> {
+    /// Normal and friction force at a joint.
+    ContactForce { joint: &'a str, worn: bool },
+    /// The journal centre's path in the bearing frame.
+    Journal { joint: &'a str, worn: bool },
+    /// Peak depths and largest local clearance over the stages' cycles.
+    WearLife { joint: &'a str },
+    /// Wear depth against angle after each stage.
+    Wear { joint: &'a str },
+    /// The worn outlines after the last stage.
+    WornOutline { joint: &'a str },
+    /// One quantity of the response body's centroid against the ideal mechanism.
+    Response { quantity: &'a str, worn: bool },
+}
+
+impl RunFigure<'_> {
+    /// The report's order: forces and orbits first, then wear and life, then the body
+    /// response (after the animations, 0).
+    fn rank(self) -> usize {
+        match self {
+            Self::ContactForce { .. } => 1,
+            Self::Journal { .. } => 2,
+            Self::WearLife { .. } => 3,
+            Self::Wear { .. } => 4,
+            Self::WornOutline { .. } => 5,
+            Self::Response { .. } => 6,
+        }
+    }
+
+    /// The figure drawn at `path`, captioned with what to look at in it.
+    pub(crate) fn captioned(self, path: PathBuf, s: &Summary) -> Captioned {
+        let name = file_name(&path);
+        let on = |worn: bool| {
+            if worn {
+                " on the worn surfaces after the last stage"
+            } else {
+                " on the unworn surfaces"
+            }
+        };
+        let caption = match self {
+            Self::ContactForce { joint, worn } => format!(
+                "{name}: normal and friction force at joint {joint}{}. Look at the start-up \
+                 impacts (before {} s), then the per-cycle peaks the table summarises.",
+                on(worn),
+                sig(s.transient_window_s, 3)
+            ),
+            Self::Journal { joint, worn } => format!(
+                "{name}: the journal centre's path in the bearing frame at joint {joint}{}; the \
+                 circle is the clearance. Contact is on the circle, free flight inside it.",
+                on(worn)
+            ),
+            Self::WearLife { joint } => format!(
+                "{name}: peak depths and the largest local clearance of joint {joint} over the \
+                 drive cycles of the stages; the slope is the wear rate, and the limit line (if \
+                 set) shows when the joint needs maintenance."
+            ),
+            Self::Wear { joint } => format!(
+                "{name}: wear depth against angle on the bearing and the pin of joint {joint}, \
+                 after each stage (body frames): where the load concentrates and how irregular \
+                 it grew."
+            ),
+            Self::WornOutline { joint } => format!(
+                "{name}: the worn bearing and pin outlines of joint {joint} after the last stage, \
+                 wear magnified as the figure says, against the round surfaces."
+            ),
+            Self::Response { quantity, worn } => format!(
+                "{name}: the {} centroid's {quantity}{} against the ideal mechanism; the \
+                 difference is the clearance's effect.",
+                s.response_body,
+                on(worn)
+            ),
+        };
+        Captioned {
+            path,
+            caption,
+            rank: self.rank(),
+        }
+    }
+}
+
+/// Writes `<dir>/report.html` for `outcome`, embedding the `figures` the run drew and listing
+/// `files` (every file the run wrote, in `dir`).
 pub fn write_run_report(
     outcome: &RunOutcome,
     dir: &Path,
     files: &[PathBuf],
-    extra: &[Captioned],
+    figures: &[Captioned],
 ) -> Result<PathBuf, OutputError> {
     let mut html = run_summary(&outcome.summary);
-    figures(&mut html, outcome, files, extra)?;
+    figures_section(&mut html, figures)?;
     scene_table(&mut html, outcome);
     html.raw(FILES_MARK);
     html.heading(2, "Files");
@@ -397,27 +482,13 @@ fn numerics(html: &mut Html, s: &Summary) {
     );
 }
 
-/// Every image the run wrote, the `extra` ones first, captioned.
-fn figures(
-    html: &mut Html,
-    outcome: &RunOutcome,
-    files: &[PathBuf],
-    extra: &[Captioned],
-) -> Result<(), OutputError> {
+/// Every figure the run drew, captioned, in the report's order (by rank, then file name).
+fn figures_section(html: &mut Html, figures: &[Captioned]) -> Result<(), OutputError> {
     html.heading(2, "Figures");
-    for e in extra {
-        let alt = file_name(&e.path);
-        html.figure(&e.path, &alt, &e.caption)?;
-    }
-    let mut images: Vec<&PathBuf> = files
-        .iter()
-        .filter(|f| crate::html::image_mime(f).is_some())
-        .filter(|f| !extra.iter().any(|e| &e.path == *f))
-        .collect();
-    images.sort_by_key(|f| figure_rank(&file_name(f)));
-    for f in images {
-        let name = file_name(f);
-        html.figure(f, &name, &caption(&name, &outcome.summary))?;
+    let mut figures: Vec<&Captioned> = figures.iter().collect();
+    figures.sort_by_key(|f| (f.rank, file_name(&f.path)));
+    for f in figures {
+        html.figure(&f.path, &file_name(&f.path), &f.caption)?;
     }
     Ok(())
 }
@@ -426,69 +497,6 @@ fn file_name(p: &Path) -> String {
     p.file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default()
-}
-
-/// Order of the figures: forces and orbits first, then wear and life, then the body response.
-fn figure_rank(name: &str) -> (usize, String) {
-    let rank = [
-        "contact_force_",
-        "journal_",
-        "wear_life_",
-        "wear_",
-        "worn_outline_",
-        "response_",
-    ]
-    .iter()
-    .position(|p| name.starts_with(p))
-    .unwrap_or(usize::MAX);
-    (rank, name.to_string())
-}
-
-/// What to look at in the figure `name`.
-fn caption(name: &str, s: &Summary) -> String {
-    let worn = name.contains("_worn.");
-    let on = if worn {
-        " on the worn surfaces after the last stage"
-    } else {
-        " on the unworn surfaces"
-    };
-    let stem = name.trim_end_matches(".png").trim_end_matches("_worn");
-    if let Some(joint) = stem.strip_prefix("contact_force_") {
-        format!(
-            "{name}: normal and friction force at joint {joint}{on}. Look at the start-up impacts \
-             (before {} s), then the per-cycle peaks the table summarises.",
-            sig(s.transient_window_s, 3)
-        )
-    } else if let Some(joint) = stem.strip_prefix("journal_") {
-        format!(
-            "{name}: the journal centre's path in the bearing frame at joint {joint}{on}; the \
-             circle is the clearance. Contact is on the circle, free flight inside it."
-        )
-    } else if let Some(joint) = stem.strip_prefix("wear_life_") {
-        format!(
-            "{name}: peak depths and the largest local clearance of joint {joint} over the drive \
-             cycles of the stages; the slope is the wear rate, and the limit line (if set) shows \
-             when the joint needs maintenance."
-        )
-    } else if let Some(joint) = stem.strip_prefix("wear_") {
-        format!(
-            "{name}: wear depth against angle on the bearing and the pin of joint {joint}, after \
-             each stage (body frames): where the load concentrates and how irregular it grew."
-        )
-    } else if let Some(joint) = stem.strip_prefix("worn_outline_") {
-        format!(
-            "{name}: the worn bearing and pin outlines of joint {joint} after the last stage, wear \
-             magnified as the figure says, against the round surfaces."
-        )
-    } else if let Some(q) = stem.strip_prefix("response_") {
-        format!(
-            "{name}: the {} centroid's {q}{on} against the ideal mechanism; the difference is the \
-             clearance's effect.",
-            s.response_body
-        )
-    } else {
-        name.to_string()
-    }
 }
 
 /// The scene as run, as a table of its fields (flattened TOML paths) with units where known.
