@@ -12,7 +12,7 @@ use contact::{FrictionLawParams, NormalLawParams};
 
 use super::error::Validator;
 use super::file_names::{MAX_NAME_CHARS, is_file_name_safe};
-use super::{BodyRef, ClearanceJoint, Scene, TimeLaw, WearSpec};
+use super::{BodyRef, ClearanceJoint, RunSettings, Scene, TimeLaw, WearSpec};
 
 /// Most bodies in a scene: the dense `3n × 3n` matrices of 1000 bodies already take ~70 MB.
 pub const MAX_BODIES: usize = 1000;
@@ -327,8 +327,20 @@ impl Limits<'_> {
         }
     }
 
+    /// The run's settings: each value in its range, then what they add up to.
     fn run(&mut self, s: &Scene) {
-        let r = &s.run;
+        self.run_values(&s.run, s.solver.output_interval);
+        self.run_sizes(s);
+        if let Some(name) = &s.run.response_body
+            && matches!(s.resolve(name), Some(BodyRef::Ground))
+        {
+            self.0
+                .push("run.response_body", name, "must be a body, not ground");
+        }
+    }
+
+    /// Each of the run's counts, fractions and times in its own range.
+    fn run_values(&mut self, r: &RunSettings, interval: f64) {
         if r.cycles == 0 {
             self.0.push("run.cycles", 0, "must be at least 1");
         } else if r.cycles > MAX_CYCLES {
@@ -397,7 +409,6 @@ impl Limits<'_> {
             self.0
                 .push("run.period", t, format!("at most {MAX_PERIOD} s"));
         }
-        let interval = s.solver.output_interval;
         if interval.is_finite() && interval > 0.0 && interval < MIN_OUTPUT_INTERVAL {
             self.0.push(
                 "solver.output_interval",
@@ -405,6 +416,12 @@ impl Limits<'_> {
                 format!("at least {MIN_OUTPUT_INTERVAL:e} s"),
             );
         }
+    }
+
+    /// What the run's values add up to over the drive period: the samples it records, the
+    /// start-up window every sub-step simulates again, the wear values the stages keep.
+    fn run_sizes(&mut self, s: &Scene) {
+        let (r, interval) = (&s.run, s.solver.output_interval);
         let Some(period) = s.cycle_period().filter(|t| t.is_finite() && *t > 0.0) else {
             return;
         };
@@ -472,12 +489,6 @@ impl Limits<'_> {
                     r.wear_stages
                 ),
             );
-        }
-        if let Some(name) = &r.response_body
-            && matches!(s.resolve(name), Some(BodyRef::Ground))
-        {
-            self.0
-                .push("run.response_body", name, "must be a body, not ground");
         }
     }
 }

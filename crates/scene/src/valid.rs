@@ -15,8 +15,20 @@ use super::{Scene, SceneError};
 /// ```
 /// use scene::{Builtin, ValidScene, builtin};
 ///
-/// let text = "description = \"one body\"\n[[bodies]]\nname = \"b\"\nmass = 1.0\n\
-///             inertia = 1.0\nx = 0.0\ny = 0.0\ntheta_deg = 0.0\n";
+/// let text = r#"
+/// description = "one body"
+/// inertia_convention = "centroidal"
+/// gravity = [0.0, -9.81]
+/// [[bodies]]
+/// name = "b"
+/// mass = 1.0
+/// inertia = 1.0
+/// x = 0.0
+/// y = 0.0
+/// theta_deg = 0.0
+/// [run]
+/// period = 1.0
+/// "#;
 /// let shipped = [Builtin { name: "b", summary: "", source: text }];
 /// let scene: ValidScene = builtin(&shipped, "b")?;
 /// assert_eq!(scene.bodies[0].mass, 1.0);
