@@ -2,6 +2,7 @@
 //! folder, kept whole through signals, names that would escape them refused, special files
 //! refused without leaving anything behind.
 
+use std::path::Path;
 use std::process::Command;
 
 mod common;
@@ -28,12 +29,31 @@ fn joint_name_escaping_out_is_rejected_before_any_file_is_written() {
     }
 }
 
+/// A folder as an earlier run (or its user) left it at `out`: each `(path, text)` written, the
+/// folders on its way created; a path ending in `/` is an empty folder.
+fn lay_out(out: &Path, files: &[(&str, &str)]) {
+    for (path, text) in files {
+        match path.strip_suffix('/') {
+            Some(folder) => std::fs::create_dir_all(out.join(folder)).unwrap(),
+            None => {
+                let file = out.join(path);
+                std::fs::create_dir_all(file.parent().unwrap()).unwrap();
+                std::fs::write(file, text).unwrap();
+            }
+        }
+    }
+}
+
 #[test]
 fn run_replaces_the_output_folder_whole() {
     let (dir, out) = scratch_out("replace");
-    std::fs::create_dir_all(&out).unwrap();
-    std::fs::write(out.join("summary.json"), "{\"old\": true}").unwrap();
-    std::fs::write(out.join("wear_Z_stage1.csv"), "old").unwrap();
+    lay_out(
+        &out,
+        &[
+            ("summary.json", "{\"old\": true}"),
+            ("wear_Z_stage1.csv", "old"),
+        ],
+    );
     let o = run_into("lgres-ideal", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
@@ -46,8 +66,7 @@ fn run_replaces_the_output_folder_whole() {
 #[test]
 fn folder_with_foreign_files_is_refused_and_kept() {
     let (dir, out) = scratch_out("foreign");
-    std::fs::create_dir_all(out.join("sub")).unwrap();
-    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    lay_out(&out, &[("sub/", ""), ("notes.txt", "mine")]);
     let o = run_into("lgres-ideal", &out);
     assert_exit(&o, 2, "does not write");
     assert_eq!(listing(&out), ["notes.txt", "sub"]);
@@ -105,10 +124,14 @@ fn signals_leave_the_previous_folder_and_no_temporary_files() {
 fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
     let (dir, out) = scratch_out("study-staged");
     // A previous study: a report and one scene's run folder.
-    std::fs::create_dir_all(out.join("lgres")).unwrap();
-    std::fs::write(out.join("report.md"), "previous report").unwrap();
-    std::fs::write(out.join("lgres").join("summary.json"), "{}").unwrap();
-    let study = |out: &std::path::Path| {
+    lay_out(
+        &out,
+        &[
+            ("report.md", "previous report"),
+            ("lgres/summary.json", "{}"),
+        ],
+    );
+    let study = |out: &Path| {
         Command::new(env!("CARGO_BIN_EXE_wearsim"))
             .args(["study", "wear-stages", "--out", out.to_str().unwrap()])
             .stdout(std::process::Stdio::null())
@@ -150,7 +173,7 @@ fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
 #[test]
 fn precision_into_a_locked_folder_is_refused_and_releases_its_lock() {
     let (dir, out) = scratch_out("precision-lock");
-    let precision = |out: &std::path::Path| wearsim(&quick_precision(out.to_str().unwrap()));
+    let precision = |out: &Path| wearsim(&quick_precision(out.to_str().unwrap()));
     // Held as a live run holds it (an advisory lock on the file).
     LockHolder::live(&dir.join(".out.lock")).refuses(|| precision(&out));
     assert!(!out.exists());
