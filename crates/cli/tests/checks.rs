@@ -3,7 +3,10 @@
 //! folders, runs' outputs, every command's flags fuzzed).
 
 mod common;
-use common::{assert_exit, edited_scene, scratch, stderr, wearsim, write_scene};
+use common::{
+    assert_case_exit, assert_exit, check, edited_scene, lgres_with, run_into, scratch, stderr,
+    wearsim, wearsim_out, write_scene,
+};
 
 #[test]
 fn check_default_scene_succeeds() {
@@ -47,7 +50,7 @@ fn overrides_are_validated_and_study_rejects_bad_settings() {
     assert!(stderr(&o).contains("solver.rtol"));
 
     let out = std::env::temp_dir().join(format!("wearsim-ideal-{}", std::process::id()));
-    let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
+    let o = run_into("lgres-ideal", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     for file in [
         "summary.json",
@@ -60,13 +63,7 @@ fn overrides_are_validated_and_study_rejects_bad_settings() {
         assert!(out.join(file).is_file(), "{file} missing");
     }
     // `--no-animation` skips the animation, and the report shows what is there.
-    let o = wearsim(&[
-        "run",
-        "lgres-ideal",
-        "--no-animation",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = wearsim_out(&["run", "lgres-ideal", "--no-animation"], &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!out.join("mechanism.gif").exists());
     let page = std::fs::read_to_string(out.join("report.html")).unwrap();
@@ -136,11 +133,9 @@ fn bad_layer_fields_are_refused_by_check_and_run_naming_the_field() {
         ),
         ("{ layer = \"banana\" }", "layer", "unknown variant"),
     ] {
-        let scene = write_scene(
+        let scene = lgres_with(
             &dir,
-            &format!(
-                "extends = \"lgres\"\n[[clearance_joints]]\nname = \"B\"\ncontact = {contact}\n"
-            ),
+            &format!("[[clearance_joints]]\nname = \"B\"\ncontact = {contact}\n"),
         );
         for command in ["check", "run"] {
             let out = dir.join("out");
@@ -167,7 +162,6 @@ fn bad_layer_fields_are_refused_by_check_and_run_naming_the_field() {
             );
         }
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -188,10 +182,8 @@ fn check_fails_like_run_on_a_mechanism_missing_a_clearance_joint() {
         ],
     ] {
         let o = wearsim(&args);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
-        assert!(stderr(&o).contains("kinematic analysis"), "{}", stderr(&o));
+        assert_case_exit(&format!("{args:?}"), &o, 2, "kinematic analysis");
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A scene whose ideal mechanism is not fully driven is refused naming the file, its
@@ -199,11 +191,8 @@ fn check_fails_like_run_on_a_mechanism_missing_a_clearance_joint() {
 #[test]
 fn undriven_mechanism_is_refused_naming_the_scene_joints_and_drivers() {
     let dir = scratch("undriven");
-    let scene = write_scene(
-        &dir,
-        "extends = \"lgres\"\ndrivers = []\n[run]\nperiod = 1.0\n",
-    );
-    let o = wearsim(&["check", scene.to_str().unwrap()]);
+    let scene = lgres_with(&dir, "drivers = []\n[run]\nperiod = 1.0\n");
+    let o = check(&scene);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     let e = stderr(&o);
     assert!(
@@ -213,5 +202,4 @@ fn undriven_mechanism_is_refused_naming_the_scene_joints_and_drivers() {
             && e.contains("15 coordinates and 14 constraint equations"),
         "{e}"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -8,7 +8,10 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 mod common;
-use common::{assert_exit, listing, quick_precision, scratch, stderr, wearsim, write_file};
+use common::{
+    assert_case_exit, assert_exit, check, lgres_with, listing, quick_precision, run_into, scratch,
+    scratch_out, stderr, wearsim, wearsim_out, write_file,
+};
 mod lock_holder;
 use lock_holder::LockHolder;
 
@@ -46,8 +49,7 @@ fn closed_pipes_end_quietly_and_leave_the_output_folder_whole() {
         assert!(!stderr(&o).contains("panicked"), "{args:?}: {}", stderr(&o));
     }
     // Progress lines and the summary into the same closed pipe (`run … 2>&1 | head -1`).
-    let dir = scratch("closed-pipe");
-    let out = dir.join("out");
+    let (dir, out) = scratch_out("closed-pipe");
     let o = into_closed_pipe(
         &[
             "run",
@@ -68,17 +70,13 @@ fn closed_pipes_end_quietly_and_leave_the_output_folder_whole() {
         out.join("summary.json").is_file(),
         "the run's folder is whole"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn a_lock_held_by_a_live_run_is_refused_even_before_its_pid_is_written() {
-    let dir = scratch("lock-live");
-    let out = dir.join("out");
+    let (dir, out) = scratch_out("lock-live");
     // A live owner that has created its lock file but not yet written its pid.
-    let lock = LockHolder::take(&dir.join(".out.lock"));
-    let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
-    assert_exit(&o, 1, "another wearsim run");
+    LockHolder::take(&dir.join(".out.lock")).refuses(|| run_into("lgres-ideal", &out));
     assert!(!out.exists());
     assert_eq!(
         listing(&dir),
@@ -86,11 +84,9 @@ fn a_lock_held_by_a_live_run_is_refused_even_before_its_pid_is_written() {
         "the owner's lock file is kept"
     );
     // Released (its owner ended): taken.
-    drop(lock);
-    let o = wearsim(&["run", "lgres-ideal", "--out", out.to_str().unwrap()]);
+    let o = run_into("lgres-ideal", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(listing(&dir), ["out"]);
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A small deterministic generator (xorshift), so every run sees the same cases.
@@ -110,18 +106,16 @@ impl Cases {
 /// `check` passes exactly what `run` does not refuse as bad input.
 #[test]
 fn check_and_run_agree_on_fuzzed_stage_settings_and_flags() {
-    let dir = scratch("check-run");
-    let out = dir.join("out");
+    let (dir, out) = scratch_out("check-run");
     let mut cases = Cases(0x2545_F491_4F6C_DD1D);
     let (mut accepted, mut refused) = (0, 0);
-    for case in 0..24 {
+    for _ in 0..24 {
         let trajectories = 1 + cases.below(6);
         let k = 1 + cases.below(8);
-        let scene = write_file(
+        let scene = lgres_with(
             &dir,
-            &format!("s{case}.toml"),
             &format!(
-                "extends = \"lgres\"\n[run]\ncycles = 1\nwear_stages = 1\nanimation = false\n\
+                "[run]\ncycles = 1\nwear_stages = 1\nanimation = false\n\
                  trajectories = {trajectories}\ncycles_per_stage = {k}\n"
             ),
         );
@@ -171,17 +165,12 @@ fn check_and_run_agree_on_fuzzed_stage_settings_and_flags() {
         accepted > 0 && refused > 0,
         "{accepted} accepted, {refused} refused"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn check_refuses_the_issues_trajectories_and_cycles_per_stage() {
     let dir = scratch("check-k");
-    let scene = write_file(
-        &dir,
-        "f.toml",
-        "extends = \"lgres\"\n[run]\ntrajectories = 3\ncycles_per_stage = 2\n",
-    );
+    let scene = lgres_with(&dir, "[run]\ntrajectories = 3\ncycles_per_stage = 2\n");
     let o = wearsim(&["check", scene.to_str().unwrap(), "--cycles-per-stage", "2"]);
     assert_exit(&o, 2, "run.trajectories = 3");
     let o = wearsim(&["check", "lgres", "--cycles-per-stage", "20000"]);
@@ -191,7 +180,6 @@ fn check_refuses_the_issues_trajectories_and_cycles_per_stage() {
         "{}",
         stderr(&o)
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Every setting of the issue's item 4 is refused by `check`, naming its field.
@@ -224,25 +212,18 @@ fn settings_without_a_bound_on_work_are_refused_naming_the_field() {
             "clearance_joints[1].contact.layer_modulus",
         ),
     ];
-    for (k, (patch, field)) in cases.iter().enumerate() {
-        let scene = write_file(
-            &dir,
-            &format!("b{k}.toml"),
-            &format!("extends = \"lgres\"\n{patch}\n"),
-        );
-        let o = wearsim(&["check", scene.to_str().unwrap()]);
-        assert_eq!(o.status.code(), Some(2), "{patch}: {}", stderr(&o));
-        assert!(stderr(&o).contains(field), "{patch}: {}", stderr(&o));
+    for (patch, field) in cases {
+        let scene = lgres_with(&dir, &format!("{patch}\n"));
+        let o = check(&scene);
+        assert_case_exit(patch, &o, 2, field);
     }
     let o = wearsim(&["study", "wear-stages", "--stage-cycles", "1e20"]);
     assert_exit(&o, 2, "stage-cycles = 1e20");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn sweep_run_table_and_sweep_files_are_checked_up_front_with_exit_2() {
-    let dir = scratch("sweep-doors");
-    let out = dir.join("out");
+    let (dir, out) = scratch_out("sweep-doors");
     let sweep = |run: &str| {
         format!(
             "scene = \"slider-crank\"\nmetrics = [\"response.joints.rod-slider.max_penetration_m\"]\n\
@@ -262,14 +243,8 @@ fn sweep_run_table_and_sweep_files_are_checked_up_front_with_exit_2() {
         ),
     ] {
         let file = write_file(&dir, "s.toml", &sweep(run));
-        let o = wearsim(&[
-            "sweep",
-            file.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert_eq!(o.status.code(), Some(2), "{run}: {}", stderr(&o));
-        assert!(stderr(&o).contains(field), "{run}: {}", stderr(&o));
+        let o = wearsim_out(&["sweep", file.to_str().unwrap()], &out);
+        assert_case_exit(run, &o, 2, field);
         assert!(
             !stderr(&o).contains("command-line"),
             "{run}: {}",
@@ -280,13 +255,8 @@ fn sweep_run_table_and_sweep_files_are_checked_up_front_with_exit_2() {
     let missing = dir.join("missing.toml");
     let not_utf8 = dir.join("latin1.toml");
     std::fs::write(&not_utf8, b"scene = \"caf\xe9\"\n").unwrap();
-    for file in [&missing, &dir, &not_utf8] {
-        let o = wearsim(&[
-            "sweep",
-            file.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+    for file in [missing.as_path(), &dir, not_utf8.as_path()] {
+        let o = wearsim_out(&["sweep", file.to_str().unwrap()], &out);
         assert_eq!(
             o.status.code(),
             Some(2),
@@ -295,61 +265,54 @@ fn sweep_run_table_and_sweep_files_are_checked_up_front_with_exit_2() {
             stderr(&o)
         );
     }
-    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `o` (of `command`) is a refusal (exit 2) that printed no control character raw (ESC, BEL).
+#[track_caller]
+fn refused_printing_no_control_characters(o: &Output, command: &str) {
+    assert_eq!(o.status.code(), Some(2), "{command}: {}", stderr(o));
+    let printed = [o.stdout.as_slice(), o.stderr.as_slice()].concat();
+    assert!(
+        !printed.contains(&0x1b) && !printed.contains(&0x07),
+        "{command}: {}",
+        stderr(o)
+    );
 }
 
 #[test]
 fn control_characters_in_the_description_are_refused_and_never_printed_raw() {
     let dir = scratch("description");
-    let scene = write_file(
-        &dir,
-        "d.toml",
-        "extends = \"lgres\"\ndescription = \"\\u001b]0;owned\\u0007\\u001b[2J\"\n",
-    );
+    let scene = lgres_with(&dir, "description = \"\\u001b]0;owned\\u0007\\u001b[2J\"\n");
     let unused = dir.join("unused");
     let (scene, unused) = (scene.to_str().unwrap(), unused.to_str().unwrap());
     for args in [&["check", scene][..], &["run", scene, "--out", unused]] {
         let o = wearsim(args);
-        let command = args[0];
-        assert_eq!(o.status.code(), Some(2), "{command}: {}", stderr(&o));
-        let printed = [o.stdout.as_slice(), o.stderr.as_slice()].concat();
-        assert!(
-            !printed.contains(&0x1b) && !printed.contains(&0x07),
-            "{command}: {}",
-            stderr(&o)
-        );
+        refused_printing_no_control_characters(&o, args[0]);
         assert!(stderr(&o).contains("description"), "{}", stderr(&o));
     }
     assert!(!Path::new(unused).exists());
     // Line breaks and tabs stay allowed.
-    let scene = write_file(
-        &dir,
-        "ok.toml",
-        "extends = \"lgres\"\ndescription = \"two\\nlines\\tand a tab\"\n",
-    );
-    let o = wearsim(&["check", scene.to_str().unwrap()]);
+    let scene = lgres_with(&dir, "description = \"two\\nlines\\tand a tab\"\n");
+    let o = check(&scene);
     assert!(o.status.success(), "{}", stderr(&o));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn extends_switches_a_joints_contact_model() {
     let dir = scratch("extends-model");
-    let scene = write_file(
+    let scene = lgres_with(
         &dir,
-        "loc.toml",
-        "extends = \"lgres\"\n[[clearance_joints]]\nname = \"B\"\n\
+        "[[clearance_joints]]\nname = \"B\"\n\
          contact = { model = \"line-of-centres\" }\n",
     );
-    let o = wearsim(&["check", scene.to_str().unwrap()]);
+    let o = check(&scene);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("line-of-centres"), "{text}");
     // Naming the model the base already has (by default) keeps the base's fields.
-    let scene = write_file(
+    let scene = lgres_with(
         &dir,
-        "same.toml",
-        "extends = \"lgres\"\n[[clearance_joints]]\nname = \"B\"\n\
+        "[[clearance_joints]]\nname = \"B\"\n\
          contact = { model = \"foundation\", reference_speed = 0.1 }\n",
     );
     let merged = scene::load_path(&scene, lgres::scenes::BUILTINS).unwrap();
@@ -360,7 +323,6 @@ fn extends_switches_a_joints_contact_model() {
         .unwrap();
     assert_eq!(b.contact.cells, Some(500));
     assert_eq!(b.contact.reference_speed, Some(0.1));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -371,7 +333,7 @@ fn out_through_a_symlink_writes_the_linked_folder_and_keeps_the_link() {
     let link = dir.join("link");
     std::os::unix::fs::symlink(&real, &link).unwrap();
     for _ in 0..2 {
-        let o = wearsim(&["run", "lgres-ideal", "--out", link.to_str().unwrap()]);
+        let o = run_into("lgres-ideal", &link);
         assert!(o.status.success(), "{}", stderr(&o));
         assert!(
             std::fs::symlink_metadata(&link)
@@ -389,9 +351,8 @@ fn out_through_a_symlink_writes_the_linked_folder_and_keeps_the_link() {
     // A link to nothing is refused, naming it.
     let dangling = dir.join("dangling");
     std::os::unix::fs::symlink(dir.join("nowhere"), &dangling).unwrap();
-    let o = wearsim(&["run", "lgres-ideal", "--out", dangling.to_str().unwrap()]);
+    let o = run_into("lgres-ideal", &dangling);
     assert_exit(&o, 2, "symbolic link");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Numbers in messages in their short form (`1e300`, not 301 digits).
@@ -399,19 +360,12 @@ fn out_through_a_symlink_writes_the_linked_folder_and_keeps_the_link() {
 fn messages_write_extreme_numbers_short() {
     let dir = scratch("messages");
     let out = dir.join("precision");
-    let o = wearsim(&[
-        "precision",
-        "--start-up",
-        "1e300",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = wearsim_out(&["precision", "--start-up", "1e300"], &out);
     assert_exit(&o, 2, "1e300 s is longer");
     assert!(stderr(&o).len() < 300, "{}", stderr(&o));
     let o = wearsim(&["study", "wear-stages", "--stage-cycles", "1e-300"]);
     assert_exit(&o, 2, "stage-cycles = 1e-300");
     assert_eq!(listing(&dir), Vec::<String>::new(), "nothing written");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Closed pipes fuzzed over the commands: every built-in scene through `check`, the lists,
@@ -461,7 +415,6 @@ fn every_command_survives_closed_pipes() {
         }
     }
     eprintln!("closed pipes: {} commands", cases.len());
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// Text that reaches the terminal from elsewhere than a scene's fields (here a file name in an
@@ -474,18 +427,11 @@ fn control_characters_never_reach_the_terminal_raw() {
         "x\u{1b}]0;owned\u{7}.toml",
         "extends = \"lgres\"\n[run]\ncycles = 0\n",
     );
-    let o = wearsim(&["check", scene.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
-    let printed = [o.stdout.as_slice(), o.stderr.as_slice()].concat();
-    assert!(
-        !printed.contains(&0x1b) && !printed.contains(&0x07),
-        "{}",
-        stderr(&o)
-    );
+    let o = check(&scene);
+    refused_printing_no_control_characters(&o, "check");
     assert!(
         stderr(&o).contains("x\\u{1b}]0;owned\\u{7}.toml"),
         "{}",
         stderr(&o)
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -2,11 +2,13 @@
 //! folder, kept whole through signals, names that would escape them refused, special files
 //! refused without leaving anything behind.
 
+use std::path::Path;
 use std::process::Command;
 
 mod common;
 use common::{
-    assert_exit, listing, quick_precision, run_into, scratch, stderr, wearsim, write_scene,
+    assert_case_exit, assert_exit, listing, quick_precision, run_into, scratch, scratch_out,
+    stderr, wearsim, wearsim_out, write_scene,
 };
 mod lock_holder;
 use lock_holder::LockHolder;
@@ -22,24 +24,36 @@ fn joint_name_escaping_out_is_rejected_before_any_file_is_written() {
         );
         let out = dir.join("out");
         let o = run_into(scene.to_str().unwrap(), &out);
-        assert_eq!(o.status.code(), Some(2), "{name}: {}", stderr(&o));
-        assert!(
-            stderr(&o).contains("clearance_joints[0].name"),
-            "{}",
-            stderr(&o)
-        );
+        assert_case_exit(name, &o, 2, "clearance_joints[0].name");
         assert_eq!(listing(&dir), ["scene.toml"], "{name}");
     }
-    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A folder as an earlier run (or its user) left it at `out`: each `(path, text)` written, the
+/// folders on its way created; a path ending in `/` is an empty folder.
+fn lay_out(out: &Path, files: &[(&str, &str)]) {
+    for (path, text) in files {
+        match path.strip_suffix('/') {
+            Some(folder) => std::fs::create_dir_all(out.join(folder)).unwrap(),
+            None => {
+                let file = out.join(path);
+                std::fs::create_dir_all(file.parent().unwrap()).unwrap();
+                std::fs::write(file, text).unwrap();
+            }
+        }
+    }
 }
 
 #[test]
 fn run_replaces_the_output_folder_whole() {
-    let dir = scratch("replace");
-    let out = dir.join("out");
-    std::fs::create_dir_all(&out).unwrap();
-    std::fs::write(out.join("summary.json"), "{\"old\": true}").unwrap();
-    std::fs::write(out.join("wear_Z_stage1.csv"), "old").unwrap();
+    let (dir, out) = scratch_out("replace");
+    lay_out(
+        &out,
+        &[
+            ("summary.json", "{\"old\": true}"),
+            ("wear_Z_stage1.csv", "old"),
+        ],
+    );
     let o = run_into("lgres-ideal", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
@@ -47,47 +61,36 @@ fn run_replaces_the_output_folder_whole() {
     assert!(!out.join("wear_Z_stage1.csv").exists());
     assert!(listing(&out).iter().all(|n| !n.starts_with('.')));
     assert_eq!(listing(&dir), ["out"], "staging folder or lock left behind");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn folder_with_foreign_files_is_refused_and_kept() {
-    let dir = scratch("foreign");
-    let out = dir.join("out");
-    std::fs::create_dir_all(out.join("sub")).unwrap();
-    std::fs::write(out.join("notes.txt"), "mine").unwrap();
+    let (dir, out) = scratch_out("foreign");
+    lay_out(&out, &[("sub/", ""), ("notes.txt", "mine")]);
     let o = run_into("lgres-ideal", &out);
     assert_exit(&o, 2, "does not write");
     assert_eq!(listing(&out), ["notes.txt", "sub"]);
     assert_eq!(listing(&dir), ["out"]);
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn second_run_into_a_locked_folder_is_refused() {
-    let dir = scratch("lock");
-    let out = dir.join("out");
+    let (dir, out) = scratch_out("lock");
     // A live process (this test) holds the lock: refused at once, naming it, nothing written.
-    std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
-    let held = LockHolder::take(&dir.join(".out.lock"));
-    let o = run_into("lgres-ideal", &out);
-    assert_exit(&o, 1, "another wearsim run");
+    let o = LockHolder::live(&dir.join(".out.lock")).refuses(|| run_into("lgres-ideal", &out));
     let holder = format!("process {}", std::process::id());
     assert!(stderr(&o).contains(&holder), "{}", stderr(&o));
     assert!(!out.exists());
-    drop(held);
     // A lock whose process is gone (killed run: the system released it) is taken over.
     std::fs::write(dir.join(".out.lock"), "999999999").unwrap();
     let o = run_into("lgres-ideal", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(listing(&dir), ["out"]);
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn signals_leave_the_previous_folder_and_no_temporary_files() {
-    let dir = scratch("signal");
-    let out = dir.join("out");
+    let (dir, out) = scratch_out("signal");
     let o = run_into("lgres-ideal", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let before = listing(&out);
@@ -115,18 +118,20 @@ fn signals_leave_the_previous_folder_and_no_temporary_files() {
         );
         assert_eq!(listing(&dir), ["out"], "{signal}: staging or lock left");
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
-    let dir = scratch("study-staged");
-    let out = dir.join("out");
+    let (dir, out) = scratch_out("study-staged");
     // A previous study: a report and one scene's run folder.
-    std::fs::create_dir_all(out.join("lgres")).unwrap();
-    std::fs::write(out.join("report.md"), "previous report").unwrap();
-    std::fs::write(out.join("lgres").join("summary.json"), "{}").unwrap();
-    let study = |out: &std::path::Path| {
+    lay_out(
+        &out,
+        &[
+            ("report.md", "previous report"),
+            ("lgres/summary.json", "{}"),
+        ],
+    );
+    let study = |out: &Path| {
         Command::new(env!("CARGO_BIN_EXE_wearsim"))
             .args(["study", "wear-stages", "--out", out.to_str().unwrap()])
             .stdout(std::process::Stdio::null())
@@ -143,12 +148,8 @@ fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
         );
     };
     // Held by a live process (this test, with an advisory lock on it): refused at once.
-    std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
-    let held = LockHolder::take(&dir.join(".out.lock"));
-    let o = study(&out).wait_with_output().unwrap();
-    assert_exit(&o, 1, "another wearsim run");
+    LockHolder::live(&dir.join(".out.lock")).refuses(|| study(&out).wait_with_output().unwrap());
     unchanged("locked");
-    drop(held);
     std::fs::remove_file(dir.join(".out.lock")).unwrap();
     // Interrupted while its scenes run: the previous study stays, nothing hidden is left.
     let child = study(&out);
@@ -167,27 +168,20 @@ fn study_folder_is_locked_refused_when_foreign_and_kept_when_interrupted() {
     let o = study(&out).wait_with_output().unwrap();
     assert_exit(&o, 2, "lgres/notes.txt");
     assert_eq!(listing(&out.join("lgres")), ["notes.txt", "summary.json"]);
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn precision_into_a_locked_folder_is_refused_and_releases_its_lock() {
-    let dir = scratch("precision-lock");
-    let out = dir.join("out");
-    let precision = |out: &std::path::Path| wearsim(&quick_precision(out.to_str().unwrap()));
+    let (dir, out) = scratch_out("precision-lock");
+    let precision = |out: &Path| wearsim(&quick_precision(out.to_str().unwrap()));
     // Held as a live run holds it (an advisory lock on the file).
-    std::fs::write(dir.join(".out.lock"), std::process::id().to_string()).unwrap();
-    let held = LockHolder::take(&dir.join(".out.lock"));
-    let o = precision(&out);
-    assert_exit(&o, 1, "another wearsim run");
+    LockHolder::live(&dir.join(".out.lock")).refuses(|| precision(&out));
     assert!(!out.exists());
-    drop(held);
     std::fs::remove_file(dir.join(".out.lock")).unwrap();
     let o = precision(&out);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(out.join("precision.md").exists());
     assert_eq!(listing(&dir), ["out"], "lock left behind");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// An `--out` that cannot be a run's folder is bad input (exit 2, the folder named), for every
@@ -213,12 +207,7 @@ fn bad_out_folders_and_analysis_flags_are_bad_input() {
             let mut args = command.to_vec();
             args.extend(["--out", out]);
             let o = wearsim(&args);
-            assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
-            assert!(
-                stderr(&o).contains("output folder"),
-                "{args:?}: {}",
-                stderr(&o)
-            );
+            assert_case_exit(&format!("{args:?}"), &o, 2, "output folder");
         }
     }
     assert_eq!(listing(&dir), ["a-file"], "nothing left behind");
@@ -228,7 +217,6 @@ fn bad_out_folders_and_analysis_flags_are_bad_input() {
     assert_exit(&o, 2, "duration");
     let o = wearsim(&["precision", "--repeats", "0"]);
     assert_exit(&o, 2, "--repeats");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A run that replaces an existing folder keeps the folder's permissions (a read-only folder
@@ -237,8 +225,7 @@ fn bad_out_folders_and_analysis_flags_are_bad_input() {
 #[test]
 fn replaced_folder_keeps_its_permissions() {
     use std::os::unix::fs::PermissionsExt;
-    let dir = scratch("mode");
-    let out = dir.join("out");
+    let (_dir, out) = scratch_out("mode");
     let o = run_into("lgres-ideal", &out);
     assert!(o.status.success(), "{}", stderr(&o));
     std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o555)).unwrap();
@@ -247,7 +234,6 @@ fn replaced_folder_keeps_its_permissions() {
     let mode = std::fs::metadata(&out).unwrap().permissions().mode() & 0o777;
     assert_eq!(mode, 0o555);
     std::fs::set_permissions(&out, std::fs::Permissions::from_mode(0o755)).unwrap();
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// `--surfaces` pointing at a FIFO (it blocked forever) or a link to `/dev/zero` (it aborted on
@@ -274,27 +260,22 @@ fn special_wear_files_are_refused_and_leave_nothing_behind() {
         } else {
             std::os::unix::fs::symlink(special, &b).unwrap();
         }
-        let o = wearsim(&[
-            "run",
-            "lgres",
-            "--cycles",
-            "1",
-            "--surfaces",
-            surfaces.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert_eq!(o.status.code(), Some(2), "{special}: {}", stderr(&o));
-        let e = stderr(&o);
-        assert!(
-            e.contains("wear_B_stage1.csv: not a regular file"),
-            "{special}: {e}"
+        let o = wearsim_out(
+            &[
+                "run",
+                "lgres",
+                "--cycles",
+                "1",
+                "--surfaces",
+                surfaces.to_str().unwrap(),
+            ],
+            &out,
         );
+        assert_case_exit(special, &o, 2, "wear_B_stage1.csv: not a regular file");
         assert_eq!(
             listing(&dir),
             ["worn"],
             "{special}: lock or staging left behind"
         );
     }
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -14,7 +14,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 mod common;
-use common::{listing, scratch};
+use common::{listing, scratch_out};
 
 /// Runs `wearsim args` and sends SIGINT after `delay` (unless it ended before); returns its
 /// exit code and how long it ran.
@@ -49,11 +49,12 @@ fn moments() -> Vec<f64> {
         .collect()
 }
 
-/// Interrupts `args` (which write into `out` inside `dir`, removed first) at the fixed moments,
-/// after one uninterrupted run whose folder is the "previous" output; `whole` checks a
-/// finished folder. Prints how many of the moments stopped `command` and how many came after
-/// it had finished.
-fn fuzz_interrupts(command: &str, dir: &Path, out: &Path, args: &[&str], whole: &dyn Fn(&Path)) {
+/// Interrupts `args --out OUT` (`out` inside `dir`, removed first) at the fixed moments, after
+/// one uninterrupted run whose folder is the "previous" output; `whole` checks a finished
+/// folder. Prints how many of the moments stopped the command and how many came after it had
+/// finished.
+fn fuzz_interrupts(dir: &Path, out: &Path, args: &[&str], whole: &dyn Fn(&Path)) {
+    let args = &[args, &["--out", out.to_str().unwrap()]].concat();
     let _ = std::fs::remove_dir_all(out);
     let (code, length) = interrupted(args, Duration::from_secs(3600));
     assert_eq!(code, Some(0), "{args:?} runs uninterrupted");
@@ -75,14 +76,15 @@ fn fuzz_interrupts(command: &str, dir: &Path, out: &Path, args: &[&str], whole: 
         // Either untouched (the previous run's whole output) or the new one, whole.
         whole(out);
     }
-    eprintln!("{command}: {stopped} interrupted, {finished} finished first");
+    eprintln!(
+        "{}: {stopped} interrupted, {finished} finished first",
+        args[0]
+    );
 }
 
 #[test]
 fn interrupted_commands_leave_nothing_behind_at_any_moment() {
-    let dir = scratch("interrupts");
-    let out = dir.join("out");
-    let o = out.to_str().unwrap();
+    let (dir, out) = scratch_out("interrupts");
     let run_whole = |out: &Path| {
         let names = listing(out);
         for f in ["summary.json", "response.csv", "contact.csv", "scene.toml"] {
@@ -92,10 +94,9 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         assert!(summary.trim_end().ends_with('}'), "summary.json cut short");
     };
     fuzz_interrupts(
-        "run",
         &dir,
         &out,
-        &["run", "slider-crank", "--cycles", "1", "--out", o],
+        &["run", "slider-crank", "--cycles", "1"],
         &run_whole,
     );
 
@@ -105,7 +106,6 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
     };
     fuzz_interrupts(
-        "precision",
         &dir,
         &out,
         &[
@@ -121,8 +121,6 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
             "0.02",
             "--start-up",
             "0.01",
-            "--out",
-            o,
         ],
         &precision_whole,
     );
@@ -141,7 +139,6 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         assert!(page.ends_with("</html>\n"), "report.html cut short");
     };
     fuzz_interrupts(
-        "study",
         &dir,
         &out,
         &[
@@ -155,8 +152,6 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
             "1",
             "--jobs",
             "2",
-            "--out",
-            o,
         ],
         &study_whole,
     );
@@ -199,17 +194,9 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         }
     };
     fuzz_interrupts(
-        "sweep",
         &dir,
         &out,
-        &[
-            "sweep",
-            sweep_file.to_str().unwrap(),
-            "--jobs",
-            "2",
-            "--out",
-            o,
-        ],
+        &["sweep", sweep_file.to_str().unwrap(), "--jobs", "2"],
         &sweep_whole,
     );
 
@@ -220,22 +207,14 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
             serde_json::from_str::<serde_json::Value>(&json).expect("stress.json whole");
         }
     };
-    fuzz_interrupts(
-        "stress",
-        &dir,
-        &out,
-        &["stress", "--quick", "--out", o],
-        &stress_whole,
-    );
-    std::fs::remove_dir_all(&dir).unwrap();
+    fuzz_interrupts(&dir, &out, &["stress", "--quick"], &stress_whole);
 }
 
 /// Issue 35, item 3: a sweep re-run into a finished sweep's folder and interrupted leaves no
 /// page or figure of the earlier rows beside its own, and says what the folder holds.
 #[test]
 fn an_interrupted_sweep_rerun_leaves_no_page_of_other_rows() {
-    let dir = scratch("sweep-rerun");
-    let out = dir.join("out");
+    let (dir, out) = scratch_out("sweep-rerun");
     let file = dir.join("s.toml");
     std::fs::write(
         &file,
@@ -278,5 +257,4 @@ fn an_interrupted_sweep_rerun_leaves_no_page_of_other_rows() {
         other => panic!("exit {other:?}"),
     }
     assert_eq!(listing(&dir), ["out", "s.toml"]);
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -2,7 +2,10 @@
 //! penetration ending a run, clearance limits reached, a sweep's rows and its bad fields).
 
 mod common;
-use common::{assert_exit, listing, run_into, scratch, stderr, wearsim, write_scene};
+use common::{
+    assert_exit, lgres_with, listing, run_into, scratch, scratch_out, stderr, wearsim, wearsim_out,
+    write_scene,
+};
 
 #[test]
 fn transient_window_longer_than_the_run_prints_n_a() {
@@ -48,28 +51,19 @@ fn transient_window_longer_than_the_run_prints_n_a() {
             .as_f64()
             .is_some_and(|x| x > 0.0)
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn budgets_and_penetration_end_runs_with_exit_1_naming_the_cause() {
-    let dir = scratch("budget");
-    let out = dir.join("out");
-    let o = wearsim(&[
-        "run",
-        "slider-crank",
-        "--max-steps",
-        "10",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (dir, out) = scratch_out("budget");
+    let o = wearsim_out(&["run", "slider-crank", "--max-steps", "10"], &out);
     assert_exit(&o, 1, "solver.max_steps");
     let o = wearsim(&["check", "slider-crank", "--max-wall-time", "-1"]);
     assert_exit(&o, 2, "solver.max_wall_time");
 
-    let scene = write_scene(
+    let scene = lgres_with(
         &dir,
-        "extends = \"lgres\"\n[[clearance_joints]]\nname = \"A\"\n\
+        "[[clearance_joints]]\nname = \"A\"\n\
          bearing_material = { youngs_modulus = 1e6, poisson_ratio = 0.3 }\n\
          pin_material = { youngs_modulus = 1e6, poisson_ratio = 0.3 }\n\
          [run]\ncycles = 1\nperiod = 0.2\nwear_stages = 0\n",
@@ -77,14 +71,11 @@ fn budgets_and_penetration_end_runs_with_exit_1_naming_the_cause() {
     let o = run_into(scene.to_str().unwrap(), &out);
     assert_exit(&o, 1, "peak penetration");
     assert_eq!(listing(&dir), ["scene.toml"], "nothing written on failure");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn sweep_writes_rows_and_names_bad_fields() {
-    let dir = std::env::temp_dir().join(format!("wearsim-sweep-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("sweep");
     let file = dir.join("grid.toml");
     let text = r#"
 scene = "slider-crank"
@@ -97,12 +88,7 @@ values = [5e-4, -1e-4]
 "#;
     std::fs::write(&file, text).unwrap();
     let out = dir.join("out");
-    let o = wearsim(&[
-        "sweep",
-        file.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = wearsim_out(&["sweep", file.to_str().unwrap()], &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let rows = std::fs::read_to_string(out.join("samples.csv")).unwrap();
     let lines: Vec<&str> = rows.lines().collect();
@@ -120,25 +106,20 @@ values = [5e-4, -1e-4]
         ),
     )
     .unwrap();
-    let o = wearsim(&[
-        "sweep",
-        file.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = wearsim_out(&["sweep", file.to_str().unwrap()], &out);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("vary[0].sd"), "{}", stderr(&o));
     let o = wearsim(&["sweep", file.to_str().unwrap(), "--cycles", "2"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--cycles"), "{}", stderr(&o));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn run_prints_when_each_joint_reaches_the_clearance_limit() {
-    let dir = scratch("limit");
-    let scene = |limit: &str| {
-        write_scene(
+    let (dir, out) = scratch_out("limit");
+    // The run's standard output, with the scene's clearance limit `limit`.
+    let run = |limit: &str| {
+        let scene = write_scene(
             &dir,
             &format!(
                 "extends = \"slider-crank\"\n\
@@ -152,13 +133,12 @@ fn run_prints_when_each_joint_reaches_the_clearance_limit() {
                  amplification = 750.0\n\
                  clearance_limit = {limit}\n"
             ),
-        )
+        );
+        let o = run_into(scene.to_str().unwrap(), &out);
+        assert!(o.status.success(), "{limit}: {}", stderr(&o));
+        String::from_utf8_lossy(&o.stdout).into_owned()
     };
-    let out = dir.join("out");
-    let path = scene("0.000505");
-    let o = run_into(path.to_str().unwrap(), &out);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let text = String::from_utf8_lossy(&o.stdout);
+    let text = run("0.000505");
     assert!(
         text.contains("joint rod-slider reaches 0.505 mm clearance after "),
         "{text}"
@@ -166,14 +146,10 @@ fn run_prints_when_each_joint_reaches_the_clearance_limit() {
     for file in ["wear_life.csv", "wear_life_rod-slider.png"] {
         assert!(out.join(file).is_file(), "{file} missing");
     }
-    let path = scene("0.001");
-    let o = run_into(path.to_str().unwrap(), &out);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let text = String::from_utf8_lossy(&o.stdout);
+    let text = run("0.001");
     // One stage of K = 1 cycle × 750 stands for 750 cycles, all applied.
     assert!(
         text.contains("joint rod-slider does not reach 1.00 mm clearance within 7.5e2 cycles"),
         "{text}"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -61,6 +61,16 @@ fn names<T>(items: &[T], name_of: fn(&T) -> Option<&str>) -> String {
     }
 }
 
+/// [`pick`] in the scene table's array `items` at path `walked`; Err names the elements it has.
+fn element(items: &[toml::Value], segment: &str, walked: &str) -> Result<usize, String> {
+    pick(items, segment, toml_name).ok_or_else(|| {
+        format!(
+            "{walked} has no element {segment:?} ({})",
+            names(items, toml_name)
+        )
+    })
+}
+
 /// Set the field at `path` in a scene table to `value`, creating missing tables on the way
 /// (the scene's deserialization then rejects a key that does not exist). An array element must
 /// exist. Err: why not, for a message that names the path.
@@ -87,12 +97,7 @@ pub fn set(table: &mut toml::Table, path: &str, value: toml::Value) -> Result<()
             Ok(())
         }
         toml::Value::Array(items) => {
-            let k = pick(items, last, toml_name).ok_or_else(|| {
-                format!(
-                    "{walked} has no element {last:?} ({})",
-                    names(items, toml_name)
-                )
-            })?;
+            let k = element(items, last, &walked)?;
             items[k] = value;
             Ok(())
         }
@@ -125,12 +130,7 @@ fn step_mut<'a>(
             .entry(seg.to_string())
             .or_insert_with(|| toml::Value::Table(toml::Table::new()))),
         toml::Value::Array(items) => {
-            let k = pick(items, seg, toml_name).ok_or_else(|| {
-                format!(
-                    "{walked} has no element {seg:?} ({})",
-                    names(items, toml_name)
-                )
-            })?;
+            let k = element(items, seg, walked)?;
             Ok(&mut items[k])
         }
         _ => Err(format!("{walked} is not a table")),

@@ -215,46 +215,21 @@ impl VaryFile {
                 if high <= low {
                     return Err(bad(f("high"), high, format!("must exceed low = {low}")));
                 }
-                if !(high - low).is_finite() {
-                    return Err(bad(
-                        f("high"),
-                        high,
-                        format!("high − low overflows (low = {low}): draws would be infinite"),
-                    ));
-                }
                 Sampler::Uniform { low, high }
             }
             (None, Some("normal")) => {
                 allow(&["mean", "sd"])?;
-                let mean = finite(f("mean"), self.mean, "mean")?;
-                let sd = positive_finite(f("sd"), self.sd, "sd")?;
-                let z = Sampler::largest_z();
-                if !(mean.abs() + sd * z).is_finite() {
-                    return Err(bad(
-                        f("sd"),
-                        sd,
-                        format!(
-                            "draws reach mean ± {z:.2}·sd (mean = {mean}), beyond the largest number"
-                        ),
-                    ));
+                Sampler::Normal {
+                    mean: finite(f("mean"), self.mean, "mean")?,
+                    sd: positive_finite(f("sd"), self.sd, "sd")?,
                 }
-                Sampler::Normal { mean, sd }
             }
             (None, Some("log-normal")) => {
                 allow(&["median", "sigma"])?;
-                let median = positive_finite(f("median"), self.median, "median")?;
-                let sigma = positive_finite(f("sigma"), self.sigma, "sigma (of ln x)")?;
-                let z = Sampler::largest_z();
-                if !(median * (sigma * z).exp()).is_finite() {
-                    return Err(bad(
-                        f("sigma"),
-                        sigma,
-                        format!(
-                            "draws reach median·exp({z:.2}·sigma) (median = {median}), beyond the largest number"
-                        ),
-                    ));
+                Sampler::LogNormal {
+                    median: positive_finite(f("median"), self.median, "median")?,
+                    sigma: positive_finite(f("sigma"), self.sigma, "sigma (of ln x)")?,
                 }
-                Sampler::LogNormal { median, sigma }
             }
             (None, Some(other)) => {
                 return Err(bad(
@@ -264,11 +239,43 @@ impl VaryFile {
                 ));
             }
         };
+        if let Some((key, value, reason)) = unbounded_draws(&sampler) {
+            return Err(bad(f(key), value, reason));
+        }
         Ok(Input {
             name,
             paths,
             sampler,
         })
+    }
+}
+
+/// Where `sampler`'s draws can be infinite (uniform: `high − low` overflows; normal and
+/// log-normal: draws reach [`Sampler::largest_z`] deviations): the field that makes them so,
+/// its value and why.
+fn unbounded_draws(sampler: &Sampler) -> Option<(&'static str, f64, String)> {
+    let z = Sampler::largest_z();
+    match *sampler {
+        Sampler::Uniform { low, high } if !(high - low).is_finite() => Some((
+            "high",
+            high,
+            format!("high − low overflows (low = {low}): draws would be infinite"),
+        )),
+        Sampler::Normal { mean, sd } if !(mean.abs() + sd * z).is_finite() => Some((
+            "sd",
+            sd,
+            format!("draws reach mean ± {z:.2}·sd (mean = {mean}), beyond the largest number"),
+        )),
+        Sampler::LogNormal { median, sigma } if !(median * (sigma * z).exp()).is_finite() => {
+            Some((
+                "sigma",
+                sigma,
+                format!(
+                    "draws reach median·exp({z:.2}·sigma) (median = {median}), beyond the largest number"
+                ),
+            ))
+        }
+        _ => None,
     }
 }
 

@@ -87,6 +87,31 @@ fn bad_files_name_the_field() {
         ),
         (GRID, "[run]", "samples = 3\n[run]", &["samples"]),
         (RANDOM, "cycles = 1", "cycles = \"one\"", &["run.cycles"]),
+        // Draws that could be infinite, refused naming the field that makes them so.
+        (
+            RANDOM,
+            "low = 3e-4\nhigh = 6e-4",
+            "low = -1.7e308\nhigh = 1.7e308",
+            &[
+                "vary[0].high = 1.7e308: high − low overflows (low = -",
+                "draws would be infinite",
+            ],
+        ),
+        (
+            RANDOM,
+            "sd = 0.05",
+            "sd = 1e308",
+            &["vary[1].sd = 1e308: draws reach mean ± 8.57·sd (mean = 0.8), beyond the largest"],
+        ),
+        (
+            RANDOM,
+            "distribution = \"uniform\"\nlow = 3e-4\nhigh = 6e-4",
+            "distribution = \"log-normal\"\nmedian = 1e306\nsigma = 1.0",
+            &[
+                "vary[0].sigma = 1.0: draws reach median·exp(8.57·sigma) (median = 1",
+                "beyond the largest number",
+            ],
+        ),
         // Refused up front, not by every sample.
         (
             RANDOM,
@@ -306,6 +331,12 @@ fn paths_address_named_elements() {
     )
     .unwrap_err();
     assert!(e.contains("names: A, B"), "{e}");
+    // The same for an element set whole.
+    let e = sweep::path::set(&mut t, "bodies.9", toml::Value::Float(1.0)).unwrap_err();
+    assert!(
+        e.starts_with("bodies has no element \"9\" (names: rod1, rod2, rod3"),
+        "{e}"
+    );
     let summary = serde_json::json!({"wear": {"joints": [{"name": "A", "d": 1.5}, {"name": "B", "d": null}]}});
     assert_eq!(
         sweep::path::number(&summary, "wear.joints.A.d"),

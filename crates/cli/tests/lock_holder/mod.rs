@@ -1,11 +1,13 @@
 //! An advisory lock on a lock file held by another process, as a live run holds it. The test
 //! process must not hold it itself: a lock is shared with every child another test thread is
 //! spawning until that child has replaced itself with its program, so a released lock could
-//! still be held for an instant and refuse the next run.
+//! still be held for an instant and refuse the next run. Each test file compiles this module
+//! on its own and uses part of it, hence `dead_code` allowed.
+#![allow(dead_code)]
 
 use std::io::{BufRead, BufReader, Read};
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Child, Command, Output, Stdio};
 
 /// The environment variable that makes [`hold_lock_helper`] hold the lock on its path.
 const HOLD: &str = "WEARSIM_TEST_HOLD_LOCK";
@@ -36,6 +38,24 @@ impl LockHolder {
             "the helper took no lock"
         );
         Self(child)
+    }
+
+    /// Locks `path` as a live run holds its lock: this process's id written in the file.
+    pub fn live(path: &Path) -> Self {
+        std::fs::write(path, std::process::id().to_string()).unwrap();
+        Self::take(path)
+    }
+
+    /// Runs `command` while the lock is held, then releases it: the command must be refused at
+    /// once as another run's folder (exit 1). Its output.
+    #[track_caller]
+    pub fn refuses(self, command: impl FnOnce() -> Output) -> Output {
+        let o = command();
+        drop(self);
+        let said = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{said}");
+        assert!(said.contains("another wearsim run"), "{said}");
+        o
     }
 }
 

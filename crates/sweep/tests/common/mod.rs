@@ -137,6 +137,19 @@ impl Counts {
     }
 }
 
+/// Fuzzes door `door` by `fuzz` and prints its counts: the cases must reach both sides of the
+/// door (at least 200 accepted and 500 refused) and every kind in `kinds`.
+#[track_caller]
+pub fn fuzz_door(door: &str, fuzz: impl FnOnce() -> Counts, kinds: &[&str]) {
+    let started = Instant::now();
+    let c = fuzz();
+    let (accepted, refused) = c.report(door, started);
+    assert!(accepted >= 200 && refused >= 500, "{c:?}");
+    for kind in kinds {
+        assert!(c.get(kind) > 0, "no case of {kind}: {c:?}");
+    }
+}
+
 /// Why [`answer`] got no answer.
 #[derive(Debug)]
 pub enum NoAnswer {
