@@ -124,7 +124,7 @@ pub enum SampleError {
         /// Its value.
         value: f64,
     },
-    /// The summary could not be turned into JSON.
+    /// The summary could not be turned into the tree its metrics are read from.
     #[error("summary: {0}")]
-    Json(#[from] serde_json::Error),
+    Summary(#[from] ciborium::value::Error),
 }

@@ -33,7 +33,10 @@ pub const HISTOGRAMS_FILE: &str = "histograms.png";
 
 /// Draw the figures of `rows` into `out`; returns the files written.
 pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, OutputError> {
-    let ok: Vec<&Row> = rows.iter().filter(|r| r.status == Status::Ok).collect();
+    let ok: Vec<&Row> = rows
+        .iter()
+        .filter(|r| r.written_status() == Status::Ok)
+        .collect();
     let mut files = Vec::new();
     let (ni, nm) = (sweep.inputs.len(), sweep.metrics.len());
     let (cols, nrows) = (ni, nm);

@@ -22,7 +22,10 @@ pub fn write_page(
 ) -> Result<PathBuf, OutputError> {
     let mut html = Html::new();
     html.heading(1, &format!("Sweep {}", sweep.name));
-    let ok = rows.iter().filter(|r| r.status == Status::Ok).count();
+    let ok = rows
+        .iter()
+        .filter(|r| r.written_status() == Status::Ok)
+        .count();
     let mode = match sweep.mode {
         Mode::Grid { samples } => format!("a grid of {samples} samples"),
         Mode::Random { samples, seed } => format!("{samples} random samples (seed {seed})"),

@@ -531,13 +531,13 @@ impl Sweep {
 
     /// The metrics of a run's `summary` (as in `summary.json`), in metric order; `None` where
     /// the summary holds no number (`null`). A NaN or infinity is an error naming the metric,
-    /// so its sample is a failed row, never `ok` with a number that is none (serde_json would
-    /// make it `null`, read as "no value").
+    /// so its sample is a failed row, never `ok` with a number that is none (`summary.json`
+    /// writes it as `null`, read as "no value": [`path::summary_value`] keeps it).
     pub fn metrics_of_summary<T: Serialize + ?Sized>(
         &self,
         summary: &T,
     ) -> Result<Vec<Option<f64>>, SampleError> {
-        let summary = path::summary_json(summary)?;
+        let summary = path::summary_value(summary)?;
         self.metrics
             .iter()
             .map(|m| match path::number(&summary, m) {

@@ -337,7 +337,7 @@ fn paths_address_named_elements() {
         e.starts_with("bodies has no element \"9\" (names: rod1, rod2, rod3"),
         "{e}"
     );
-    let summary = serde_json::json!({"wear": {"joints": [{"name": "A", "d": 1.5}, {"name": "B", "d": null}]}});
+    let summary = sweep::path::summary_value(&serde_json::json!({"wear": {"joints": [{"name": "A", "d": 1.5}, {"name": "B", "d": null}]}})).unwrap();
     assert_eq!(
         sweep::path::number(&summary, "wear.joints.A.d"),
         Ok(Some(1.5))
