@@ -131,10 +131,21 @@ impl PrecisionReport {
             .min_by(|a, b| run_time(a).total_cmp(&run_time(b)))
     }
 
-    /// The report: settings, references and their agreement, the table, the fastest run per
-    /// accuracy level.
+    /// The report: settings, references and their agreement, the convergence, every run, the
+    /// cycle quantities, the fastest run per accuracy level.
     pub fn markdown(&self, figure: Option<&str>) -> String {
         let mut out = String::new();
+        self.intro(&mut out, figure);
+        self.references(&mut out);
+        self.convergence(&mut out);
+        self.runs(&mut out);
+        self.cycle_quantities(&mut out);
+        self.fastest_runs(&mut out);
+        out
+    }
+
+    /// The title, how the sweep was run and what the errors are, the diagram.
+    fn intro(&self, out: &mut String, figure: Option<&str>) {
         let _ = writeln!(
             out,
             "# Work–precision: scene `{}`, {} formulation\n",
@@ -169,8 +180,12 @@ impl PrecisionReport {
         if let Some(f) = figure {
             let _ = writeln!(out, "![work–precision diagram]({f})\n");
         }
-        out.push_str("## References\n\n| method | rtol | steps | wall (s) |");
+    }
+
+    /// The references' quantities and how far they agree (the floor of the errors).
+    fn references(&self, out: &mut String) {
         let names = self.quantity_names();
+        out.push_str("## References\n\n| method | rtol | steps | wall (s) |");
         for n in &names {
             let _ = write!(out, " {n} |");
         }
@@ -206,6 +221,10 @@ impl PrecisionReport {
             a.separation_s
                 .map_or("none within the run".into(), |t| format!("at t = {t:.4} s"))
         );
+    }
+
+    /// Per method, the slope of its start-up error against the tolerance.
+    fn convergence(&self, out: &mut String) {
         out.push_str(
             "## Convergence\n\nSlope of log (a) start-up error against log rtol (least squares over \
              the completed runs; 1 means the error falls in proportion to the tolerance asked \
@@ -232,6 +251,10 @@ impl PrecisionReport {
             );
         }
         out.push('\n');
+    }
+
+    /// Every run: its cost and its errors, or why it failed or was skipped.
+    fn runs(&self, out: &mut String) {
         out.push_str(
             "## Runs\n\n| method | rtol | steps | rejected | wall (s) | wall, wear (s) | \
              (a) start-up (m) | (b) cycle (rel.) | worst (b) quantity | (c) separation (s) | \
@@ -284,6 +307,12 @@ impl PrecisionReport {
                 }
             }
         }
+    }
+
+    /// Per run, the relative error of each cycle quantity, after the references' spread.
+    fn cycle_quantities(&self, out: &mut String) {
+        let names = self.quantity_names();
+        let a = &self.reference_agreement;
         let _ = write!(
             out,
             "\n## Cycle quantities, relative error of each\n\nThe first line is the second \
@@ -319,6 +348,10 @@ impl PrecisionReport {
             }
             out.push('\n');
         }
+    }
+
+    /// Per accuracy level, the fastest run that reached it.
+    fn fastest_runs(&self, out: &mut String) {
         out.push_str("\n## Fastest run per accuracy level\n\n");
         let describe = |r: Option<&Row>| {
             r.map_or("none".to_string(), |r| {
@@ -346,7 +379,6 @@ impl PrecisionReport {
                 describe(self.fastest(level, Errors::cycle_max))
             );
         }
-        out
     }
 
     /// The work–precision diagram: errors (a), (b), (c) against run time, and error (a)
