@@ -154,7 +154,7 @@ fn data_files<'a>(outcome: &'a RunOutcome, dir: &Path) -> Result<Written<'a>, Ou
                 &path,
                 &format!("Worn surfaces at joint {} after the last stage", joint.name),
                 (900, 650),
-                &plot::WornJoint {
+                &plot::WornOutlines {
                     bearing_radius: joint.bearing_radius,
                     pin_radius: joint.pin_radius,
                     bearing_wear: last.bearing().depth(),

@@ -221,7 +221,7 @@ pub fn wear_depth(
 
 /// Worn surfaces of one joint, each in its own body frame.
 #[derive(Debug, Clone, Copy)]
-pub struct WornJoint<'a> {
+pub struct WornOutlines<'a> {
     /// Nominal bearing radius, m.
     pub bearing_radius: f64,
     /// Nominal pin radius, m.
@@ -319,7 +319,7 @@ pub fn worn_outline(
     path: impl AsRef<Path>,
     title: &str,
     size: (u32, u32),
-    joint: &WornJoint<'_>,
+    joint: &WornOutlines<'_>,
 ) -> Result<(), OutputError> {
     let k = joint.exaggeration;
     let bearing = outline(joint.bearing_radius, joint.bearing_wear, 1.0, k);

@@ -6,7 +6,7 @@ use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 
 use output::files::{self, AtomicFile, Cell, Column, CsvWriter};
-use output::plot::{self, DEFAULT_SIZE, Figure, Series, WornJoint};
+use output::plot::{self, DEFAULT_SIZE, Figure, Series, WornOutlines};
 
 fn temp_dir(tag: &str) -> PathBuf {
     common::temp_dir("output", tag)
@@ -142,7 +142,7 @@ fn every_plot_renders_a_png_of_the_right_size() {
     assert_eq!(png_size(&depth), (700, 400));
 
     let outline = dir.join("outline.png");
-    let joint = WornJoint {
+    let joint = WornOutlines {
         bearing_radius: 0.05,
         pin_radius: 0.0495,
         bearing_wear: &bearing,

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::ClearanceJoint;
+use super::ClearanceJointSpec;
 
 /// The contact model of a clearance joint, e.g. `contact = { model = "foundation" }` or
 /// `contact = { model = "foundation", layer_modulus = 5e14, width = 0.1, cells = 2000,
@@ -99,7 +99,7 @@ impl ContactModelName {
     }
 }
 
-impl ClearanceJoint {
+impl ClearanceJointSpec {
     /// The foundation's node count: `contact.cells`, else `wear.cells` (a node per pin cell),
     /// else [`contact::DEFAULT_FOUNDATION_CELLS`].
     pub fn foundation_nodes(&self) -> usize {
@@ -151,7 +151,7 @@ impl ClearanceJoint {
     }
 }
 
-impl ClearanceJoint {
+impl ClearanceJointSpec {
     /// The contact that runs at this joint in words: model, normal law and the damping it
     /// applies, friction. Printed beside the scene's description and in the report, so that
     /// every result names the laws behind it.

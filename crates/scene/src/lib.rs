@@ -164,7 +164,7 @@ impl Scene {
     }
 
     /// Clearance joints that act as contact force elements (not marked `ideal`).
-    pub fn active_clearance_joints(&self) -> impl Iterator<Item = &ClearanceJoint> {
+    pub fn active_clearance_joints(&self) -> impl Iterator<Item = &ClearanceJointSpec> {
         self.clearance_joints.iter().filter(|c| !c.ideal)
     }
 

@@ -12,7 +12,7 @@ use contact::{FrictionLawParams, NormalLawParams};
 
 use super::error::Validator;
 use super::file_names::{MAX_NAME_CHARS, is_file_name_safe};
-use super::{BodyRef, ClearanceJoint, RunSettings, Scene, TimeLaw, WearSpec};
+use super::{BodyRef, ClearanceJointSpec, RunSettings, Scene, TimeLaw, WearSpec};
 
 /// Most bodies in a scene: the dense `3n × 3n` matrices of 1000 bodies already take ~70 MB.
 pub const MAX_BODIES: usize = 1000;
@@ -215,7 +215,7 @@ impl Limits<'_> {
         self.at_most(&format!("{p} (value at t = 0)"), law.eval(0.0)[0], 1e6, "");
     }
 
-    fn clearance_joint(&mut self, p: &str, c: &ClearanceJoint) {
+    fn clearance_joint(&mut self, p: &str, c: &ClearanceJointSpec) {
         self.name(&format!("{p}.name"), &c.name, true);
         self.point(&format!("{p}.bearing_point"), c.bearing_point);
         self.point(&format!("{p}.pin_point"), c.pin_point);
@@ -494,7 +494,7 @@ impl Limits<'_> {
 }
 
 /// The speeds (m/s) below which joint `k`'s laws change behaviour, with their field paths.
-fn speed_scales(k: usize, c: &ClearanceJoint) -> Vec<(f64, String)> {
+fn speed_scales(k: usize, c: &ClearanceJointSpec) -> Vec<(f64, String)> {
     let p = format!("clearance_joints[{k}]");
     let mut v = Vec::new();
     if let FrictionLawParams::Ambrosio(a) = c.friction {

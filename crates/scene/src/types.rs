@@ -77,7 +77,7 @@ pub struct Scene {
     pub drivers: Vec<Driver>,
     /// Revolute joints with clearance: contact force elements, no constraint equations.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub clearance_joints: Vec<ClearanceJoint>,
+    pub clearance_joints: Vec<ClearanceJointSpec>,
     /// Integrator settings.
     #[serde(default)]
     pub solver: Solver,
@@ -278,7 +278,7 @@ impl TimeLaw {
 /// A revolute joint with radial clearance: a pin (journal) inside a bearing (hole).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct ClearanceJoint {
+pub struct ClearanceJointSpec {
     /// Unique joint name.
     pub name: String,
     /// Body with the hole, or `ground`.
@@ -321,7 +321,7 @@ pub struct ClearanceJoint {
     pub ideal: bool,
 }
 
-impl ClearanceJoint {
+impl ClearanceJointSpec {
     /// Pin (journal) radius `R_j = R_i − c`, m.
     pub fn pin_radius(&self) -> f64 {
         self.bearing_radius - self.clearance

@@ -6,7 +6,7 @@ use std::collections::HashSet;
 
 use super::error::Validator;
 use super::{
-    BodyRef, ClearanceJoint, ContactModelName, DriverTarget, GROUND, MAX_WEAR_CELLS, Scene,
+    BodyRef, ClearanceJointSpec, ContactModelName, DriverTarget, GROUND, MAX_WEAR_CELLS, Scene,
     SceneError, Solver, TimeLaw,
 };
 
@@ -209,7 +209,7 @@ impl Validator {
         }
     }
 
-    fn clearance_joint(&mut self, s: &Scene, p: &str, c: &ClearanceJoint) {
+    fn clearance_joint(&mut self, s: &Scene, p: &str, c: &ClearanceJointSpec) {
         self.body_name(s, &format!("{p}.bearing_body"), &c.bearing_body);
         self.body_name(s, &format!("{p}.pin_body"), &c.pin_body);
         if c.bearing_body == c.pin_body {
@@ -267,7 +267,7 @@ impl Validator {
         }
     }
 
-    fn contact_model(&mut self, p: &str, c: &ClearanceJoint, stepping: wear::WearStepping) {
+    fn contact_model(&mut self, p: &str, c: &ClearanceJointSpec, stepping: wear::WearStepping) {
         let spec = &c.contact;
         let q = format!("{p}.contact");
         if spec.model == ContactModelName::LinearSpring {

@@ -14,7 +14,7 @@ use multibody::{
 use wear::{WearError, WearParams, WornJoint};
 
 use clearance::{ClearanceForce, ClearanceProbe};
-use scene::{BodyRef, ClearanceJoint, DriverTarget, Scene, TimeLaw};
+use scene::{BodyRef, ClearanceJointSpec, DriverTarget, Scene, TimeLaw};
 
 /// Why a scene could not be turned into a system; `field` is the scene path at fault.
 #[derive(Debug, thiserror::Error)]
@@ -318,7 +318,7 @@ fn body_id(scene: &Scene, field: &str, name: &str) -> Result<Option<BodyId>, Bui
 
 /// The contact joint of a scene's clearance joint with round surfaces.
 fn round_joint(
-    c: &ClearanceJoint,
+    c: &ClearanceJointSpec,
     p: &str,
 ) -> Result<contact::ClearanceJoint<contact::CircularProfile, contact::CircularProfile>, BuildError>
 {

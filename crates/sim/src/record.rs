@@ -11,7 +11,7 @@ use super::{
     simulation_options,
 };
 use crate::build::{BuiltScene, JointHandle, Surfaces, build};
-use crate::validity::{Limits, ValidityTally};
+use crate::validity::{ValidityLimits, ValidityTally};
 use scene::Scene;
 
 /// The ideal mechanism at the output times: the recorded body's motion, and every body's pose
@@ -190,7 +190,7 @@ pub(super) fn simulate(
             .collect(),
         validity: joints
             .iter()
-            .map(|j| ValidityTally::new(j.clearance, Limits::default(), &j.model))
+            .map(|j| ValidityTally::new(j.clearance, ValidityLimits::default(), &j.model))
             .collect(),
         progress,
         record: true,

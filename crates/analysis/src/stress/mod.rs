@@ -208,7 +208,7 @@ pub enum StressError {
     Output(#[from] OutputError),
 }
 
-fn each_joint(scene: &mut Scene, f: impl Fn(&mut scene::ClearanceJoint)) {
+fn each_joint(scene: &mut Scene, f: impl Fn(&mut scene::ClearanceJointSpec)) {
     scene.clearance_joints.iter_mut().for_each(f);
 }
 

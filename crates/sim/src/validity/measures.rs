@@ -9,7 +9,7 @@ pub const MIN_ELASTIC_SHARE: f64 = 0.5;
 
 /// The limits a run's worn geometry must stay within.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Limits {
+pub struct ValidityLimits {
     /// Largest `|R_i' − R_j'|/|e|` at a loaded frame.
     pub slope_ratio: f64,
     /// Largest `(R_j'' − R_i'')/c` at a loaded frame.
@@ -30,7 +30,7 @@ pub struct Limits {
     pub elastic_share: f64,
 }
 
-impl Default for Limits {
+impl Default for ValidityLimits {
     fn default() -> Self {
         Self {
             slope_ratio: 0.3,
@@ -89,7 +89,7 @@ pub struct Validity {
     /// not judged, e.g. no peak after the window).
     pub elastic_share_median: Option<f64>,
     /// The limits applied.
-    pub limits: Limits,
+    pub limits: ValidityLimits,
 }
 
 /// Accumulates the measures frame by frame.
@@ -102,7 +102,7 @@ pub struct ValidityTally {
 impl ValidityTally {
     /// An empty tally for a joint of nominal clearance `clearance` (m) on contact model
     /// `model`, judged by the measures the model names.
-    pub fn new(clearance: f64, limits: Limits, model: &impl ContactModel) -> Self {
+    pub fn new(clearance: f64, limits: ValidityLimits, model: &impl ContactModel) -> Self {
         Self {
             clearance,
             validity: Validity {
@@ -344,7 +344,7 @@ mod tests {
     #[test]
     fn round_contacts_are_inside_and_each_measure_can_fail() {
         let clearance = 5e-4;
-        let mut round = ValidityTally::new(clearance, Limits::default(), &LineOfCentres);
+        let mut round = ValidityTally::new(clearance, ValidityLimits::default(), &LineOfCentres);
         for _ in 0..100 {
             round.frame(&loaded(0.0, 0.0), Some(2e-5));
         }
@@ -353,7 +353,7 @@ mod tests {
         assert_eq!((v.loaded_frames, v.penetrating_frames), (100, 100));
 
         // Slope 0.4 × |e| and conformity 1.2: both beyond their limits.
-        let mut steep = ValidityTally::new(clearance, Limits::default(), &LineOfCentres);
+        let mut steep = ValidityTally::new(clearance, ValidityLimits::default(), &LineOfCentres);
         steep.frame(&loaded(0.4 * 5.2e-4, 1.2 * 5e-4), None);
         let v = steep.finish();
         assert!(!v.inside);
@@ -362,7 +362,7 @@ mod tests {
         assert!((v.max_conformity_ratio - 1.2).abs() < 1e-12);
 
         // A contact the line of centres misses, and a penetrating frame without force.
-        let mut missed = ValidityTally::new(clearance, Limits::default(), &LineOfCentres);
+        let mut missed = ValidityTally::new(clearance, ValidityLimits::default(), &LineOfCentres);
         let free = ContactDiagnostics {
             penetration: -1e-5,
             ..ContactDiagnostics::default()
@@ -379,7 +379,7 @@ mod tests {
         assert!((v.max_overlap_error_m - 8e-5).abs() < 1e-18);
         assert_eq!(v.reasons.len(), 3, "{:?}", v.reasons);
         // Two gaps of different size are no error.
-        let mut apart = ValidityTally::new(clearance, Limits::default(), &LineOfCentres);
+        let mut apart = ValidityTally::new(clearance, ValidityLimits::default(), &LineOfCentres);
         apart.frame(&free, Some(-2e-4));
         assert!(apart.finish().inside);
     }
@@ -397,7 +397,7 @@ mod tests {
             resolution_error: 0.96 / f64::from(narrowest).powi(2),
             ..ContactDiagnostics::default()
         };
-        let mut fine = ValidityTally::new(clearance, Limits::default(), &foundation());
+        let mut fine = ValidityTally::new(clearance, ValidityLimits::default(), &foundation());
         fine.frame(&frame(2e-5, 1, 40), None);
         // A light touch of one node (overlap below 1 % of c) does not count as a zone.
         fine.frame(&frame(1e-6, 1, 1), None);
@@ -407,7 +407,7 @@ mod tests {
         assert_eq!(v.narrowest_zone_cells, Some(40));
         assert!((v.max_overlap_ratio - 0.04).abs() < 1e-12);
 
-        let mut coarse = ValidityTally::new(clearance, Limits::default(), &foundation());
+        let mut coarse = ValidityTally::new(clearance, ValidityLimits::default(), &foundation());
         coarse.frame(&frame(2e-5, 2, 3), None);
         coarse.frame(&frame(1.5e-4, 1, 60), None);
         let v = coarse.finish();
@@ -415,7 +415,7 @@ mod tests {
         assert_eq!(v.narrowest_zone_cells, Some(3));
         assert_eq!(v.max_contact_zones, 2);
         // Slopes and missed contacts are the line of centres' measures: not applied here.
-        let mut unloaded = ValidityTally::new(clearance, Limits::default(), &foundation());
+        let mut unloaded = ValidityTally::new(clearance, ValidityLimits::default(), &foundation());
         unloaded.frame(
             &ContactDiagnostics {
                 normal_force: 0.0,
@@ -433,7 +433,7 @@ mod tests {
     #[test]
     fn a_mostly_damped_force_peak_is_outside_validity() {
         for (share, inside) in [(0.3, false), (0.49, false), (0.5, true), (0.97, true)] {
-            let mut v = ValidityTally::new(5e-4, Limits::default(), &foundation()).finish();
+            let mut v = ValidityTally::new(5e-4, ValidityLimits::default(), &foundation()).finish();
             assert!(v.inside);
             v.judge_elastic_share(share);
             assert_eq!(v.inside, inside, "share {share}");
@@ -445,7 +445,7 @@ mod tests {
                 v.reasons
             );
         }
-        let mut v = ValidityTally::new(5e-4, Limits::default(), &foundation()).finish();
+        let mut v = ValidityTally::new(5e-4, ValidityLimits::default(), &foundation()).finish();
         v.judge_elastic_share(f64::NAN);
         assert!(v.inside && v.elastic_share_median.is_none());
     }

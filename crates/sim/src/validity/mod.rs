@@ -20,7 +20,7 @@
 //! **Line of centres**: the penetration is measured along the line
 //! through the two centres, and the pin is assumed to reach the bottom of whatever the bearing
 //! offers there. A worn profile breaks that when it is steep or rough against the clearance.
-//! Four measures, each with a limit ([`Limits`]):
+//! Four measures, each with a limit ([`ValidityLimits`]):
 //! - **slope** `|R_i' − R_j'|/|e|` at loaded frames: the tilt of the contact normal from the
 //!   line of centres (the tangential part of the force direction `m`). Above 0.3 the contact
 //!   normal is more than 17° off and `δ` overstates the normal gap by more than 4 %.
@@ -40,11 +40,11 @@
 
 mod measures;
 
-pub use measures::{Limits, MIN_ELASTIC_SHARE, Validity, ValidityTally};
+pub use measures::{MIN_ELASTIC_SHARE, Validity, ValidityLimits, ValidityTally};
 
 use super::{ContactSeries, RunError};
 use crate::build::BuiltScene;
-use scene::ClearanceJoint;
+use scene::ClearanceJointSpec;
 use scene::Scene;
 use scene::limits::MAX_PENETRATION_FRACTION;
 
@@ -61,7 +61,7 @@ pub fn check_penetration(
             .clearance_joints
             .iter()
             .find(|c| c.name == series.name)
-            .map_or(f64::INFINITY, ClearanceJoint::pin_radius);
+            .map_or(f64::INFINITY, ClearanceJointSpec::pin_radius);
         let limit = MAX_PENETRATION_FRACTION * series.clearance.min(pin_radius);
         let penetration = series.penetration.iter().copied().fold(f64::MIN, f64::max);
         if penetration > limit {
