@@ -117,6 +117,15 @@ fn set_model(scene: &mut scene::Scene, model: ContactModelName) {
     }
 }
 
+/// A [`worn_folder`] named `name`, the default scene and its joints' unworn surfaces (what a
+/// start from the folder is checked against).
+fn lgres_beside_worn_folder(name: &str) -> (PathBuf, ValidScene, Vec<Option<wear::WornJoint>>) {
+    let dir = worn_folder(name);
+    let scene = lgres::scenes::builtin("lgres").expect("built-in");
+    let unworn = sim::build::unworn_joints(&scene).expect("joints");
+    (dir, scene, unworn)
+}
+
 /// The built-in scene `name` for one response cycle, its clearance joints on `model`.
 fn one_cycle_on(name: &str, model: ContactModelName) -> ValidScene {
     lgres::scenes::builtin(name)
@@ -227,10 +236,8 @@ fn line_of_centres_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_e
 #[test]
 fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
     use multibody::OutputTimes;
-    use sim::build::{Surfaces, build, unworn_joints};
-    let dir = worn_folder("partials");
-    let scene = lgres::scenes::builtin("lgres").expect("built-in");
-    let unworn = unworn_joints(&scene).expect("joints");
+    use sim::build::{Surfaces, build};
+    let (dir, scene, unworn) = lgres_beside_worn_folder("partials");
     let worn = output::surfaces::load_last_stage(&dir, &scene, &unworn).expect("loads");
     let build_worn = || {
         build(
@@ -293,10 +300,7 @@ fn worn_joints_partials_match_finite_differences_in_the_mechanism() {
 /// a FIFO, no silent surface from shuffled rows or a depth of 1e300 m.
 #[test]
 fn corrupt_or_special_wear_files_are_refused_by_name() {
-    use sim::build::unworn_joints;
-    let dir = worn_folder("corrupt");
-    let scene = lgres::scenes::builtin("lgres").expect("built-in");
-    let unworn = unworn_joints(&scene).expect("joints");
+    let (dir, scene, unworn) = lgres_beside_worn_folder("corrupt");
     let file = dir.join("wear_B_stage1.csv");
     let good = std::fs::read_to_string(&file).expect("reads");
     let refused = |what: &str| -> String {
