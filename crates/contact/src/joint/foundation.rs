@@ -139,6 +139,74 @@ struct MemoryUse<'m> {
     computed: usize,
 }
 
+impl Sink<'_> {
+    /// Hands Simpson's held wear loads to the visitor. Simpson's weights alternate along a zone
+    /// (4/3, 2/3 of a node's arc): the wear gets the trapezoid's even loads, scaled to the
+    /// force's total so that the Archard volume follows the load the joint carries.
+    fn deposit(&mut self, books: &Books) {
+        if let Some(visit) = self.visit.as_mut() {
+            let scale = if books.trapezoid_load > 0.0 {
+                ((books.load + books.pull) / books.trapezoid_load).max(0.0)
+            } else {
+                0.0
+            };
+            for load in &mut self.deposits {
+                load.normal_force *= scale;
+                visit(load);
+            }
+        }
+    }
+}
+
+/// The overlap memory an evaluation holds: its notes, and the pose it is evaluated at.
+type HeldMemory = (Box<Remembered>, Pose);
+
+/// The line of centres at one state: the direction of the free joint's diagnostics.
+struct Centres<T> {
+    /// The pin centre from the bearing centre, `e` (m).
+    e_value: [f64; 2],
+    /// `|e|` (m).
+    rho: f64,
+    /// The paper's sliding rate `φ̇ = t·ė/|e|` (rad/s), in the evaluation's arithmetic.
+    phi_rate: T,
+    /// The rate the centres move apart along `e` (m/s).
+    centre_rate: f64,
+}
+
+/// [`Centres`] of the two bodies, given their centres' arms.
+fn centres<T: Real>(
+    bearing: &Body<T>,
+    pin: &Body<T>,
+    bearing_centre_arm: &[T; 2],
+    pin_centre_arm: &[T; 2],
+) -> Centres<T> {
+    let e = offset(pin, pin_centre_arm, bearing, bearing_centre_arm);
+    let e_value = [e[0].value(), e[1].value()];
+    let rho = e_value[0].hypot(e_value[1]);
+    let e_rate = {
+        let p = pin.point_velocity(pin_centre_arm);
+        let b = bearing.point_velocity(bearing_centre_arm);
+        [p[0] - b[0], p[1] - b[1]]
+    };
+    let e_norm = dot(&e, &e).sqrt();
+    let phi_rate = if rho > 0.0 {
+        cross(&e, &e_rate) / (e_norm * e_norm)
+    } else {
+        T::constant(0.0)
+    };
+    let centre_rate = if rho > 0.0 {
+        (e_value[0] * e_rate[0].value() + e_value[1] * e_rate[1].value()) / rho
+    } else {
+        0.0
+    };
+    Centres {
+        e_value,
+        rho,
+        phi_rate,
+        centre_rate,
+    }
+}
+
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactPair<B, P, N, F> {
     /// The kernel: forces on both bodies, diagnostics, and each loaded node to `visit` if any.
     fn foundation_eval<T: Real>(
@@ -154,27 +222,12 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         let pin = Body::new(pin_state);
         let bearing_centre_arm = bearing.rotate([self.bearing_centre.x, self.bearing_centre.y]);
         let pin_centre_arm = pin.rotate([self.pin_centre.x, self.pin_centre.y]);
-        let e = offset(&pin, &pin_centre_arm, &bearing, &bearing_centre_arm);
-        let e_value = [e[0].value(), e[1].value()];
-        let rho = e_value[0].hypot(e_value[1]);
-        // The line of centres: the direction of the free joint's diagnostics, and the paper's
-        // sliding rate φ̇ = t·ė/|e|.
-        let e_rate = {
-            let p = pin.point_velocity(&pin_centre_arm);
-            let b = bearing.point_velocity(&bearing_centre_arm);
-            [p[0] - b[0], p[1] - b[1]]
-        };
-        let e_norm = dot(&e, &e).sqrt();
-        let phi_rate = if rho > 0.0 {
-            cross(&e, &e_rate) / (e_norm * e_norm)
-        } else {
-            T::constant(0.0)
-        };
-        let centre_rate = if rho > 0.0 {
-            (e_value[0] * e_rate[0].value() + e_value[1] * e_rate[1].value()) / rho
-        } else {
-            0.0
-        };
+        let Centres {
+            e_value,
+            rho,
+            phi_rate,
+            centre_rate,
+        } = centres(&bearing, &pin, &bearing_centre_arm, &pin_centre_arm);
         // The impact's onset velocity as the law reads it (floored), and at least the layer's
         // reference speed when one is set (`Foundation::with_reference_speed`). A node's rate
         // counts only within ± this: the range one impact spans (`Foundation`'s docs).
@@ -207,35 +260,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
             if simpson { 2 } else { 1 },
         );
 
-        // Plain evaluations pass over the nodes the overlap memory rules out (`Skip`), and
-        // renew it with the overlaps they find when it has nothing to say or has gone stale.
-        // (No memory, no pose: nothing of it runs for round bearings or dual numbers.)
-        let mut memory = (T::PLAIN && self.bounds.bearing_slope.is_some()).then(|| {
-            let (s, c) = bearing.theta_sin_cos;
-            let pose = Pose::new(
-                e_value,
-                (s.value(), c.value()),
-                theta_bearing.value(),
-                theta_pin,
-            );
-            let remembered = self
-                .bounds
-                .memory
-                .take()
-                .filter(|m| m.overlap.len() == cells)
-                .unwrap_or_else(|| Remembered::empty(cells));
-            (remembered, pose)
-        });
-        let mut skip = memory
-            .as_ref()
-            .filter(|(m, _)| m.deepest > f64::NEG_INFINITY)
-            .and_then(|(m, pose)| Some(Skip::new(m, self.bounds.drift(m.pose, *pose)?)));
-        // A memory whose deepest node surely still overlaps is only read; otherwise (and when
-        // stale) this evaluation renews it, passing over what the old notes rule out and
-        // carrying their bounds (plus the drift) into the new ones.
-        let recording = memory.is_some()
-            && !(skip.is_some_and(|s| s.overlapping)
-                && memory.as_ref().is_some_and(|(m, _)| !m.stale));
+        let (mut memory, mut skip, recording) =
+            self.overlap_memory(&bearing, cells, e_value, theta_pin);
         let mem: Option<&mut Remembered> = memory.as_mut().map(|(m, pose)| {
             if recording && m.renew(*pose).is_none() {
                 skip = None;
@@ -285,27 +311,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
             );
         }
         let computed = memory_use.computed;
-        if let Some(visit) = sink.visit.as_mut() {
-            // Simpson's weights alternate along a zone (4/3, 2/3 of a node's arc): the wear gets
-            // the trapezoid's even loads, scaled to the force's total so that the Archard
-            // volume follows the load the joint carries.
-            let scale = if books.trapezoid_load > 0.0 {
-                ((books.load + books.pull) / books.trapezoid_load).max(0.0)
-            } else {
-                0.0
-            };
-            for load in &mut sink.deposits {
-                load.normal_force *= scale;
-                visit(load);
-            }
-        }
-        if let Some((mut m, _)) = memory {
-            if recording {
-                m.computed = computed;
-            } else {
-                m.stale = 2 * computed > m.computed;
-            }
-            self.bounds.memory.put(m);
+        sink.deposit(&books);
+        if let Some((m, _)) = memory {
+            self.keep_memory(m, recording, computed);
         }
         if books.deepest.is_none_or(|d| d < candidates.outside_bound) {
             books.deepest = Some(candidates.outside_bound);
@@ -325,6 +333,52 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
             centre_rate,
         );
         out
+    }
+
+    /// The overlap memory this evaluation uses, what it rules out and whether it renews it.
+    /// Plain evaluations pass over the nodes the memory rules out (`Skip`), and renew it with
+    /// the overlaps they find when it has nothing to say or has gone stale. (No memory, no
+    /// pose: nothing of it runs for round bearings or dual numbers.)
+    fn overlap_memory<T: Real>(
+        &self,
+        bearing: &Body<T>,
+        cells: usize,
+        e_value: [f64; 2],
+        theta_pin: f64,
+    ) -> (Option<HeldMemory>, Option<Skip>, bool) {
+        let memory = (T::PLAIN && self.bounds.bearing_slope.is_some()).then(|| {
+            let (s, c) = bearing.theta_sin_cos;
+            let pose = Pose::new(e_value, (s.value(), c.value()), bearing.theta, theta_pin);
+            let remembered = self
+                .bounds
+                .memory
+                .take()
+                .filter(|m| m.overlap.len() == cells)
+                .unwrap_or_else(|| Remembered::empty(cells));
+            (remembered, pose)
+        });
+        let skip = memory
+            .as_ref()
+            .filter(|(m, _)| m.deepest > f64::NEG_INFINITY)
+            .and_then(|(m, pose)| Some(Skip::new(m, self.bounds.drift(m.pose, *pose)?)));
+        // A memory whose deepest node surely still overlaps is only read; otherwise (and when
+        // stale) this evaluation renews it, passing over what the old notes rule out and
+        // carrying their bounds (plus the drift) into the new ones.
+        let recording = memory.is_some()
+            && !(skip.is_some_and(|s| s.overlapping)
+                && memory.as_ref().is_some_and(|(m, _)| !m.stale));
+        (memory, skip, recording)
+    }
+
+    /// Puts the memory back for the next evaluation: a renewed one with the count of nodes it
+    /// computed, a read one marked stale once it saves less than half of that.
+    fn keep_memory(&self, mut memory: Box<Remembered>, recording: bool, computed: usize) {
+        if recording {
+            memory.computed = computed;
+        } else {
+            memory.stale = 2 * computed > memory.computed;
+        }
+        self.bounds.memory.put(memory);
     }
 
     /// A closed node's share: its elastic load `G_k` (the energy's gradient over the node), the
