@@ -196,8 +196,7 @@ pub(super) fn stages(
     let r = &scene.run;
     let k = r.cycles_per_stage.max(1);
     let shape_limits = shape_limits(scene)?;
-    let shape_change_bounds = r.shape_change_bounds(shape_limits.is_some());
-    let plan = stage_plan(r, shape_limits, shape_change_bounds);
+    let plan = stage_plan(r, shape_limits);
     // Gather wear after the start-up window only (see the module docs).
     let wear_start = r.transient_window;
     let slots = wearing_slots(initial);
@@ -241,7 +240,6 @@ pub(super) fn stages(
         scene_cycles_per_stage,
         staged: &staged,
         shape_limited: shape_limits.is_some(),
-        shape_change_bounds,
     };
     let summary = ran.summary(&history, cycles_applied, wear_start, started, progress);
     let surfaces = slots
@@ -257,11 +255,8 @@ pub(super) fn stages(
 
 /// The stage plan of the run settings `r`: how each stage is extrapolated, smoothed and
 /// stepped, and where it stops. `shape_limits` are the contact models' tightest.
-fn stage_plan(
-    r: &RunSettings,
-    shape_limits: Option<ShapeLimits>,
-    (max_slope_change, max_curvature_change): (f64, f64),
-) -> StagePlan {
+fn stage_plan(r: &RunSettings, shape_limits: Option<ShapeLimits>) -> StagePlan {
+    let (max_slope_change, max_curvature_change) = r.shape_change_bounds(shape_limits.is_some());
     let extrapolation =
         if let (true, Some(tolerance)) = (r.adaptive_extrapolation, r.wear_tolerance) {
             Extrapolation::Controlled {

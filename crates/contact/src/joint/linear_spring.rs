@@ -15,7 +15,7 @@ use nalgebra::{Matrix2, Vector2};
 
 use super::model::{ContactKernel, ContactModel, ValidityMeasure, Visit};
 use super::pair::ContactPair;
-use super::types::{BodyState, ContactForces, ContactJacobian, JointState};
+use super::types::{BodyState, ContactForces, ContactJacobian, JointKinematics, JointState};
 use crate::diagnostics::ContactDiagnostics;
 use crate::error::{ContactError, positive};
 use crate::friction::FrictionLaw;
@@ -40,12 +40,13 @@ impl LinearSpring {
         self.stiffness
     }
 
-    /// The forces at the given states, their partials into `jacobian` (left zero apart).
+    /// The forces at the given states and, when asked for, their partials into `jacobian`
+    /// (left zero apart): the right-hand side computes no partials.
     fn evaluate<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>(
         &self,
         pair: &ContactPair<B, P, N, F>,
         at: JointState,
-        jacobian: &mut ContactJacobian,
+        jacobian: Option<&mut ContactJacobian>,
     ) -> ContactForces {
         let (bearing_body, pin_body) = (at.bearing, at.pin);
         let kin = pair.kinematics(bearing_body, pin_body);
@@ -80,6 +81,31 @@ impl LinearSpring {
         diagnostics.normal_force = magnitude;
         diagnostics.elastic_force = magnitude;
         diagnostics.elastic_energy = 0.5 * self.stiffness * depth * depth;
+        if let Some(jacobian) = jacobian {
+            self.partials(&kin, bearing_arm, pin_arm, pin_force, jacobian);
+        }
+        ContactForces {
+            bearing: nalgebra::Vector3::new(
+                -pin_force.x,
+                -pin_force.y,
+                cross(&bearing_arm, &-pin_force),
+            ),
+            pin: nalgebra::Vector3::new(pin_force.x, pin_force.y, cross(&pin_arm, &pin_force)),
+            diagnostics,
+        }
+    }
+
+    /// The partials of the forces on both bodies into `jacobian` ([`ContactJacobian`]'s
+    /// layout), in contact at `kin`, the pin's force `pin_force`.
+    fn partials(
+        &self,
+        kin: &JointKinematics,
+        bearing_arm: Vector2<f64>,
+        pin_arm: Vector2<f64>,
+        pin_force: Vector2<f64>,
+        jacobian: &mut ContactJacobian,
+    ) {
+        let (n, depth) = (kin.normal, kin.penetration);
         // F = −k (e − c n) with the local clearance c held fixed:
         // ∂F/∂e = −k (I − (c/|e|)(I − n nᵀ)).
         let clearance = kin.eccentricity_norm - depth;
@@ -116,15 +142,6 @@ impl LinearSpring {
             jacobian[(4, column)] = d_pin_force.y;
             jacobian[(5, column)] = cross(&d_pin_arm, &pin_force) + cross(&pin_arm, &d_pin_force);
         }
-        ContactForces {
-            bearing: nalgebra::Vector3::new(
-                -pin_force.x,
-                -pin_force.y,
-                cross(&bearing_arm, &-pin_force),
-            ),
-            pin: nalgebra::Vector3::new(pin_force.x, pin_force.y, cross(&pin_arm, &pin_force)),
-            diagnostics,
-        }
     }
 }
 
@@ -142,9 +159,8 @@ impl ContactModel for LinearSpring {
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactKernel<B, P, N, F>
     for LinearSpring
 {
-    /// The forces with their Jacobian, a few products more: one evaluation serves both.
     fn forces(&self, pair: &ContactPair<B, P, N, F>, at: JointState, _: Visit) -> ContactForces {
-        self.forces_and_jacobian(pair, at).0
+        self.evaluate(pair, at, None)
     }
 
     fn forces_and_jacobian(
@@ -153,7 +169,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         at: JointState,
     ) -> (ContactForces, ContactJacobian) {
         let mut jacobian = ContactJacobian::zeros();
-        let forces = self.evaluate(pair, at, &mut jacobian);
+        let forces = self.evaluate(pair, at, Some(&mut jacobian));
         (forces, jacobian)
     }
 

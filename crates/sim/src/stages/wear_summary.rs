@@ -23,8 +23,6 @@ pub(super) struct StagesRan<'a> {
     pub(super) staged: &'a WearStages,
     /// Whether a contact model limits the worn outlines' shape.
     pub(super) shape_limited: bool,
-    /// The largest slope and curvature change per adaptive sub-step (c0/rad, c0/rad²).
-    pub(super) shape_change_bounds: (f64, f64),
 }
 
 /// Per stage: its sub-steps, runs, rejected runs and where it ended early; every sub-step's
@@ -185,7 +183,7 @@ impl StagesRan<'_> {
     /// How the stages were stepped, in words.
     fn extrapolation_words(&self) -> String {
         let (r, plan) = (self.settings, self.plan);
-        let (max_slope_change, max_curvature_change) = self.shape_change_bounds;
+        let (max_slope_change, max_curvature_change) = r.shape_change_bounds(self.shape_limited);
         let mut words = if let Extrapolation::Controlled {
             tolerance,
             min_fraction,
