@@ -134,9 +134,12 @@ fn max_substeps() -> u32 {
 
 impl RunSettings {
     /// The slope and curvature bounds per extrapolation sub-step: the scene's, else 0.25 each
-    /// when `line_of_centres` (some joint uses that contact) and unbounded otherwise.
-    pub fn shape_change_bounds(&self, line_of_centres: bool) -> (f64, f64) {
-        let default = |line: f64| if line_of_centres { line } else { f64::INFINITY };
+    /// when `shape_limited` (some joint's contact model needs its worn outlines within shape
+    /// limits, `contact::ContactModel::shape_limits`: the line of centres) and unbounded
+    /// otherwise, since only such a model can leave its validity through a sub-step's change of
+    /// shape.
+    pub fn shape_change_bounds(&self, shape_limited: bool) -> (f64, f64) {
+        let default = |bound: f64| if shape_limited { bound } else { f64::INFINITY };
         (
             self.max_slope_change
                 .unwrap_or(default(wear::Extrapolation::DEFAULT_SLOPE_CHANGE)),

@@ -172,7 +172,7 @@ fn a_value_beyond_the_integer_type_is_refused_up_front() {
         &grid("run.cycles", "[-1]"),
         &["run.cycles = -1", "0 to 4294967295"],
     );
-    // usize: beyond i64 (what TOML holds) used to saturate to 9.2e18 cells.
+    // usize: a value beyond i64 (what TOML holds) must be refused, not saturated to 9.2e18 cells.
     let text = r#"
 scene = "lgres"
 metrics = ["response.dissipated_per_cycle_j"]

@@ -15,7 +15,7 @@ fn name(e: WearError) -> &'static str {
 }
 
 #[test]
-fn parameters() {
+fn wear_params_refuse_negative_nan_or_infinite_values_and_zero_cells() {
     assert_eq!(
         name(WearParams::new(-1e-13, WIDTH, 10).unwrap_err()),
         "wear_coefficient"
@@ -67,7 +67,7 @@ fn zero_wear_coefficient_means_off() {
 }
 
 #[test]
-fn radii() {
+fn worn_joint_refuses_a_pin_not_smaller_than_its_bearing_and_bad_radii() {
     let params = WearParams::new(K_D, WIDTH, 10).unwrap();
     assert_eq!(
         WornJoint::new(&params, 0.05, 0.05).unwrap_err(),
@@ -87,7 +87,7 @@ fn radii() {
 }
 
 #[test]
-fn depths_and_grids() {
+fn depths_must_be_finite_and_non_negative_and_grids_must_match() {
     let e = WornProfile::from_depths(Side::Pin, R_PIN, vec![0.0, -1e-9]).unwrap_err();
     assert_eq!(
         e,
@@ -123,7 +123,7 @@ fn depths_and_grids() {
 }
 
 #[test]
-fn amplification_and_pin_worn_through() {
+fn apply_refuses_non_positive_amplification_and_a_pin_worn_through_unchanged() {
     let mut j = joint(10);
     let w = StageWear::from_depths(&j, vec![1e-6; 10], vec![1e-6; 10]).unwrap();
     assert_eq!(name(j.apply(&w, 0.0).unwrap_err()), "amplification");
@@ -149,7 +149,7 @@ fn profiles_deeper_than_their_radius_are_refused() {
 }
 
 #[test]
-fn plans() {
+fn stage_plans_refuse_out_of_range_fractions_counts_and_amplifications() {
     let with = |x| StagePlan::paper(1).with_extrapolation(x);
     let adaptive = |f| {
         with(Extrapolation::Adaptive {
