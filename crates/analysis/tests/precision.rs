@@ -5,7 +5,7 @@
 use analysis::precision::{
     PrecisionError, PrecisionOptions, PrecisionReport, RowOutcome, run_sweep,
 };
-use scene::{Integrator, Scene};
+use scene::{Integrator, ValidScene};
 
 /// The start-up window only (first impacts at ~0.012 s), two methods, two tolerances.
 fn short_sweep() -> PrecisionReport {
@@ -17,7 +17,7 @@ fn short_sweep() -> PrecisionReport {
 }
 
 /// The default scene as the bounds below were set on.
-fn scene() -> Scene {
+fn scene() -> ValidScene {
     let mut scene = lgres::scenes::builtin("lgres")
         .expect("built-in scene")
         .into_scene();
@@ -31,7 +31,7 @@ fn scene() -> Scene {
     for joint in &mut scene.clearance_joints {
         joint.contact = scene::ContactSpec::line_of_centres();
     }
-    scene
+    ValidScene::new(scene, "lgres, Cartesian, line of centres").expect("valid scene")
 }
 
 fn sweep(

@@ -256,6 +256,52 @@ pub enum SimulationError {
     },
 }
 
+/// Which way a simulation failed, without its numbers: what a caller that tallies failures
+/// (a stress battery, a step budget) matches on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SimulationErrorKind {
+    /// [`SimulationError::Assembly`].
+    Assembly,
+    /// [`SimulationError::InvalidOptions`].
+    InvalidOptions,
+    /// [`SimulationError::Evaluation`].
+    Evaluation,
+    /// [`SimulationError::Integrator`].
+    Integrator,
+    /// [`SimulationError::StepLimit`].
+    StepLimit,
+    /// [`SimulationError::WallTimeLimit`].
+    WallTimeLimit,
+}
+
+impl SimulationErrorKind {
+    /// The variant's name, e.g. `StepLimit`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Assembly => "Assembly",
+            Self::InvalidOptions => "InvalidOptions",
+            Self::Evaluation => "Evaluation",
+            Self::Integrator => "Integrator",
+            Self::StepLimit => "StepLimit",
+            Self::WallTimeLimit => "WallTimeLimit",
+        }
+    }
+}
+
+impl SimulationError {
+    /// Which way the simulation failed.
+    pub fn kind(&self) -> SimulationErrorKind {
+        match self {
+            Self::Assembly(_) => SimulationErrorKind::Assembly,
+            Self::InvalidOptions(_) => SimulationErrorKind::InvalidOptions,
+            Self::Evaluation { .. } => SimulationErrorKind::Evaluation,
+            Self::Integrator { .. } => SimulationErrorKind::Integrator,
+            Self::StepLimit { .. } => SimulationErrorKind::StepLimit,
+            Self::WallTimeLimit { .. } => SimulationErrorKind::WallTimeLimit,
+        }
+    }
+}
+
 /// `Ok` when `values` has `expected` entries, else the error naming `what`.
 pub(crate) fn check_len(
     what: &'static str,

@@ -157,7 +157,10 @@ pub use dynamics::{
     ConstraintDrift, EnergyAudit, EventRecord, Frame, Integrator, JacobianMethod, LinearSolverKind,
     Observer, OutputTimes, SimulationOptions, SimulationResult, SolverStatistics,
 };
-pub use error::{AssemblyError, EvaluationError, KinematicsError, ModelError, SimulationError};
+pub use error::{
+    AssemblyError, EvaluationError, KinematicsError, ModelError, SimulationError,
+    SimulationErrorKind,
+};
 pub use force::{ElementId, ForceElement, ForcePartials, Gravity};
 pub use formulation::{Equations, Formulation};
 pub use iteration::SecondOrderLu;

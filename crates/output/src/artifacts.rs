@@ -104,9 +104,9 @@ pub fn notebook_html(outcome: &RunOutcome) -> Result<String, OutputError> {
 /// Every file of [`write_run`] but the animations and the report, in order.
 fn data_files<'a>(outcome: &'a RunOutcome, dir: &Path) -> Result<Written<'a>, OutputError> {
     let mut files = Written::new(&outcome.summary);
-    response_files(&mut files, &outcome.response, dir, "")?;
+    response_files(&mut files, &outcome.response, dir, ResponseSurfaces::Unworn)?;
     if let Some(worn) = &outcome.worn_response {
-        response_files(&mut files, worn, dir, "_worn")?;
+        response_files(&mut files, worn, dir, ResponseSurfaces::Worn)?;
     }
     for joint in &outcome.wear {
         for (k, stage) in joint.stages.iter().enumerate() {
@@ -183,18 +183,16 @@ fn animation_files(outcome: &RunOutcome, dir: &Path) -> Result<Vec<Captioned>, O
     let worn = outcome
         .worn_response
         .as_ref()
-        .map(|r| (r, "_worn", &outcome.wear[..]));
+        .map(|r| (r, ResponseSurfaces::Worn, &outcome.wear[..]));
+    let unworn = (&outcome.response, ResponseSurfaces::Unworn, &[][..]);
     let mut out = Vec::new();
-    for (response, suffix, wear) in std::iter::once((&outcome.response, "", &[][..])).chain(worn) {
+    for (response, surfaces, wear) in std::iter::once(unworn).chain(worn) {
         if response.frames.is_none() {
             continue;
         }
+        let suffix = surfaces.suffix();
         let path = dir.join(format!("mechanism{suffix}.gif"));
-        let on = if suffix.is_empty() {
-            "on the unworn surfaces"
-        } else {
-            "on the worn surfaces after the last stage"
-        };
+        let on = surfaces.phrase();
         let title = format!("{}: one drive cycle {on}", outcome.summary.scene);
         let info = animation::write_animation(&path, &outcome.scene, response, wear, &title)?;
         let magnified: Vec<String> = info
@@ -299,19 +297,75 @@ fn life_files(files: &mut Written, outcome: &RunOutcome, dir: &Path) -> Result<(
     Ok(())
 }
 
-/// `response{suffix}.csv`, `contact{suffix}.csv` and their figures.
+/// The surfaces a response ran on, which its files are named and titled after.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum ResponseSurfaces {
+    /// The run's response, on the surfaces it started from.
+    Unworn,
+    /// The response after the wear stages, on the surfaces the last stage left.
+    Worn,
+}
+
+impl ResponseSurfaces {
+    fn is_worn(self) -> bool {
+        self == Self::Worn
+    }
+
+    /// What the file names end with before their extension.
+    fn suffix(self) -> &'static str {
+        match self {
+            Self::Unworn => "",
+            Self::Worn => "_worn",
+        }
+    }
+
+    /// What the figure titles end with.
+    fn title_note(self) -> &'static str {
+        match self {
+            Self::Unworn => "",
+            Self::Worn => " (worn joints)",
+        }
+    }
+
+    /// The surfaces in the animation's words.
+    fn phrase(self) -> &'static str {
+        match self {
+            Self::Unworn => "on the unworn surfaces",
+            Self::Worn => "on the worn surfaces after the last stage",
+        }
+    }
+}
+
+/// `response[_worn].csv`, `contact[_worn].csv` and their figures.
 fn response_files(
     files: &mut Written,
     r: &Response,
     dir: &Path,
-    suffix: &str,
+    surfaces: ResponseSurfaces,
 ) -> Result<(), OutputError> {
-    let body = &files.summary.response_body;
-    let worn_joints = !suffix.is_empty();
     let (sim, ideal) = (r.motion.series(), r.ideal.series());
+    files.file(response_csv(r, &sim, &ideal, dir, surfaces)?);
+    if !r.contact.is_empty() {
+        files.file(contact_csv(r, dir, surfaces)?);
+    }
+    // The worn response's body figures only when it has no contact to show instead.
+    if surfaces == ResponseSurfaces::Unworn || r.contact.is_empty() {
+        response_figures(files, r, &sim, &ideal, dir, surfaces)?;
+    }
+    contact_figures(files, r, dir, surfaces)
+}
+
+/// `response[_worn].csv`: the response body against the ideal mechanism, and their difference.
+fn response_csv(
+    r: &Response,
+    sim: &[&[f64]; 6],
+    ideal: &[&[f64]; 6],
+    dir: &Path,
+    surfaces: ResponseSurfaces,
+) -> Result<PathBuf, OutputError> {
     let deviation: Vec<Vec<f64>> = sim
         .iter()
-        .zip(&ideal)
+        .zip(ideal)
         .map(|(a, b)| a.iter().zip(*b).map(|(x, y)| x - y).collect())
         .collect();
     let names: Vec<[String; 3]> = QUANTITIES
@@ -324,95 +378,119 @@ fn response_files(
         columns.push((col(&names[k][1], unit), ideal[k]));
         columns.push((col(&names[k][2], unit), &deviation[k]));
     }
-    files.file(write_csv(
-        dir.join(format!("response{suffix}.csv")),
+    write_csv(
+        dir.join(format!("response{}.csv", surfaces.suffix())),
         &columns,
-    )?);
+    )
+}
 
-    if !r.contact.is_empty() {
-        let names: Vec<[String; 8]> = r
-            .contact
-            .iter()
-            .map(|c| {
-                [
-                    "Fn",
-                    "Ft",
-                    "delta",
-                    "e",
-                    "ex",
-                    "ey",
-                    "ex_bearing",
-                    "ey_bearing",
-                ]
-                .map(|q| format!("{}_{q}", c.name))
-            })
-            .collect();
-        let mut columns = vec![(col("t", "s"), r.times.as_slice())];
-        for (c, n) in r.contact.iter().zip(&names) {
-            let units = ["N", "N", "m", "m", "m", "m", "m", "m"];
-            let data: [&[f64]; 8] = [
-                &c.normal_force,
-                &c.friction_force,
-                &c.penetration,
-                &c.eccentricity,
-                &c.ex,
-                &c.ey,
-                &c.ex_bearing,
-                &c.ey_bearing,
-            ];
-            for k in 0..8 {
-                columns.push((col(&n[k], units[k]), data[k]));
-            }
-        }
-        files.file(write_csv(
-            dir.join(format!("contact{suffix}.csv")),
-            &columns,
-        )?);
-    }
-
-    let worn = if suffix.is_empty() {
-        ""
-    } else {
-        " (worn joints)"
-    };
-    if suffix.is_empty() || r.contact.is_empty() {
-        for (k, (q, unit, label)) in QUANTITIES.iter().enumerate() {
-            let path = dir.join(format!("response_{q}{suffix}.png"));
-            let title = format!("{body} centroid {label}: clearance vs ideal{worn}");
-            let y_label = format!("{q} ({unit})");
-            plot::line_chart(
-                &path,
-                &Figure {
-                    title: &title,
-                    x_label: "t (s)",
-                    y_label: &y_label,
-                    size: DEFAULT_SIZE,
-                },
-                &[
-                    Series {
-                        label: "with clearance",
-                        x: &r.times,
-                        y: sim[k],
-                    },
-                    Series {
-                        label: "ideal",
-                        x: &r.times,
-                        y: ideal[k],
-                    },
-                ],
-            )?;
-            files.figure(
-                path,
-                RunFigure::Response {
-                    quantity: q,
-                    worn: worn_joints,
-                },
-            );
+/// `contact[_worn].csv`: every clearance joint's contact state.
+fn contact_csv(
+    r: &Response,
+    dir: &Path,
+    surfaces: ResponseSurfaces,
+) -> Result<PathBuf, OutputError> {
+    let names: Vec<[String; 8]> = r
+        .contact
+        .iter()
+        .map(|c| {
+            [
+                "Fn",
+                "Ft",
+                "delta",
+                "e",
+                "ex",
+                "ey",
+                "ex_bearing",
+                "ey_bearing",
+            ]
+            .map(|q| format!("{}_{q}", c.name))
+        })
+        .collect();
+    let mut columns = vec![(col("t", "s"), r.times.as_slice())];
+    for (c, n) in r.contact.iter().zip(&names) {
+        let units = ["N", "N", "m", "m", "m", "m", "m", "m"];
+        let data: [&[f64]; 8] = [
+            &c.normal_force,
+            &c.friction_force,
+            &c.penetration,
+            &c.eccentricity,
+            &c.ex,
+            &c.ey,
+            &c.ex_bearing,
+            &c.ey_bearing,
+        ];
+        for k in 0..8 {
+            columns.push((col(&n[k], units[k]), data[k]));
         }
     }
+    write_csv(
+        dir.join(format!("contact{}.csv", surfaces.suffix())),
+        &columns,
+    )
+}
+
+/// `response_<q>[_worn].png`: each quantity of the response body against the ideal mechanism.
+fn response_figures(
+    files: &mut Written,
+    r: &Response,
+    sim: &[&[f64]; 6],
+    ideal: &[&[f64]; 6],
+    dir: &Path,
+    surfaces: ResponseSurfaces,
+) -> Result<(), OutputError> {
+    let body = &files.summary.response_body;
+    for (k, (q, unit, label)) in QUANTITIES.iter().enumerate() {
+        let path = dir.join(format!("response_{q}{}.png", surfaces.suffix()));
+        let title = format!(
+            "{body} centroid {label}: clearance vs ideal{}",
+            surfaces.title_note()
+        );
+        let y_label = format!("{q} ({unit})");
+        plot::line_chart(
+            &path,
+            &Figure {
+                title: &title,
+                x_label: "t (s)",
+                y_label: &y_label,
+                size: DEFAULT_SIZE,
+            },
+            &[
+                Series {
+                    label: "with clearance",
+                    x: &r.times,
+                    y: sim[k],
+                },
+                Series {
+                    label: "ideal",
+                    x: &r.times,
+                    y: ideal[k],
+                },
+            ],
+        )?;
+        files.figure(
+            path,
+            RunFigure::Response {
+                quantity: q,
+                worn: surfaces.is_worn(),
+            },
+        );
+    }
+    Ok(())
+}
+
+/// Each clearance joint's contact force and journal-centre path.
+fn contact_figures(
+    files: &mut Written,
+    r: &Response,
+    dir: &Path,
+    surfaces: ResponseSurfaces,
+) -> Result<(), OutputError> {
+    let worn = surfaces.is_worn();
+    let note = surfaces.title_note();
     for c in &r.contact {
-        let path = dir.join(JointFile::Force(worn_joints).name(&c.name));
-        let title = format!("Contact force at joint {}{worn}", c.name);
+        let path = dir.join(JointFile::Force(worn).name(&c.name));
+        let title = format!("Contact force at joint {}{note}", c.name);
         let kn: Vec<f64> = c.normal_force.iter().map(|f| f * 1e-3).collect();
         let kt: Vec<f64> = c.friction_force.iter().map(|f| f * 1e-3).collect();
         plot::line_chart(
@@ -440,14 +518,14 @@ fn response_files(
             path,
             RunFigure::ContactForce {
                 joint: &c.name,
-                worn: worn_joints,
+                worn,
             },
         );
-        let path = dir.join(JointFile::Journal(worn_joints).name(&c.name));
+        let path = dir.join(JointFile::Journal(worn).name(&c.name));
         plot::journal_path(
             &path,
             &format!(
-                "Journal centre at joint {} in the bearing frame{worn}",
+                "Journal centre at joint {} in the bearing frame{note}",
                 c.name
             ),
             (900, 650),
@@ -459,7 +537,7 @@ fn response_files(
             path,
             RunFigure::Journal {
                 joint: &c.name,
-                worn: worn_joints,
+                worn,
             },
         );
     }

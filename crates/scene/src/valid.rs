@@ -56,6 +56,13 @@ impl ValidScene {
         Self::new(scene, origin)
     }
 
+    /// The same mechanism with every clearance joint ideal ([`Scene::idealized`]). Valid without
+    /// a second check: an ideal joint is held to a subset of an active one's checks, and fewer
+    /// active joints only widen the tolerance limits.
+    pub fn idealized(&self) -> Self {
+        Self(self.0.idealized())
+    }
+
     /// The scene, to change freely; it must pass [`ValidScene::new`] again to be run.
     pub fn into_scene(self) -> Scene {
         self.0

@@ -1,4 +1,4 @@
-//! A validated [`Scene`] → a [`multibody::System`] with gravity, ideal joints, drivers and one
+//! A [`ValidScene`] → a [`multibody::System`] with gravity, ideal joints, drivers and one
 //! [`ClearanceForce`] per active clearance joint.
 //!
 //! Clearance joints flagged `ideal` become ideal revolutes. An active joint is round
@@ -14,7 +14,7 @@ use multibody::{
 use wear::{WearError, WearParams, WornJoint};
 
 use clearance::{ClearanceForce, ClearanceProbe};
-use scene::{BodyRef, ClearanceJointSpec, DriverTarget, Scene, TimeLaw};
+use scene::{BodyRef, ClearanceJointSpec, DriverTarget, Scene, TimeLaw, ValidScene};
 
 /// Why a scene could not be turned into a system; `field` is the scene path at fault.
 #[derive(Debug, thiserror::Error)]
@@ -43,7 +43,7 @@ pub enum BuildError {
         /// Cause.
         source: WearError,
     },
-    /// A body or joint name does not resolve (only for scenes that skipped validation).
+    /// A body or joint name does not resolve (validation refuses such a scene first).
     #[error("{field}: no body or joint named {name:?}")]
     Unresolved {
         /// Scene field.
@@ -163,7 +163,8 @@ fn model_err(field: impl Into<String>) -> impl FnOnce(ModelError) -> BuildError 
 }
 
 /// Builds the system of `scene` with the given surfaces.
-pub fn build(scene: &Scene, surfaces: Surfaces<'_>) -> Result<BuiltScene, BuildError> {
+pub fn build(scene: &ValidScene, surfaces: Surfaces<'_>) -> Result<BuiltScene, BuildError> {
+    let scene: &Scene = scene;
     let active = scene.active_clearance_joints().count();
     if !surfaces.worn.is_empty() && surfaces.worn.len() != active {
         return Err(BuildError::SurfaceCount {

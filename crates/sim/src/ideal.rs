@@ -6,7 +6,7 @@ use multibody::System;
 use super::record::Ideal;
 use super::{MechanismFrames, Motion, RunError};
 use crate::build::{Surfaces, build};
-use scene::Scene;
+use scene::ValidScene;
 
 /// The all-ideal mechanism of a scene: built once, then asked for its motion (a run asks
 /// twice: at the first output time before any simulation, so a mechanism that is not fully
@@ -20,7 +20,7 @@ pub(super) struct IdealMechanism {
 }
 
 impl IdealMechanism {
-    pub(super) fn build(scene: &Scene) -> Result<Self, RunError> {
+    pub(super) fn build(scene: &ValidScene) -> Result<Self, RunError> {
         let names = |v: Vec<&str>| {
             if v.is_empty() {
                 "(none)".to_string()

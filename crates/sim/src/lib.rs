@@ -1,10 +1,10 @@
 //! Building and running a scene, between the scene format (the `scene` crate) and what is made
 //! of a run (crate `output`'s files, figures and reports; crate `analysis`'s studies): a
-//! validated scene → a
-//! `multibody` system ([`build`]), one run of it ([`run_scene`]), the validity of its worn
-//! geometry ([`validity`]), the run settings given outside the scene file ([`overrides`]) and
-//! the worn surfaces a run starts from, handed over in memory ([`surfaces`]). No file is read
-//! or written here.
+//! validated scene → a `multibody` system ([`build`]), one run of it ([`run_scene`]), one
+//! integration of it for an analysis that measures the integrator ([`integrate`]: the stress
+//! battery, the work–precision sweep), the validity of its worn geometry ([`validity`]), the
+//! run settings given outside the scene file ([`overrides`]) and the worn surfaces a run starts
+//! from, handed over in memory ([`surfaces`]). No file is read or written here.
 //!
 //! One run of a scene: the response over `cycles` drive periods against the ideal mechanism,
 //! then the wear stages, with every summary number kept in memory ([`RunOutcome`]).
@@ -68,14 +68,16 @@
 //! beside the ideal mechanism, the wear, the outcome), `ideal` the ideal mechanism the response
 //! is compared with, `outcome` the result types, `record` the response run and its recording
 //! observer, `summary` the statistics and energy books, `stages` the wear stages, `life` the
-//! joints' life curves over the stages' drive cycles and [`validity`] the worn geometry's
-//! validity measures.
+//! joints' life curves over the stages' drive cycles, [`validity`] the worn geometry's
+//! validity measures and [`integrate`] one integration for the analyses that measure the
+//! integrator.
 
 #![warn(missing_docs)]
 
 pub mod build;
 mod error;
 mod ideal;
+pub mod integrate;
 mod life;
 mod options;
 mod outcome;
@@ -89,6 +91,7 @@ pub mod surfaces;
 pub mod validity;
 
 pub use error::RunError;
+pub use integrate::{Integrated, Integration, IntegrationError, IntegrationErrorKind, integrate};
 pub use life::cycles_to_reach;
 pub use options::{RunOptions, simulation_options};
 pub use outcome::{

@@ -12,7 +12,7 @@ use super::{
 };
 use crate::build::{BuiltScene, JointHandle, Surfaces, build};
 use crate::validity::{ValidityLimits, ValidityTally};
-use scene::Scene;
+use scene::{Scene, ValidScene};
 
 /// The ideal mechanism at the output times: the recorded body's motion, and every body's pose
 /// at the animation's frames (`None`: no animation).
@@ -111,7 +111,7 @@ pub(super) fn assemble(built: &BuiltScene, what: &str) -> Result<multibody::Stat
 
 /// The response run on `worn` surfaces (empty: round) with its summary.
 pub(super) fn respond(
-    scene: &Scene,
+    scene: &ValidScene,
     worn: &[Option<WornJoint>],
     times: &[f64],
     ideal: &Ideal,
@@ -143,7 +143,7 @@ pub(super) struct Simulated {
 /// Simulates the response on `worn` surfaces (empty: round), recording every body's pose at
 /// the output frames `frames` (indices into `times`).
 pub(super) fn simulate(
-    scene: &Scene,
+    scene: &ValidScene,
     worn: &[Option<WornJoint>],
     times: &[f64],
     frames: &[usize],

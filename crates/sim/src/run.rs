@@ -186,7 +186,7 @@ impl RunPlan {
 /// first. `None` for the response when no clearance joint is active; the ideal mechanism's
 /// failure is returned before the response's.
 fn response_beside_ideal(
-    scene: &Scene,
+    scene: &ValidScene,
     plan: &RunPlan,
     start: &[Option<WornJoint>],
     progress: &mut dyn Progress,
@@ -235,7 +235,7 @@ fn kinematic_response(scene: &Scene, plan: &RunPlan, ideal: Ideal) -> (Response,
 
 /// The wear stages of a run and, unless skipped, the response on the surfaces they leave.
 struct Wear<'a> {
-    scene: &'a Scene,
+    scene: &'a ValidScene,
     plan: &'a RunPlan,
     ideal: &'a Ideal,
     options: &'a RunOptions,

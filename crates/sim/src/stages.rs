@@ -14,7 +14,7 @@ use super::record::{Recorder, assemble};
 use super::{JointWearHistory, Motion, Progress, RunError, WearSummary, simulation_options};
 use crate::build::{BuildError, Surfaces, build};
 use contact::{ContactModel, ShapeLimits};
-use scene::{RunSettings, Scene};
+use scene::{RunSettings, Scene, ValidScene};
 
 mod wear_summary;
 
@@ -33,7 +33,7 @@ pub(super) struct StagesOutcome {
 /// A scene's K-cycle runs for the stage driver: the scene built on the current surfaces,
 /// wearing after the start-up window, observed for progress only.
 struct SceneRuns<'a> {
-    scene: &'a Scene,
+    scene: &'a ValidScene,
     /// Per active clearance joint: its index among the wearing joints, if it wears.
     slots: &'a [Option<usize>],
     wear_start: f64,
@@ -185,7 +185,7 @@ impl StageRuns for SceneRuns<'_> {
 /// Runs the wear stages (plan, runs, history, summary). `scene_cycles_per_stage` is the
 /// scene's own K before any override, which the summary reports beside the K run.
 pub(super) fn stages(
-    scene: &Scene,
+    scene: &ValidScene,
     initial: &[Option<WornJoint>],
     period: f64,
     scene_cycles_per_stage: u32,

@@ -42,6 +42,7 @@ fn startup(formulation: Formulation, rtol: f64, t_end: f64, dt: f64) -> Startup 
     scene.solver.atol_angle = Some(tolerances.angle * factor);
     scene.solver.atol_velocity = tolerances.velocity * factor;
     scene.solver.formulation = formulation;
+    let scene = scene::ValidScene::new(scene, "the default scene at rtol").expect("valid");
     let mut built = build(&scene, Surfaces::default()).expect("builds");
     let (q, qd) = built.system.initial_guess();
     let state = built.system.assemble(0.0, &q, &qd).expect("assembles");

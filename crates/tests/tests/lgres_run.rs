@@ -19,7 +19,7 @@ fn checked(scene: &Scene) -> ValidScene {
 }
 
 fn simulate(scene: &Scene, surfaces: Surfaces<'_>, t_end: f64) -> SimulationResult {
-    let mut built = build(scene, surfaces).expect("builds");
+    let mut built = build(&checked(scene), surfaces).expect("builds");
     let (q0, qd0) = built.system.initial_guess();
     let state = built.system.assemble(0.0, &q0, &qd0).expect("assembles");
     let options = simulation_options(scene, t_end, OutputTimes::Every(1e-3), true);
@@ -41,7 +41,7 @@ fn ideal_dynamics_match_kinematics() {
     s.solver.atol_position = Some(1e-9);
     s.solver.atol_velocity = 1e-7;
     let result = simulate(&s, Surfaces::default(), 0.3);
-    let built = build(&s, Surfaces::default()).unwrap();
+    let built = build(&checked(&s), Surfaces::default()).unwrap();
     let (q0, _) = built.system.initial_guess();
     let trajectory = &result.trajectory;
     let kin = built.system.kinematics(&trajectory.times, &q0).unwrap();
@@ -155,7 +155,7 @@ fn stage_wear_accumulates_after_its_start() {
     let unworn = unworn_joints(&s).unwrap();
     let depth = |from: f64| {
         let mut built = build(
-            &s,
+            &checked(&s),
             Surfaces {
                 worn: &unworn,
                 accumulate_from: Some(from),

@@ -1,31 +1,31 @@
 //! The sweep itself: every (method, rtol) run measured against the references, then timed.
+//! Every run is one [`sim::integrate`] of the scene.
 
 use std::time::Instant;
 
-use multibody::{Frame, Observer, OutputTimes, SimulationError, State};
+use multibody::{Frame, OutputTimes, SimulationErrorKind, State};
 
 use super::{
     CycleQuantities, Errors, Measured, Paths, PrecisionError, PrecisionOptions, PrecisionReport,
     ReferenceRun, Row, RowOutcome, method_name,
 };
-use clearance::WornClearanceForce;
-use scene::{Integrator, Scene};
-use sim::build::{BuiltScene, Surfaces, build, unworn_joints};
-use sim::simulation_options;
+use scene::{Integrator, ValidScene};
+use sim::build::JointHandle;
+use sim::integrate::{FrameObserver, ScaledTolerances, StartSurfaces, StepBudget};
+use sim::{Integration, IntegrationError, IntegrationErrorKind, RunError};
 
 /// Records the rod position and journal-centre paths at output frames.
-struct PathRecorder<'a> {
-    built_joints: &'a [sim::build::JointHandle],
+struct PathRecorder {
     body: usize,
     paths: Paths,
 }
 
-impl Observer for PathRecorder<'_> {
-    fn output(&mut self, frame: &Frame<'_>) {
+impl FrameObserver for PathRecorder {
+    fn frame(&mut self, frame: &Frame<'_>, joints: &[JointHandle]) {
         self.paths.times.push(frame.t);
         let i = 3 * self.body;
         self.paths.rod.push([frame.q[i], frame.q[i + 1]]);
-        for (path, handle) in self.paths.journals.iter_mut().zip(self.built_joints) {
+        for (path, handle) in self.paths.journals.iter_mut().zip(joints) {
             let e = handle.probe(frame.elements).map_or([f64::NAN; 2], |p| {
                 let d = p.contact(frame.q, frame.qd).diagnostics;
                 let (s, c) = d.contact_angle.sin_cos();
@@ -36,22 +36,9 @@ impl Observer for PathRecorder<'_> {
     }
 }
 
-/// The scene at one sweep point: integrator, rtol and the atol scaled with it.
-fn configured(scene: &Scene, method: Integrator, rtol: f64) -> Scene {
-    let tol = scene.tolerances();
-    let scale = rtol / scene.solver.rtol;
-    let mut s = scene.clone();
-    s.solver.integrator = method;
-    s.solver.rtol = rtol;
-    s.solver.atol_position = Some(tol.position * scale);
-    s.solver.atol_angle = Some(tol.angle * scale);
-    s.solver.atol_velocity = tol.velocity * scale;
-    s
-}
-
 /// Everything fixed across the runs of a sweep.
 struct Setup<'a> {
-    scene: &'a Scene,
+    scene: &'a ValidScene,
     options: &'a PrecisionOptions,
     body: usize,
     t_end: f64,
@@ -61,27 +48,32 @@ struct Setup<'a> {
 }
 
 impl Setup<'_> {
-    fn build(&self, scene: &Scene, wear: bool) -> Result<(BuiltScene, State), String> {
-        let unworn = if wear {
-            unworn_joints(scene).map_err(|e| e.to_string())?
-        } else {
-            Vec::new()
-        };
-        let built = build(
-            scene,
-            Surfaces {
-                worn: &unworn,
-                accumulate_from: wear.then_some(scene.run.transient_window),
-                split_halves_at: None,
+    /// One run of the sweep: `method` at `rtol` (absolute tolerances scaled with it), on
+    /// unworn wear grids gathering wear after the transient window or on round surfaces.
+    fn integration(
+        &self,
+        method: Integrator,
+        rtol: f64,
+        wear: bool,
+        output: OutputTimes,
+    ) -> Integration {
+        Integration {
+            t_end: self.t_end,
+            output,
+            energy_audit: false,
+            max_steps: StepBudget::Scene,
+            tolerances: Some(ScaledTolerances {
+                integrator: method,
+                rtol,
+            }),
+            surfaces: if wear {
+                StartSurfaces::Wearing {
+                    accumulate_from: self.scene.run.transient_window,
+                }
+            } else {
+                StartSurfaces::Round
             },
-        )
-        .map_err(|e| e.to_string())?;
-        let (q, qd) = built.system.initial_guess();
-        let state = built
-            .system
-            .assemble(0.0, &q, &qd)
-            .map_err(|e| e.to_string())?;
-        Ok((built, state))
+        }
     }
 
     /// The measured run: dense output, energy audit, wear accumulation; `budget` caps its
@@ -92,31 +84,22 @@ impl Setup<'_> {
         rtol: f64,
         budget: Option<usize>,
     ) -> Result<Measured, Failure> {
-        let scene = configured(self.scene, method, rtol);
-        let (mut built, state) = self.build(&scene, true).map_err(Failure::from)?;
-        let mut options = simulation_options(
-            &scene,
-            self.t_end,
+        let mut integration = self.integration(
+            method,
+            rtol,
+            true,
             OutputTimes::Every(self.options.output_interval),
-            false,
         );
-        options.energy_audit = true;
-        options.max_steps = budget;
-        let joints = built.joints.clone();
+        integration.energy_audit = true;
+        integration.max_steps = budget.map_or(StepBudget::Unlimited, StepBudget::Steps);
         let mut recorder = PathRecorder {
-            built_joints: &joints,
             body: self.body,
             paths: Paths {
-                journals: vec![Vec::new(); joints.len()],
+                journals: vec![Vec::new(); self.joint_names.len()],
                 ..Paths::default()
             },
         };
-        let started = Instant::now();
-        let result = built
-            .system
-            .simulate(&state, &options, &mut recorder)
-            .map_err(Failure::from)?;
-        let wall_s = started.elapsed().as_secs_f64();
+        let run = sim::integrate(self.scene, &integration, &mut recorder)?;
         let paths = recorder.paths;
         if let Some(k) = (0..paths.times.len()).find(|&k| {
             !(paths.rod[k].iter().all(|v| v.is_finite())
@@ -130,20 +113,20 @@ impl Setup<'_> {
         let mut friction = 0.0;
         let mut contact_work = 0.0;
         let mut wear_volume = Vec::new();
-        for h in &joints {
-            if let Some(p) = h.probe(built.system.elements()) {
-                friction += p.friction_dissipation();
+        for joint in &run.joints {
+            if let Some(f) = joint.friction_dissipation {
+                friction += f;
             }
-            contact_work -= result
+            contact_work -= run
+                .result
                 .energy
                 .as_ref()
-                .and_then(|e| e.element_work.iter().find(|(n, _)| n == &h.name))
+                .and_then(|e| e.element_work.iter().find(|(n, _)| n == &joint.name))
                 .map_or(0.0, |(_, w)| *w);
             wear_volume.push(
-                built
-                    .system
-                    .element::<WornClearanceForce>(h.element)
-                    .and_then(WornClearanceForce::stage_wear)
+                joint
+                    .stage_wear
+                    .as_ref()
                     .map_or(0.0, wear::StageWear::archard_volume),
             );
         }
@@ -153,7 +136,7 @@ impl Setup<'_> {
             .zip(&self.ideal)
             .map(|(r, i)| (r[0] - i[0]).powi(2) + (r[1] - i[1]).powi(2))
             .sum();
-        let s = &result.statistics;
+        let s = &run.result.statistics;
         Ok(Measured {
             quantities: CycleQuantities {
                 deviation_rms_m: (squares / paths.rod.len().max(1) as f64).sqrt(),
@@ -162,12 +145,12 @@ impl Setup<'_> {
                 wear_volume_m3: wear_volume,
             },
             paths,
-            final_state: result.final_state,
             steps: s.steps,
             rejected: s.rejected_steps,
             rhs: s.rhs_evaluations,
             factorizations: s.factorizations,
-            wall_s,
+            final_state: run.result.final_state,
+            wall_s: run.wall_s,
         })
     }
 
@@ -178,20 +161,11 @@ impl Setup<'_> {
         rtol: f64,
         wear: bool,
     ) -> Result<(f64, State), Failure> {
-        let scene = configured(self.scene, method, rtol);
-        let (mut built, state) = self.build(&scene, wear).map_err(Failure::from)?;
-        let mut options =
-            simulation_options(&scene, self.t_end, OutputTimes::At(vec![self.t_end]), false);
-        options.energy_audit = false;
-        options.max_steps = Some(self.options.max_steps);
-        let started = Instant::now();
-        let result = built
-            .system
-            .simulate(&state, &options, &mut ())
-            .map_err(Failure::from)?;
-        let wall = started.elapsed().as_secs_f64();
-        drop(built);
-        Ok((wall, result.final_state))
+        let mut integration =
+            self.integration(method, rtol, wear, OutputTimes::At(vec![self.t_end]));
+        integration.max_steps = StepBudget::Steps(self.options.max_steps);
+        let run = sim::integrate(self.scene, &integration, &mut ())?;
+        Ok((run.wall_s, run.result.final_state))
     }
 
     /// Errors of `run` against `reference`.
@@ -262,10 +236,11 @@ impl From<String> for Failure {
     }
 }
 
-impl From<SimulationError> for Failure {
-    fn from(e: SimulationError) -> Self {
+impl From<IntegrationError> for Failure {
+    fn from(e: IntegrationError) -> Self {
         Self {
-            out_of_budget: matches!(e, SimulationError::StepLimit { .. }),
+            out_of_budget: e.kind()
+                == IntegrationErrorKind::Simulation(SimulationErrorKind::StepLimit),
             reason: e.to_string(),
         }
     }
@@ -357,180 +332,40 @@ pub enum Event<'a> {
     Row(&'a Row),
 }
 
-/// Runs the sweep on `scene` (see the module docs).
+/// Runs the sweep on `scene` (see the module docs): the options checked, the sweep's fixed
+/// frame (period, response body, joints, the ideal path), the two references, every method's
+/// rows, the report.
 pub fn run_sweep(
     name: &str,
-    scene: &Scene,
+    scene: &ValidScene,
     options: &PrecisionOptions,
     on_event: &mut dyn FnMut(Event<'_>),
 ) -> Result<PrecisionReport, PrecisionError> {
     check_options(options)?;
     let started = Instant::now();
-    let unsuitable = |m: &str| PrecisionError::Unsuitable(m.to_string());
-    let period = scene
-        .cycle_period()
-        .ok_or_else(|| unsuitable("no drive period (run.period or a periodic driver)"))?;
-    let body = scene
-        .response_body()
-        .ok_or_else(|| unsuitable("no response body"))?;
-    let joint_names: Vec<String> = scene
-        .active_clearance_joints()
-        .map(|c| c.name.clone())
-        .collect();
-    if joint_names.is_empty() {
-        return Err(unsuitable(
-            "no active clearance joint: there is nothing to integrate",
-        ));
-    }
-    let t_end = options.duration.unwrap_or(period);
-    if t_end / options.output_interval > MAX_OUTPUT_FRAMES {
-        return Err(PrecisionError::Options {
-            field: "duration",
-            reason: format!(
-                "{t_end:e} s at an output interval of {:e} s is more than {MAX_OUTPUT_FRAMES:e} \
-                 output frames",
-                options.output_interval
-            ),
-        });
-    }
-    if options.start_up > t_end {
-        return Err(PrecisionError::Options {
-            field: "start_up",
-            reason: format!(
-                "{:?} s is longer than the run ({t_end:?} s)",
-                options.start_up
-            ),
-        });
-    }
-    let ideal_scene = scene.idealized();
-    let ideal_built = build(&ideal_scene, Surfaces::default())
-        .map_err(|e| unsuitable(&format!("the ideal mechanism does not build: {e}")))?;
-    let (q0, _) = ideal_built.system.initial_guess();
-    let count = (t_end / options.output_interval * (1.0 + 1e-12)).floor() as usize;
-    let times: Vec<f64> = (0..=count)
-        .map(|i| (i as f64 * options.output_interval).min(t_end))
-        .collect();
-    let kin = ideal_built
-        .system
-        .kinematics(&times, &q0)
-        .map_err(|e| unsuitable(&format!("the ideal mechanism does not move: {e}")))?;
-    let ideal = (0..kin.times.len())
-        .map(|f| [kin.q(f)[3 * body], kin.q(f)[3 * body + 1]])
-        .collect();
-    let setup = Setup {
-        scene,
-        options,
-        body,
-        t_end,
-        ideal,
-        joint_names: joint_names.clone(),
-    };
-
-    let mut references = Vec::new();
-    for (method, rtol) in options.references {
-        on_event(Event::Start(method_name(method), rtol, "reference"));
-        let m = setup
-            .measure(method, rtol, None)
-            .map_err(|f| PrecisionError::Reference {
-                method: method_name(method),
-                rtol,
-                reason: f.reason,
-            })?;
-        references.push((method, rtol, m));
-    }
+    let setup = Setup::of(scene, options)?;
+    let references = run_references(&setup, on_event)?;
     let reference_agreement = setup.errors(&references[1].2, &references[0].2);
-
     let mut rows = Vec::new();
     for &method in &options.methods {
         let (reference_method, _, reference) = references
             .iter()
             .find(|(m, _, _)| *m != method)
             .unwrap_or(&references[0]);
-        let mut exhausted: Option<f64> = None;
-        for &rtol in &options.rtols {
-            let atol_position_m = configured(scene, method, rtol).tolerances().position;
-            let mut row = Row {
-                method: method_name(method),
-                rtol,
-                atol_position_m,
-                steps: 0,
-                rejected_steps: 0,
-                rhs_evaluations: 0,
-                factorizations: 0,
-                measured_wall_s: f64::NAN,
-                wall_s: f64::NAN,
-                wall_wear_s: f64::NAN,
-                timed_runs_identical: true,
-                reference: method_name(*reference_method),
-                outcome: RowOutcome::Skipped {
-                    reason: String::new(),
-                },
-            };
-            if let Some(looser) = exhausted {
-                row.outcome = RowOutcome::Skipped {
-                    reason: format!(
-                        "rtol {looser:e} already exceeded the budget of {} steps",
-                        options.max_steps
-                    ),
-                };
-                on_event(Event::Row(&row));
-                rows.push(row);
-                continue;
-            }
-            on_event(Event::Start(method_name(method), rtol, "measure"));
-            match setup.measure(method, rtol, Some(options.max_steps)) {
-                Err(f) => {
-                    if f.out_of_budget {
-                        exhausted = Some(rtol);
-                    }
-                    row.outcome = RowOutcome::Failed { reason: f.reason };
-                }
-                Ok(m) => {
-                    row.steps = m.steps;
-                    row.rejected_steps = m.rejected;
-                    row.rhs_evaluations = m.rhs;
-                    row.factorizations = m.factorizations;
-                    row.measured_wall_s = m.wall_s;
-                    if options.repeats > 0 {
-                        on_event(Event::Start(method_name(method), rtol, "time"));
-                    }
-                    let mut plain = Vec::new();
-                    let mut worn = Vec::new();
-                    for _ in 0..options.repeats {
-                        for (wear, walls) in [(false, &mut plain), (true, &mut worn)] {
-                            match setup.time_once(method, rtol, wear) {
-                                Ok((wall, state)) => {
-                                    walls.push(wall);
-                                    row.timed_runs_identical &=
-                                        state.q == m.final_state.q && state.qd == m.final_state.qd;
-                                }
-                                Err(_) => row.timed_runs_identical = false,
-                            }
-                        }
-                    }
-                    row.wall_s = median(plain);
-                    row.wall_wear_s = median(worn);
-                    row.outcome = RowOutcome::Completed {
-                        errors: setup.errors(&m, reference),
-                        quantities: m.quantities,
-                    };
-                }
-            }
-            on_event(Event::Row(&row));
-            rows.push(row);
-        }
+        let reference = (*reference_method, reference);
+        rows.extend(method_rows(&setup, method, reference, on_event));
     }
     Ok(PrecisionReport {
         scene: name.to_string(),
         formulation: scene.solver.formulation,
-        duration_s: t_end,
+        duration_s: setup.t_end,
         start_up_s: options.start_up,
         separation_fraction: options.separation_fraction,
         clearances_m: scene
             .active_clearance_joints()
             .map(|c| c.clearance)
             .collect(),
-        joints: joint_names,
+        joints: setup.joint_names,
         repeats: options.repeats,
         references: references
             .into_iter()
@@ -546,4 +381,196 @@ pub fn run_sweep(
         rows,
         wall_time_s: started.elapsed().as_secs_f64(),
     })
+}
+
+fn unsuitable(reason: impl ToString) -> PrecisionError {
+    PrecisionError::Unsuitable(reason.to_string())
+}
+
+impl<'a> Setup<'a> {
+    /// What every run of a sweep on `scene` shares: its end, response body, clearance joints
+    /// and the ideal mechanism's path of the body, refused when the scene or the options
+    /// cannot give them.
+    fn of(scene: &'a ValidScene, options: &'a PrecisionOptions) -> Result<Self, PrecisionError> {
+        let period = scene
+            .cycle_period()
+            .ok_or_else(|| unsuitable("no drive period (run.period or a periodic driver)"))?;
+        let body = scene
+            .response_body()
+            .ok_or_else(|| unsuitable("no response body"))?;
+        let joint_names: Vec<String> = scene
+            .active_clearance_joints()
+            .map(|c| c.name.clone())
+            .collect();
+        if joint_names.is_empty() {
+            return Err(unsuitable(
+                "no active clearance joint: there is nothing to integrate",
+            ));
+        }
+        let t_end = options.duration.unwrap_or(period);
+        if t_end / options.output_interval > MAX_OUTPUT_FRAMES {
+            return Err(PrecisionError::Options {
+                field: "duration",
+                reason: format!(
+                    "{t_end:e} s at an output interval of {:e} s is more than \
+                     {MAX_OUTPUT_FRAMES:e} output frames",
+                    options.output_interval
+                ),
+            });
+        }
+        if options.start_up > t_end {
+            return Err(PrecisionError::Options {
+                field: "start_up",
+                reason: format!(
+                    "{:?} s is longer than the run ({t_end:?} s)",
+                    options.start_up
+                ),
+            });
+        }
+        let count = (t_end / options.output_interval * (1.0 + 1e-12)).floor() as usize;
+        let times: Vec<f64> = (0..=count)
+            .map(|i| (i as f64 * options.output_interval).min(t_end))
+            .collect();
+        let ideal = sim::integrate::ideal_motion(scene, &times, body).map_err(|e| match e {
+            RunError::Build(e) => unsuitable(format!("the ideal mechanism does not build: {e}")),
+            e => unsuitable(format!("the ideal mechanism does not move: {e}")),
+        })?;
+        Ok(Self {
+            scene,
+            options,
+            body,
+            t_end,
+            ideal: ideal
+                .x
+                .iter()
+                .zip(&ideal.y)
+                .map(|(x, y)| [*x, *y])
+                .collect(),
+            joint_names,
+        })
+    }
+}
+
+/// The two reference runs (method, rtol, run); either failing ends the sweep.
+fn run_references(
+    setup: &Setup<'_>,
+    on_event: &mut dyn FnMut(Event<'_>),
+) -> Result<Vec<(Integrator, f64, Measured)>, PrecisionError> {
+    let mut references = Vec::new();
+    for (method, rtol) in setup.options.references {
+        on_event(Event::Start(method_name(method), rtol, "reference"));
+        let m = setup
+            .measure(method, rtol, None)
+            .map_err(|f| PrecisionError::Reference {
+                method: method_name(method),
+                rtol,
+                reason: f.reason,
+            })?;
+        references.push((method, rtol, m));
+    }
+    Ok(references)
+}
+
+/// The rows of `method` over the swept tolerances, loosest first, against `reference` (its
+/// method and run); once a tolerance exceeds the step budget the tighter ones are skipped.
+fn method_rows(
+    setup: &Setup<'_>,
+    method: Integrator,
+    reference: (Integrator, &Measured),
+    on_event: &mut dyn FnMut(Event<'_>),
+) -> Vec<Row> {
+    let options = setup.options;
+    let mut rows = Vec::new();
+    let mut exhausted: Option<f64> = None;
+    for &rtol in &options.rtols {
+        let mut row = blank_row(setup.scene, method, rtol, reference.0);
+        if let Some(looser) = exhausted {
+            row.outcome = RowOutcome::Skipped {
+                reason: format!(
+                    "rtol {looser:e} already exceeded the budget of {} steps",
+                    options.max_steps
+                ),
+            };
+        } else {
+            on_event(Event::Start(method_name(method), rtol, "measure"));
+            match setup.measure(method, rtol, Some(options.max_steps)) {
+                Err(f) => {
+                    if f.out_of_budget {
+                        exhausted = Some(rtol);
+                    }
+                    row.outcome = RowOutcome::Failed { reason: f.reason };
+                }
+                Ok(m) => measured_row(setup, &mut row, method, m, reference.1, on_event),
+            }
+        }
+        on_event(Event::Row(&row));
+        rows.push(row);
+    }
+    rows
+}
+
+/// A row of `method` at `rtol` with nothing measured yet.
+fn blank_row(scene: &ValidScene, method: Integrator, rtol: f64, reference: Integrator) -> Row {
+    let tolerances = ScaledTolerances {
+        integrator: method,
+        rtol,
+    };
+    Row {
+        method: method_name(method),
+        rtol,
+        atol_position_m: tolerances.absolute(scene).position,
+        steps: 0,
+        rejected_steps: 0,
+        rhs_evaluations: 0,
+        factorizations: 0,
+        measured_wall_s: f64::NAN,
+        wall_s: f64::NAN,
+        wall_wear_s: f64::NAN,
+        timed_runs_identical: true,
+        reference: method_name(reference),
+        outcome: RowOutcome::Skipped {
+            reason: String::new(),
+        },
+    }
+}
+
+/// `row` of `method` filled from its measured run `m`: the solver counts, the timed repeats (each must end
+/// in `m`'s final state bit for bit) and the errors against `reference`.
+fn measured_row(
+    setup: &Setup<'_>,
+    row: &mut Row,
+    method: Integrator,
+    m: Measured,
+    reference: &Measured,
+    on_event: &mut dyn FnMut(Event<'_>),
+) {
+    let options = setup.options;
+    row.steps = m.steps;
+    row.rejected_steps = m.rejected;
+    row.rhs_evaluations = m.rhs;
+    row.factorizations = m.factorizations;
+    row.measured_wall_s = m.wall_s;
+    if options.repeats > 0 {
+        on_event(Event::Start(row.method, row.rtol, "time"));
+    }
+    let mut plain = Vec::new();
+    let mut worn = Vec::new();
+    for _ in 0..options.repeats {
+        for (wear, walls) in [(false, &mut plain), (true, &mut worn)] {
+            match setup.time_once(method, row.rtol, wear) {
+                Ok((wall, state)) => {
+                    walls.push(wall);
+                    row.timed_runs_identical &=
+                        state.q == m.final_state.q && state.qd == m.final_state.qd;
+                }
+                Err(_) => row.timed_runs_identical = false,
+            }
+        }
+    }
+    row.wall_s = median(plain);
+    row.wall_wear_s = median(worn);
+    row.outcome = RowOutcome::Completed {
+        errors: setup.errors(&m, reference),
+        quantities: m.quantities,
+    };
 }

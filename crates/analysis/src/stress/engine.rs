@@ -1,27 +1,28 @@
-//! Running the battery: each case validated, built and integrated in isolation (a panic is a
-//! result, not a crash), with its numbers gathered.
+//! Running the battery: each case validated, then built and integrated in isolation through
+//! [`sim::integrate`] (a panic is a result, not a crash), with its numbers gathered.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::Instant;
 
-use multibody::{Frame, Observer, OutputTimes};
-use wear::{Side, WornJoint, WornProfile};
+use multibody::{Frame, OutputTimes};
 
 use super::{
     CaseResult, Expect, Outcome, StressCase, StressError, StressOptions, SurfaceSetup, cases,
 };
 use lgres::scenes;
-use scene::Scene;
-use sim::build::{Surfaces, build, unworn_joints};
-use sim::simulation_options;
+use scene::ValidScene;
+use sim::build::JointHandle;
+use sim::integrate::{FrameObserver, StartSurfaces, StepBudget};
+use sim::{Integrated, Integration, IntegrationError, IntegrationErrorKind};
 
 /// Tracks the first non-finite sampled state.
+#[derive(Default)]
 struct Watch {
     non_finite_at: Option<f64>,
 }
 
-impl Observer for Watch {
-    fn output(&mut self, frame: &Frame<'_>) {
+impl FrameObserver for Watch {
+    fn frame(&mut self, frame: &Frame<'_>, _joints: &[JointHandle]) {
         if self.non_finite_at.is_none()
             && frame
                 .q
@@ -64,32 +65,6 @@ fn failed(error: &str, message: impl ToString) -> Outcome {
     }
 }
 
-/// Surfaces whose uniform depth `h = (factor − 1) c0` on both sides makes the clearance
-/// `factor × c0`.
-fn uniformly_worn(scene: &Scene, factor: f64) -> Result<Vec<Option<WornJoint>>, String> {
-    let unworn = unworn_joints(scene).map_err(|e| e.to_string())?;
-    unworn
-        .into_iter()
-        .map(|j| {
-            j.map(|j| {
-                let c0 = j.nominal_clearance();
-                let h = (factor - 1.0) * c0;
-                let (b, p) = (j.bearing(), j.pin());
-                let bearing = WornProfile::from_depths(
-                    Side::Bearing,
-                    b.nominal_radius(),
-                    vec![h; b.cells()],
-                )?;
-                let pin =
-                    WornProfile::from_depths(Side::Pin, p.nominal_radius(), vec![h; p.cells()])?;
-                WornJoint::from_profiles(j.wear_coefficient(), j.hinge_width(), bearing, pin)
-            })
-            .transpose()
-            .map_err(|e| e.to_string())
-        })
-        .collect()
-}
-
 /// Runs one case; never panics (a panic inside is caught and reported as `Failed`).
 pub fn run_case(case: &StressCase) -> CaseResult {
     let started = Instant::now();
@@ -108,60 +83,55 @@ pub fn run_case(case: &StressCase) -> CaseResult {
     result
 }
 
+/// One case as named steps: its scene validated as expected, its integration, its numbers and
+/// their verdict.
 fn run_case_inner(case: &StressCase) -> CaseResult {
-    let scene = &case.scene;
-    match (
-        scene.validate(&format!("stress case {:?}", case.name)),
-        &case.expect,
-    ) {
+    let scene = match validated(case) {
+        Ok(scene) => scene,
+        Err(outcome) => return blank(case, outcome),
+    };
+    let integration = integration_of(case, &scene);
+    let mut watch = Watch::default();
+    match sim::integrate(&scene, &integration, &mut watch) {
+        Err(e) => failed_integration(case, &scene, &integration, &e),
+        Ok(run) => {
+            let mut r = measured(case, &run);
+            r.atol_position_m = integration.simulation_options(&scene).atol.position;
+            r.outcome = verdict(case, &r, &run, &watch);
+            r
+        }
+    }
+}
+
+/// The case's scene once validated; `Err`: the outcome of its validation when the case ends
+/// there (the expected rejection, or a rejection or acceptance that was not expected).
+fn validated(case: &StressCase) -> Result<ValidScene, Outcome> {
+    let origin = format!("stress case {:?}", case.name);
+    match (ValidScene::new(case.scene.clone(), &origin), &case.expect) {
         (Err(e), Expect::Rejected(field)) => {
             let named = matches!(&e, scene::SceneError::Invalid { issues, .. }
                 if issues.iter().any(|i| i.path.ends_with(field.as_str())));
-            let outcome = if named {
+            Err(if named {
                 Outcome::ExpectedError {
                     error: "SceneError::Invalid".into(),
                     message: e.to_string(),
                 }
             } else {
                 failed("SceneError (not the expected field)", e)
-            };
-            return blank(case, outcome);
+            })
         }
-        (Err(e), Expect::Completes) => return blank(case, failed("SceneError::Invalid", e)),
-        (Ok(()), Expect::Rejected(field)) => {
-            return blank(
-                case,
-                failed(
-                    "UnexpectedSuccess",
-                    format!("validation accepted the scene; expected an error on {field}"),
-                ),
-            );
-        }
-        (Ok(()), Expect::Completes) => {}
+        (Err(e), Expect::Completes) => Err(failed("SceneError::Invalid", e)),
+        (Ok(_), Expect::Rejected(field)) => Err(failed(
+            "UnexpectedSuccess",
+            format!("validation accepted the scene; expected an error on {field}"),
+        )),
+        (Ok(scene), Expect::Completes) => Ok(scene),
     }
-    let worn = match case.surfaces {
-        SurfaceSetup::Round => Ok(Vec::new()),
-        SurfaceSetup::WearOn => unworn_joints(scene).map_err(|e| e.to_string()),
-        SurfaceSetup::UniformlyWorn(f) => uniformly_worn(scene, f),
-    };
-    let worn = match worn {
-        Ok(w) => w,
-        Err(e) => return blank(case, failed("BuildError", e)),
-    };
-    let surfaces = Surfaces {
-        worn: &worn,
-        accumulate_from: (case.surfaces == SurfaceSetup::WearOn).then_some(0.0),
-        split_halves_at: None,
-    };
-    let mut built = match build(scene, surfaces) {
-        Ok(b) => b,
-        Err(e) => return blank(case, failed("BuildError", e)),
-    };
-    let (q0, qd0) = built.system.initial_guess();
-    let state = match built.system.assemble(0.0, &q0, &qd0) {
-        Ok(s) => s,
-        Err(e) => return blank(case, failed("AssemblyError", e)),
-    };
+}
+
+/// The case's integration: its surfaces, its duration sampled densely or once per drive
+/// cycle, its energy audit; the scene's solver settings.
+fn integration_of(case: &StressCase, scene: &ValidScene) -> Integration {
     let output = if case.dense_output {
         OutputTimes::Every(scene.solver.output_interval)
     } else {
@@ -173,87 +143,91 @@ fn run_case_inner(case: &StressCase) -> CaseResult {
                 .collect(),
         )
     };
-    let mut opts = simulation_options(scene, case.duration, output, false);
-    opts.energy_audit = case.energy_audit;
-    let mut watch = Watch {
-        non_finite_at: None,
+    let surfaces = match case.surfaces {
+        SurfaceSetup::Round => StartSurfaces::Round,
+        SurfaceSetup::WearOn => StartSurfaces::Wearing {
+            accumulate_from: 0.0,
+        },
+        SurfaceSetup::UniformlyWorn(factor) => StartSurfaces::UniformlyWorn { factor },
     };
+    Integration {
+        t_end: case.duration,
+        output,
+        energy_audit: case.energy_audit,
+        max_steps: StepBudget::Scene,
+        tolerances: None,
+        surfaces,
+    }
+}
+
+/// A case whose integration failed, named by the error's kind; the tolerance is reported when
+/// the integrator ran.
+fn failed_integration(
+    case: &StressCase,
+    scene: &ValidScene,
+    integration: &Integration,
+    e: &IntegrationError,
+) -> CaseResult {
+    let kind = e.kind();
+    let mut r = blank(case, failed(kind.name(), e));
+    if let IntegrationErrorKind::Simulation(_) = kind {
+        r.atol_position_m = integration.simulation_options(scene).atol.position;
+    }
+    r
+}
+
+/// The numbers of a finished integration: solver counts, drift, energy books, peak forces,
+/// wear.
+fn measured(case: &StressCase, run: &Integrated) -> CaseResult {
     let mut r = blank(case, Outcome::Completed);
-    r.atol_position_m = opts.atol.position;
-    let sim = match built.system.simulate(&state, &opts, &mut watch) {
-        Ok(sim) => sim,
-        Err(e) => {
-            let name = match &e {
-                multibody::SimulationError::Assembly(_) => "SimulationError::Assembly",
-                multibody::SimulationError::InvalidOptions(_) => "SimulationError::InvalidOptions",
-                multibody::SimulationError::Evaluation { .. } => "SimulationError::Evaluation",
-                multibody::SimulationError::Integrator { .. } => "SimulationError::Integrator",
-                multibody::SimulationError::StepLimit { .. } => "SimulationError::StepLimit",
-                multibody::SimulationError::WallTimeLimit { .. } => {
-                    "SimulationError::WallTimeLimit"
-                }
-            };
-            r.outcome = failed(name, e);
-            return r;
-        }
-    };
-    let s = &sim.statistics;
+    let s = &run.result.statistics;
     r.steps = s.steps;
     r.rejected_steps = s.rejected_steps;
     r.newton_failures = s.nonlinear_solver_failures;
     r.smallest_step_s = s.smallest_step;
     r.events = s.events;
-    r.drift_position = sim.drift.position;
-    if let Some(e) = &sim.energy {
+    r.drift_position = run.result.drift.position;
+    if let Some(e) = &run.result.energy {
         r.energy_residual_j = e.residual;
         r.energy_relative_residual = e.relative_residual();
     }
-    r.peak_normal_force_n = built
+    r.peak_normal_force_n = run
         .joints
         .iter()
-        .map(|h| {
-            let peak = h
-                .probe(built.system.elements())
-                .map_or(f64::NAN, |p| p.peak_normal_force());
-            (h.name.clone(), peak)
-        })
+        .map(|j| (j.name.clone(), j.peak_normal_force.unwrap_or(f64::NAN)))
         .collect();
-    for h in built.joints.iter().filter(|h| h.worn) {
-        if let Some(w) = built
-            .system
-            .element_mut::<clearance::WornClearanceForce>(h.element)
-            .and_then(|e| e.stage_wear())
-        {
-            r.wear_depth_m.push((h.name.clone(), w.max_depth()));
-            r.wear_volume_ratio
-                .push((h.name.clone(), w.worn_volume() / w.archard_volume()));
-        }
-    }
-    let final_ok = sim
-        .final_state
-        .q
+    for (name, w) in run
+        .joints
         .iter()
-        .chain(&sim.final_state.qd)
-        .all(|x| x.is_finite());
-    let end_reached = sim.final_state.t >= case.duration * (1.0 - 1e-9);
-    r.outcome = if let Some(t) = watch.non_finite_at {
+        .filter_map(|j| Some((&j.name, j.stage_wear.as_ref()?)))
+    {
+        r.wear_depth_m.push((name.clone(), w.max_depth()));
+        r.wear_volume_ratio
+            .push((name.clone(), w.worn_volume() / w.archard_volume()));
+    }
+    r
+}
+
+/// Completed only if the run reached its end with every sampled state and every measured
+/// number finite.
+fn verdict(case: &StressCase, r: &CaseResult, run: &Integrated, watch: &Watch) -> Outcome {
+    let end = &run.result.final_state;
+    let final_ok = end.q.iter().chain(&end.qd).all(|x| x.is_finite());
+    let end_reached = end.t >= case.duration * (1.0 - 1e-9);
+    if let Some(t) = watch.non_finite_at {
         failed("NonFinite", format!("non-finite state at t = {t} s"))
     } else if !final_ok {
         failed("NonFinite", "the final state is not finite")
     } else if !end_reached {
         failed(
             "Incomplete",
-            format!(
-                "the run stopped at t = {} s of {} s",
-                sim.final_state.t, case.duration
-            ),
+            format!("the run stopped at t = {} s of {} s", end.t, case.duration),
         )
-    } else if let Some((name, value)) = first_non_finite(&r, case.energy_audit) {
+    } else if let Some((name, value)) = first_non_finite(r, case.energy_audit) {
         failed("NonFinite", format!("{name} = {value} is not finite"))
     } else {
         Outcome::Completed
-    };
-    r
+    }
 }
 
 /// The first measured number of `r` that is NaN or infinite, named as in the CSV. Finite states
