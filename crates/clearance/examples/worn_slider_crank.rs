@@ -3,8 +3,8 @@
 //!
 //! `cargo run --release -p clearance --example worn_slider_crank`
 
-use clearance::multibody::*;
 use clearance::contact::LineOfCentres;
+use clearance::multibody::*;
 use clearance::{Ambrosio, ClearanceJointBuilder, JointSide, LankaraniNikravesh, Material};
 use clearance::{WearParams, WornClearanceForce};
 

@@ -141,7 +141,8 @@ fn stages_add_the_archard_volume(
 #[test]
 fn an_element_without_a_stage_buffer_is_named() -> Result<(), Box<dyn std::error::Error>> {
     let params = WearParams::new(1e-13, 0.02, 720)?;
-    let mut joints = vec![shaft_joint(ContactModelKind::from(LineOfCentres))?.unworn_surfaces(&params)?];
+    let mut joints =
+        vec![shaft_joint(ContactModelKind::from(LineOfCentres))?.unworn_surfaces(&params)?];
     let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
         let mut run = hanging_shaft(&surfaces[0], ContactModelKind::from(LineOfCentres))?;
         // The gravity element (0) is no clearance joint.
@@ -211,7 +212,8 @@ fn an_ensemble_continues_its_trajectories_and_wears_the_archard_volume_on_any_th
     let mut surfaces = Vec::new();
     for threads in [1, 2] {
         let starts = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
-        let mut joints = vec![shaft_joint(ContactModelKind::from(LineOfCentres))?.unworn_surfaces(&params)?];
+        let mut joints =
+            vec![shaft_joint(ContactModelKind::from(LineOfCentres))?.unworn_surfaces(&params)?];
         let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
             let mut run = hanging_shaft(&surfaces[0], ContactModelKind::from(LineOfCentres))?;
             run.system.add_element(Box::new(FirstStep {
@@ -252,7 +254,8 @@ fn an_ensemble_continues_its_trajectories_and_wears_the_archard_volume_on_any_th
 #[test]
 fn three_trajectories_have_no_halves() -> Result<(), Box<dyn std::error::Error>> {
     let params = WearParams::new(1e-13, 0.02, 720)?;
-    let mut joints = vec![shaft_joint(ContactModelKind::from(LineOfCentres))?.unworn_surfaces(&params)?];
+    let mut joints =
+        vec![shaft_joint(ContactModelKind::from(LineOfCentres))?.unworn_surfaces(&params)?];
     let plan = StagePlan::new(1, 10.0, Extrapolation::SingleJump { warn_fraction: 0.1 });
     let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
         hanging_shaft(&surfaces[0], ContactModelKind::from(LineOfCentres))

@@ -454,7 +454,9 @@ impl NormalLawParams {
     /// returned as it is).
     pub fn with_restitution(self, restitution: f64) -> Self {
         match self {
-            Self::LankaraniNikravesh(p) => Self::LankaraniNikravesh(DampedHertzParams { restitution, ..p }),
+            Self::LankaraniNikravesh(p) => {
+                Self::LankaraniNikravesh(DampedHertzParams { restitution, ..p })
+            }
             Self::HuntCrossley(p) => Self::HuntCrossley(DampedHertzParams { restitution, ..p }),
             Self::Flores(p) => Self::Flores(DampedHertzParams { restitution, ..p }),
             Self::Hertz(p) => Self::Hertz(p),

@@ -349,7 +349,10 @@ fn contact_model_fields_are_validated_naming_the_field() {
     );
     // Coarser nodes that span whole cells are taken, but not with linearly implicit steps.
     let coarse = load(&with("{ cells = 500 }")).unwrap();
-    assert_eq!(foundation(&coarse.clearance_joints[0].contact).cells, Some(500));
+    assert_eq!(
+        foundation(&coarse.clearance_joints[0].contact).cells,
+        Some(500)
+    );
     let implicit = with("{ cells = 500 }").replacen(
         "[run]\n",
         "[run]\nwear_stepping = \"linearly-implicit\"\n",

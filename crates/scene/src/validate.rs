@@ -6,8 +6,8 @@ use std::collections::HashSet;
 
 use super::error::Validator;
 use super::{
-    BodyRef, ClearanceJointSpec, DriverTarget, GROUND, MAX_WEAR_CELLS, Scene,
-    SceneError, Solver, TimeLaw,
+    BodyRef, ClearanceJointSpec, DriverTarget, GROUND, MAX_WEAR_CELLS, Scene, SceneError, Solver,
+    TimeLaw,
 };
 
 impl Scene {

@@ -31,7 +31,10 @@ fn a_table_without_model_is_the_foundation() {
             ..FoundationSpec::default()
         }))
     );
-    assert_eq!(read("{ model = \"foundation\" }"), Ok(ContactSpec::default()));
+    assert_eq!(
+        read("{ model = \"foundation\" }"),
+        Ok(ContactSpec::default())
+    );
     assert_eq!(ContactSpec::default().name(), "foundation");
 }
 
@@ -43,7 +46,9 @@ fn each_model_reads_its_own_fields() {
     );
     assert_eq!(
         read("{ model = \"linear-spring\", stiffness = 1e9 }"),
-        Ok(ContactSpec::LinearSpring(LinearSpringSpec { stiffness: 1e9 }))
+        Ok(ContactSpec::LinearSpring(LinearSpringSpec {
+            stiffness: 1e9
+        }))
     );
     // An integer where a number is expected reads as one, as elsewhere in a scene.
     assert_eq!(
@@ -72,7 +77,10 @@ fn another_models_field_or_an_unknown_model_is_refused_by_name() {
         "{ model = \"linear-spring\", stiffness = 1e9, width = 0.1 }",
         &["unknown field `width`", "stiffness"],
     );
-    refused("{ model = \"linear-spring\" }", &["missing field `stiffness`"]);
+    refused(
+        "{ model = \"linear-spring\" }",
+        &["missing field `stiffness`"],
+    );
     refused(
         "{ model = \"winkler\" }",
         &[

@@ -84,7 +84,8 @@ fn the_scene_value_refuses_what_the_model_does_not_take() {
     };
     let missing = parsed("model = \"linear-spring\"");
     assert!(
-        missing.contains("clearance_joints[0].contact") && missing.contains("missing field `stiffness`"),
+        missing.contains("clearance_joints[0].contact")
+            && missing.contains("missing field `stiffness`"),
         "{missing}"
     );
     let layer = parsed(&format!(
@@ -92,7 +93,10 @@ fn the_scene_value_refuses_what_the_model_does_not_take() {
     ));
     assert!(layer.contains("unknown field `layer_modulus`"), "{layer}");
     let elsewhere = parsed(&format!("stiffness = {STIFFNESS:e}"));
-    assert!(elsewhere.contains("unknown field `stiffness`"), "{elsewhere}");
+    assert!(
+        elsewhere.contains("unknown field `stiffness`"),
+        "{elsewhere}"
+    );
     let unknown = parsed("model = \"springy\"");
     assert!(
         unknown.contains("unknown variant `springy`") && unknown.contains("linear-spring"),
@@ -121,7 +125,10 @@ fn the_scene_value_refuses_what_the_model_does_not_take() {
         negative.contains("contact.stiffness = -1.0: must be positive"),
         "{negative}"
     );
-    assert!(base.clearance_joints[0].wear.is_some(), "a wear table to refuse");
+    assert!(
+        base.clearance_joints[0].wear.is_some(),
+        "a wear table to refuse"
+    );
     let refused = with(STIFFNESS, true);
     assert!(refused.contains("round surfaces only"), "{refused}");
     let absurd = with(1e20, false);

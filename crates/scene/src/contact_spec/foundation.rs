@@ -77,12 +77,16 @@ impl FoundationSpec {
     }
 
     /// The layer of `joint`: given (`layer_modulus` over the hinge width) or calibrated.
-    fn layer(&self, joint: &ClearanceJointSpec) -> Result<contact::Foundation, contact::ContactError> {
+    fn layer(
+        &self,
+        joint: &ClearanceJointSpec,
+    ) -> Result<contact::Foundation, contact::ContactError> {
         let width = || {
-            self.hinge_width(joint).ok_or(contact::ContactError::NonFinite {
-                parameter: "width",
-                value: f64::NAN,
-            })
+            self.hinge_width(joint)
+                .ok_or(contact::ContactError::NonFinite {
+                    parameter: "width",
+                    value: f64::NAN,
+                })
         };
         let material = |m| contact::Material::try_from(m);
         match (self.layer_modulus, self.layer.unwrap_or_default()) {
