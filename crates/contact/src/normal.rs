@@ -431,7 +431,8 @@ impl NormalLawParams {
     pub fn damping_onset_floor(&self) -> Option<f64> {
         match self {
             Self::LankaraniNikravesh(p) | Self::HuntCrossley(p) | Self::Flores(p) => {
-                (!(p.restitution >= 1.0)).then_some(p.onset_velocity_floor)
+                let elastic = p.restitution >= 1.0;
+                (!elastic).then_some(p.onset_velocity_floor)
             }
             Self::Hertz(_) => None,
         }
