@@ -15,7 +15,7 @@
 use clearance::RoundClearanceForce;
 use contact::{
     Ambrosio, CircularProfile, ClearanceJoint, ContactError, FrictionLawKind, JointSurface,
-    LankaraniNikravesh, Material, NormalLawKind,
+    LankaraniNikravesh, LineOfCentres, Material, NormalLawKind,
 };
 use multibody::{
     Anchor, Body, BodyId, Coordinate, DriveTarget, Gravity, Harmonic, Model, ModelError, System,
@@ -197,7 +197,8 @@ pub fn chain(bodies: usize, period: usize, params: &ChainParams) -> Result<Chain
             },
             NormalLawKind::LankaraniNikravesh(LankaraniNikravesh::new(0.5)?),
             FrictionLawKind::Ambrosio(Ambrosio::new(0.1, 1e-4, 1e-3)?),
-        )?;
+        )?
+        .with_model(LineOfCentres);
         system.add_element(Box::new(RoundClearanceForce::new(
             name,
             bearing,

@@ -3,6 +3,7 @@
 //!
 //! `cargo run --release -p clearance --example worn_slider_crank`
 
+use clearance::contact::LineOfCentres;
 use clearance::multibody::*;
 use clearance::{Ambrosio, ClearanceJointBuilder, JointSide, LankaraniNikravesh, Material};
 use clearance::{WearParams, WornClearanceForce};
@@ -34,6 +35,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let wear = WearParams::archard(1.8e-13).with_hinge_width(0.02);
     let b = ClearanceJointBuilder::new("B", bearing, pin, LankaraniNikravesh::new(0.9)?)
         .friction(Ambrosio::new(0.1, 1e-4, 1e-3)?)
+        .contact_model(LineOfCentres)
         .wearing(&wear)?;
     let b = system.add_element(Box::new(b));
 

@@ -109,7 +109,8 @@ pub struct ClearanceJointBuilder {
     friction_law: FrictionLawKind,
     friction_sliding: SlidingVelocity,
     wear_sliding: SlidingVelocity,
-    model: ContactModelKind,
+    /// `None`: the joint's default ([`contact::joint::default_model`]).
+    model: Option<ContactModelKind>,
 }
 
 impl ClearanceJointBuilder {
@@ -129,14 +130,16 @@ impl ClearanceJointBuilder {
             friction_law: FrictionLawKind::None,
             friction_sliding: SlidingVelocity::Material,
             wear_sliding: SlidingVelocity::Material,
-            model: ContactModelKind::default(),
+            model: None,
         }
     }
 
-    /// Sets the contact model (default: line of centres). A worn joint on the foundation model
-    /// should give it as many nodes as its wear grid has cells, so each node is a pin cell.
+    /// Sets the contact model (default: the elastic foundation on 1000 nodes, calibrated as a
+    /// scene's default, [`contact::joint::default_model`]). A worn joint on the foundation
+    /// model should give it as many nodes as its wear grid has cells, so each node is a pin
+    /// cell.
     pub fn contact_model(mut self, model: impl Into<ContactModelKind>) -> Self {
-        self.model = model.into();
+        self.model = Some(model.into());
         self
     }
 
@@ -210,9 +213,11 @@ impl ClearanceJointBuilder {
             self.friction_law,
         )
         .map(|joint| {
-            joint
-                .with_friction_sliding(self.friction_sliding)
-                .with_model(self.model)
+            let joint = joint.with_friction_sliding(self.friction_sliding);
+            match self.model {
+                Some(model) => joint.with_model(model),
+                None => joint,
+            }
         })
         .map_err(|source| ClearanceError::Contact {
             joint: self.name.clone(),

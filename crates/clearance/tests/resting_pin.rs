@@ -35,7 +35,8 @@ fn a_hanging_pin_settles_to_the_hertz_static_penetration() {
         NormalLawKind::LankaraniNikravesh(LankaraniNikravesh::new(0.5).expect("valid")),
         FrictionLawKind::Ambrosio(Ambrosio::new(0.1, 1e-4, 1e-3).expect("valid")),
     )
-    .expect("valid joint");
+    .expect("valid joint")
+    .with_model(contact::LineOfCentres);
     let stiffness = joint.stiffness(bearing_radius, bearing_radius - clearance);
     let element = system.add_element(Box::new(RoundClearanceForce::new(
         "pin",

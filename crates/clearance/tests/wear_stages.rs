@@ -11,7 +11,7 @@ use clearance::{
     ClearanceJointBuilder, Ensemble, JointSide, LankaraniNikravesh, Material, StagePlan,
     StageSimulation, WearParams, WearStagesError, run_ensemble_stages, run_wear_stages,
 };
-use contact::{ContactModelKind, Foundation};
+use contact::{ContactModelKind, Foundation, LineOfCentres};
 use wear::{Extrapolation, RunContext, WornJoint};
 
 const MASS: f64 = 10.0;
@@ -97,7 +97,7 @@ fn hanging_shaft(
 #[test]
 fn each_stage_adds_the_archard_volume_of_a_dead_load_times_the_amplification()
 -> Result<(), Box<dyn std::error::Error>> {
-    stages_add_the_archard_volume(ContactModelKind::default())
+    stages_add_the_archard_volume(ContactModelKind::from(LineOfCentres))
 }
 
 #[test]
@@ -141,9 +141,10 @@ fn stages_add_the_archard_volume(
 #[test]
 fn an_element_without_a_stage_buffer_is_named() -> Result<(), Box<dyn std::error::Error>> {
     let params = WearParams::new(1e-13, 0.02, 720)?;
-    let mut joints = vec![shaft_joint(ContactModelKind::default())?.unworn_surfaces(&params)?];
+    let mut joints =
+        vec![shaft_joint(ContactModelKind::from(LineOfCentres))?.unworn_surfaces(&params)?];
     let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
-        let mut run = hanging_shaft(&surfaces[0], ContactModelKind::default())?;
+        let mut run = hanging_shaft(&surfaces[0], ContactModelKind::from(LineOfCentres))?;
         // The gravity element (0) is no clearance joint.
         run.elements = vec![clearance::multibody::ElementId(0)];
         Ok::<_, Box<dyn std::error::Error>>(run)
@@ -211,9 +212,10 @@ fn an_ensemble_continues_its_trajectories_and_wears_the_archard_volume_on_any_th
     let mut surfaces = Vec::new();
     for threads in [1, 2] {
         let starts = std::sync::Arc::new(std::sync::Mutex::new(Vec::new()));
-        let mut joints = vec![shaft_joint(ContactModelKind::default())?.unworn_surfaces(&params)?];
+        let mut joints =
+            vec![shaft_joint(ContactModelKind::from(LineOfCentres))?.unworn_surfaces(&params)?];
         let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
-            let mut run = hanging_shaft(&surfaces[0], ContactModelKind::default())?;
+            let mut run = hanging_shaft(&surfaces[0], ContactModelKind::from(LineOfCentres))?;
             run.system.add_element(Box::new(FirstStep {
                 starts: starts.clone(),
                 seen: false,
@@ -252,10 +254,11 @@ fn an_ensemble_continues_its_trajectories_and_wears_the_archard_volume_on_any_th
 #[test]
 fn three_trajectories_have_no_halves() -> Result<(), Box<dyn std::error::Error>> {
     let params = WearParams::new(1e-13, 0.02, 720)?;
-    let mut joints = vec![shaft_joint(ContactModelKind::default())?.unworn_surfaces(&params)?];
+    let mut joints =
+        vec![shaft_joint(ContactModelKind::from(LineOfCentres))?.unworn_surfaces(&params)?];
     let plan = StagePlan::new(1, 10.0, Extrapolation::SingleJump { warn_fraction: 0.1 });
     let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
-        hanging_shaft(&surfaces[0], ContactModelKind::default())
+        hanging_shaft(&surfaces[0], ContactModelKind::from(LineOfCentres))
     };
     let stages = run_ensemble_stages(&mut joints, &plan, Ensemble::new(3, 2), &mut runs)
         .map_err(|e| e.to_string())?;
@@ -271,9 +274,9 @@ fn three_trajectories_have_no_halves() -> Result<(), Box<dyn std::error::Error>>
 fn controlled_sub_steps_wear_the_archard_volume() -> Result<(), Box<dyn std::error::Error>> {
     let amplification = 1000.0;
     let params = WearParams::new(1e-13, 0.02, 720)?;
-    let fresh = shaft_joint(ContactModelKind::default())?.unworn_surfaces(&params)?;
+    let fresh = shaft_joint(ContactModelKind::from(LineOfCentres))?.unworn_surfaces(&params)?;
     let mut runs = |_: RunContext, surfaces: &[WornJoint]| {
-        hanging_shaft(&surfaces[0], ContactModelKind::default())
+        hanging_shaft(&surfaces[0], ContactModelKind::from(LineOfCentres))
     };
     // The clearance change of the whole stage in one jump sets bounds that need ≥ 4 sub-steps.
     let jump = StagePlan::new(

@@ -321,8 +321,11 @@ fn extends_switches_a_joints_contact_model() {
         .iter()
         .find(|j| j.name == "B")
         .unwrap();
-    assert_eq!(b.contact.cells, Some(500));
-    assert_eq!(b.contact.reference_speed, Some(0.1));
+    let scene::ContactSpec::Foundation(contact) = b.contact else {
+        panic!("not the foundation: {:?}", b.contact)
+    };
+    assert_eq!(contact.cells, Some(500));
+    assert_eq!(contact.reference_speed, Some(0.1));
 }
 
 #[test]

@@ -45,6 +45,7 @@ where
         friction,
     )
     .expect("valid joint")
+    .with_model(contact::LineOfCentres)
 }
 
 /// Bearing on rod 2 and pin on rod 3 of LGRES joint A, the pin 10 µm into the wall at 30°,

@@ -10,7 +10,7 @@
 
 use contact::{
     Ambrosio, BodyState, CircularProfile, ClearanceJoint, ContactDiagnostics, ContactError,
-    ImpactMemory, JointSurface, LankaraniNikravesh, Material,
+    ImpactMemory, JointSurface, LankaraniNikravesh, LineOfCentres, Material,
 };
 
 const STEP: f64 = 1e-7;
@@ -62,7 +62,8 @@ fn main() -> Result<(), ContactError> {
         },
         LankaraniNikravesh::new(0.9)?,
         Ambrosio::new(0.15, 1e-4, 1e-3)?,
-    )?;
+    )?
+    .with_model(LineOfCentres);
     let bearing = BodyState::at_rest(0.0, 0.0, 0.0);
     let mut pin = BodyState::new([0.0, 0.0, 0.0], [0.03, -0.1, 0.0]);
 

@@ -3,6 +3,7 @@
 //! sliding velocity `v_t` of the pin on the bearing.
 
 use crate::error::{ContactError, in_range, non_negative, through_params};
+use crate::normal::SpeedScale;
 
 /// Friction force and its partials.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -226,6 +227,38 @@ pub enum FrictionLawParams {
     Coulomb(CoulombParams),
     /// [`Frictionless`].
     None,
+}
+
+impl FrictionLawParams {
+    /// The law in words for a contact's description, e.g. `Ambrósio friction μ = 0.15`.
+    pub fn description(&self) -> String {
+        match self {
+            Self::Ambrosio(p) => format!("Ambrósio friction μ = {}", p.coefficient),
+            Self::Coulomb(p) => format!("Coulomb friction μ = {}", p.coefficient),
+            Self::None => "no friction".to_string(),
+        }
+    }
+
+    /// The speed below which the law changes behaviour: Ambrósio's stick velocity `v_0`.
+    pub fn speed_scale(&self) -> Option<SpeedScale> {
+        match self {
+            Self::Ambrosio(p) => Some(SpeedScale {
+                parameter: "stick_velocity",
+                value: p.stick_velocity,
+            }),
+            Self::Coulomb(_) | Self::None => None,
+        }
+    }
+
+    /// The same law with friction coefficient `coefficient` where it has one (no friction has
+    /// none and is returned as it is).
+    pub fn with_coefficient(self, coefficient: f64) -> Self {
+        match self {
+            Self::Ambrosio(p) => Self::Ambrosio(AmbrosioParams { coefficient, ..p }),
+            Self::Coulomb(_) => Self::Coulomb(CoulombParams::new(coefficient)),
+            Self::None => Self::None,
+        }
+    }
 }
 
 impl FrictionLawKind {

@@ -52,28 +52,35 @@ pub use types::{
 #[derive(Clone, Debug, PartialEq)]
 pub struct ClearanceJoint<B, P, N = NormalLawKind, F = FrictionLawKind> {
     pair: ContactPair<B, P, N, F>,
-    /// Line of centres (default) or elastic foundation.
+    /// The elastic foundation (default, as in scenes), the line of centres or another model.
     model: ContactModelKind,
 }
 
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     ClearanceJoint<B, P, N, F>
 {
-    /// A joint on the line-of-centres model, validated: finite centres, and profiles that are
-    /// finite, positive and leave a positive clearance in every direction (checked on 64
-    /// angles per surface: the smallest bearing radius must exceed the largest pin radius).
+    /// A joint on the elastic foundation, the scenes' default model ([`default_model`]),
+    /// validated: finite centres, and profiles that are finite, positive and leave a positive
+    /// clearance in every direction (checked on 64 angles per surface: the smallest bearing
+    /// radius must exceed the largest pin radius). [`Self::with_model`] chooses another model.
     pub fn new(
         bearing: JointSurface<B>,
         pin: JointSurface<P>,
         normal_law: N,
         friction_law: F,
     ) -> Result<Self, ContactError> {
-        let model = ContactModelKind::default();
-        let pair = ContactPair::new(bearing, pin, normal_law, friction_law, node_window(&model))?;
+        let pair = ContactPair::new(
+            bearing,
+            pin,
+            normal_law,
+            friction_law,
+            DEFAULT_FOUNDATION_CELLS,
+        )?;
+        let model = default_model(&pair)?;
         Ok(Self { pair, model })
     }
 
-    /// The same joint with contact model `model` (default [`LineOfCentres`]).
+    /// The same joint with contact model `model` (default: [`default_model`]).
     pub fn with_model(self, model: impl Into<ContactModelKind>) -> Self {
         let model = model.into();
         Self {
@@ -244,6 +251,48 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         }
         deepest
     }
+}
+
+/// The contact model a joint runs unless given another, the same as a scene's default
+/// (`contact` omitted): the elastic foundation on [`DEFAULT_FOUNDATION_CELLS`] nodes whose
+/// layer reproduces the conformal Hertz force at [`DEFAULT_REFERENCE_OVERLAP`] of the
+/// clearance ([`Foundation::hertz_matched`]), calibrated on the outlines' tightest fit: the
+/// bearing's smallest radius and the pin's largest (on round surfaces their radii).
+pub fn default_model<B: SurfaceProfile, P: SurfaceProfile, N, F>(
+    pair: &ContactPair<B, P, N, F>,
+) -> Result<ContactModelKind, ContactError> {
+    let (bearing_radius, pin_radius) = tightest_fit(pair.bearing_profile(), pair.pin_profile());
+    let (bearing, pin) = pair.materials();
+    Ok(Foundation::hertz_matched(
+        &bearing,
+        &pin,
+        bearing_radius,
+        pin_radius,
+        DEFAULT_REFERENCE_OVERLAP,
+    )?
+    .into())
+}
+
+/// Angles at which [`tightest_fit`] samples a profile that does not bound its radius.
+const FIT_SAMPLES: usize = 64;
+
+/// The bearing's smallest radius and the pin's largest: the profiles' own bounds where they
+/// give them, else the extremes over [`FIT_SAMPLES`] angles.
+fn tightest_fit(bearing: &impl SurfaceProfile, pin: &impl SurfaceProfile) -> (f64, f64) {
+    let sampled = |profile: &dyn Fn(f64) -> f64, pick: fn(f64, f64) -> f64, start: f64| {
+        (0..FIT_SAMPLES)
+            .map(|k| profile(std::f64::consts::TAU * k as f64 / FIT_SAMPLES as f64))
+            .fold(start, pick)
+    };
+    let bearing_radius = bearing.radius_bounds().map_or_else(
+        || sampled(&|a| bearing.sample(a).radius, f64::min, f64::INFINITY),
+        |(smallest, _)| smallest,
+    );
+    let pin_radius = pin.radius_bounds().map_or_else(
+        || sampled(&|a| pin.sample(a).radius, f64::max, f64::NEG_INFINITY),
+        |(_, largest)| largest,
+    );
+    (bearing_radius, pin_radius)
 }
 
 /// The node count the pair's node window is laid out for: the model's nodes, else the

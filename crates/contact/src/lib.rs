@@ -26,13 +26,14 @@
 //!
 //! Contact models (the [`ContactModel`] trait; [`ContactModelKind`] chooses a built-in one at
 //! run time, set with [`ClearanceJoint::with_model`]): the line-of-centres model
-//! ([`LineOfCentres`], the default here; one contact point, below) and the elastic
-//! foundation over the true outlines ([`joint::foundation`], [`Foundation`]): a Winkler layer
-//! pressed by every node of the pin's outline, exact geometry at any eccentricity, several
-//! contact zones, its loads per node ([`NodeLoad`], [`ClearanceJoint::forces_visiting_nodes`])
-//! for Archard wear. Both return forces, the exact Jacobian and [`ContactDiagnostics`], and
-//! name the measures of their validity ([`ValidityMeasure`]) and the shape limits they need
-//! ([`ShapeLimits`]).
+//! ([`LineOfCentres`]; one contact point, below), the elastic foundation over the true
+//! outlines ([`joint::foundation`], [`Foundation`]; the default here as in scenes,
+//! [`joint::default_model`]) and the test model [`LinearSpring`]. The foundation is a
+//! Winkler layer pressed by every node of the pin's outline, exact geometry at any
+//! eccentricity, several contact zones, its loads per node ([`NodeLoad`],
+//! [`ClearanceJoint::forces_visiting_nodes`]) for Archard wear. Each model returns forces, the
+//! exact Jacobian and [`ContactDiagnostics`], and names the measures of its validity
+//! ([`ValidityMeasure`]) and the shape limits it needs ([`ShapeLimits`]).
 //!
 //! Worn surfaces: the local radii in the contact direction replace the nominal ones in the
 //! penetration and in the conformal Hertz stiffness, and the force is the gradient of the stored
@@ -103,6 +104,6 @@ pub use joint::{
 pub use normal::{
     DEFAULT_HERTZ_EXPONENT, DEFAULT_ONSET_VELOCITY_FLOOR, DampedHertzParams, Flores, Hertz,
     HertzParams, HuntCrossley, ImpactMemory, LankaraniNikravesh, NormalForce, NormalLaw,
-    NormalLawKind, NormalLawParams,
+    NormalLawKind, NormalLawParams, SpeedScale,
 };
 pub use surface::{CircularProfile, RadiusSample, SurfaceProfile, floor, wrap_angle};

@@ -405,6 +405,66 @@ pub enum NormalLawParams {
     Hertz(HertzParams),
 }
 
+/// A speed below which a law changes behaviour (m/s), with the name of the parameter that
+/// sets it: an integrator whose velocity error exceeds it cannot tell the law's regimes apart.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpeedScale {
+    /// The parameter, as a scene names it.
+    pub parameter: &'static str,
+    /// Its value (m/s).
+    pub value: f64,
+}
+
+impl NormalLawParams {
+    /// The law in words for a contact's description, e.g. `Lankarani–Nikravesh c_e = 0.9`.
+    pub fn description(&self) -> String {
+        match self {
+            Self::LankaraniNikravesh(p) => format!("Lankarani–Nikravesh c_e = {}", p.restitution),
+            Self::HuntCrossley(p) => format!("Hunt–Crossley c_e = {}", p.restitution),
+            Self::Flores(p) => format!("Flores c_e = {}", p.restitution),
+            Self::Hertz(_) => "Hertz (undamped)".to_string(),
+        }
+    }
+
+    /// The floor on the onset velocity its damping divides by (m/s), for a law that damps
+    /// (restitution below 1); `None` for an elastic one.
+    pub fn damping_onset_floor(&self) -> Option<f64> {
+        match self {
+            Self::LankaraniNikravesh(p) | Self::HuntCrossley(p) | Self::Flores(p) => {
+                let elastic = p.restitution >= 1.0;
+                (!elastic).then_some(p.onset_velocity_floor)
+            }
+            Self::Hertz(_) => None,
+        }
+    }
+
+    /// The speed below which the law changes behaviour: a damped law's onset-velocity floor.
+    pub fn speed_scale(&self) -> Option<SpeedScale> {
+        match self {
+            Self::LankaraniNikravesh(p) | Self::HuntCrossley(p) | Self::Flores(p) => {
+                Some(SpeedScale {
+                    parameter: "onset_velocity_floor",
+                    value: p.onset_velocity_floor,
+                })
+            }
+            Self::Hertz(_) => None,
+        }
+    }
+
+    /// The same law with restitution `c_e` where it has one (an undamped law has none and is
+    /// returned as it is).
+    pub fn with_restitution(self, restitution: f64) -> Self {
+        match self {
+            Self::LankaraniNikravesh(p) => {
+                Self::LankaraniNikravesh(DampedHertzParams { restitution, ..p })
+            }
+            Self::HuntCrossley(p) => Self::HuntCrossley(DampedHertzParams { restitution, ..p }),
+            Self::Flores(p) => Self::Flores(DampedHertzParams { restitution, ..p }),
+            Self::Hertz(p) => Self::Hertz(p),
+        }
+    }
+}
+
 impl NormalLawKind {
     /// The law from its parameters, validated (the error names the parameter).
     pub fn from_params(params: NormalLawParams) -> Result<Self, ContactError> {

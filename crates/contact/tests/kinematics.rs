@@ -60,7 +60,8 @@ fn worn_profiles_are_sampled_in_their_own_body_frames() {
         Hertz::default(),
         Frictionless,
     )
-    .expect("valid joint");
+    .expect("valid joint")
+    .with_model(contact::LineOfCentres);
     let theta_i: f64 = 0.5;
     let phi: f64 = -2.0;
     let bearing = BodyState::at_rest(0.0, 0.0, theta_i);

@@ -33,6 +33,27 @@ impl Validator {
             reason: reason.into(),
         });
     }
+
+    /// Finite and, if `positive`, > 0; returns whether it passed.
+    pub(crate) fn number(&mut self, path: &str, x: f64, positive: bool) -> bool {
+        if !x.is_finite() {
+            self.push(path, x, "must be a finite number");
+            false
+        } else if positive && x <= 0.0 {
+            self.push(path, x, "must be positive");
+            false
+        } else {
+            true
+        }
+    }
+
+    /// `|x| ≤ max` (a limit of [`super::limits`]' kind); non-finite values are
+    /// [`Self::number`]'s to report.
+    pub(crate) fn at_most(&mut self, path: &str, x: f64, max: f64, unit: &str) {
+        if x.is_finite() && x.abs() > max {
+            self.push(path, x, format!("magnitude must not exceed {max:e} {unit}"));
+        }
+    }
 }
 
 impl fmt::Display for Issue {

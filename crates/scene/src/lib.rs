@@ -64,13 +64,14 @@
 //! merge key by key, and arrays of tables (`bodies`, `revolute_joints`, …) merge element by
 //! element matched on `name`, an unmatched name being appended (a name given twice in one patch
 //! is an error). Other values replace, and so do an empty array (`drivers = []` removes the
-//! base's) and a table whose `law` or `kind` differs from the base's. This keeps
+//! base's) and a table whose `law`, `kind` or contact `model` differs from the base's. This keeps
 //! the study variants a few lines each and the reconstructed geometry in one file.
 //!
 //! # Layout and the lower crates' types
 //! The data types are in `types`, loading and `extends` in `extends`, a scene given by name or
-//! path in `named`, the named scenes in `builtins`, the per-field checks in `validate`, the
-//! numeric limits in [`limits`] and the rules for names that become file names in
+//! path in `named`, the named scenes in `builtins`, a clearance joint's contact model (one
+//! tagged value, a module per model that builds, words and checks it) in `contact_spec`, the
+//! per-field checks in `validate`, the numeric limits in [`limits`] and the rules for names that become file names in
 //! [`file_names`]. Contact laws, materials, the sliding choice, the integrator and driven
 //! coordinates are `contact`'s and `multibody`'s own serde types, re-exported here; `contact`
 //! also reads the spellings of older scene files (`law = "hertz-lankarani-nikravesh"`,
@@ -93,7 +94,9 @@ mod valid;
 mod validate;
 
 pub use builtins::{Builtin, source};
-pub use contact_spec::{ContactModelName, ContactSpec, LayerCalibration};
+pub use contact_spec::{
+    ContactSpec, FoundationSpec, LayerCalibration, LineOfCentresSpec, LinearSpringSpec,
+};
 pub use error::{Issue, SceneError};
 pub use extends::{builtin, from_table, load_path, load_str, merged_table, merged_table_of_file};
 pub use named::{LoadError, Loadable, NotFound, load_named};

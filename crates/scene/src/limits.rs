@@ -6,9 +6,11 @@
 //! [`crate::Scene::validate`] runs these checks, so `check` and `run` reject the same
 //! scenes, each problem naming its field. Every bound is far outside the shipped scenes (a
 //! landing gear at 60 rpm, a slider-crank at 5000 rpm) and far inside what makes a run hang,
-//! panic or exhaust memory.
+//! panic or exhaust memory. A contact model's own bounds sit beside its fields and are
+//! checked with them ([`crate::FoundationSpec::MAX_LAYER_MODULUS`],
+//! [`crate::LinearSpringSpec::MAX_STIFFNESS`]).
 
-use contact::{FrictionLawParams, NormalLawParams};
+use contact::FrictionLawParams;
 
 use super::error::Validator;
 use super::file_names::{MAX_NAME_CHARS, is_file_name_safe};
@@ -38,14 +40,6 @@ pub const MIN_SUBSTEP_FRACTION: f64 = 1e-4;
 /// run.amplification`; the shipped scenes: 2 million): a landing gear sees about 1e5 cycles in
 /// its life, and more than this only multiplies the sub-steps a stage needs.
 pub const MAX_CYCLES_PER_STAGE_REPRESENTED: f64 = 1e12;
-/// Stiffest foundation layer (`contact.layer_modulus`), Pa/m: the stiffest solid (diamond,
-/// ~1.2e12 Pa) over a layer of 10 µm. Stiffer layers only shorten the integrator's steps (a
-/// run of 1e20 Pa/m took minutes per cycle; 1e300 makes the mass matrix singular).
-pub const MAX_LAYER_MODULUS: f64 = 1e17;
-/// Stiffest linear-spring contact (`contact.stiffness`), N/m: the stiffest solid (diamond,
-/// ~1.2e12 Pa) over a contact a metre wide and deep. Stiffer springs only shorten the
-/// integrator's steps, as stiffer layers do.
-pub const MAX_SPRING_STIFFNESS: f64 = 1e13;
 /// Longest drive period, s (an hour; the shipped scenes: 1 s and 12 ms).
 pub const MAX_PERIOD: f64 = 3600.0;
 /// Most output samples of one response run (`cycles × period / output_interval`).
@@ -97,10 +91,7 @@ struct Limits<'a>(&'a mut Validator);
 impl Limits<'_> {
     /// `|x| ≤ max`; non-finite values are the validator's to report.
     fn at_most(&mut self, path: &str, x: f64, max: f64, unit: &str) {
-        if x.is_finite() && x.abs() > max {
-            self.0
-                .push(path, x, format!("magnitude must not exceed {max:e} {unit}"));
-        }
+        self.0.at_most(path, x, max, unit);
     }
 
     fn within(&mut self, path: &str, x: f64, (lo, hi): (f64, f64), unit: &str) {
@@ -236,25 +227,6 @@ impl Limits<'_> {
         }
         if let Some(w) = &c.wear {
             self.wear(&format!("{p}.wear"), w);
-        }
-        if let Some(width) = c.contact.width {
-            self.at_most(&format!("{p}.contact.width"), width, MAX_LENGTH, "m");
-        }
-        if let Some(k) = c.contact.layer_modulus {
-            self.at_most(
-                &format!("{p}.contact.layer_modulus"),
-                k,
-                MAX_LAYER_MODULUS,
-                "Pa/m (stiffer layers only shorten the integrator's steps)",
-            );
-        }
-        if let Some(k) = c.contact.stiffness {
-            self.at_most(
-                &format!("{p}.contact.stiffness"),
-                k,
-                MAX_SPRING_STIFFNESS,
-                "N/m (stiffer springs only shorten the integrator's steps)",
-            );
         }
     }
 
@@ -497,18 +469,13 @@ impl Limits<'_> {
 fn speed_scales(k: usize, c: &ClearanceJointSpec) -> Vec<(f64, String)> {
     let p = format!("clearance_joints[{k}]");
     let mut v = Vec::new();
-    if let FrictionLawParams::Ambrosio(a) = c.friction {
-        let v0 = a.stick_velocity;
-        v.push((v0, format!("{p}.friction.stick_velocity = {v0:e}")));
-    }
-    match c.normal_law {
-        NormalLawParams::LankaraniNikravesh(d)
-        | NormalLawParams::HuntCrossley(d)
-        | NormalLawParams::Flores(d) => {
-            let f = d.onset_velocity_floor;
-            v.push((f, format!("{p}.normal_law.onset_velocity_floor = {f:e}")));
+    for (law, scale) in [
+        ("friction", c.friction.speed_scale()),
+        ("normal_law", c.normal_law.speed_scale()),
+    ] {
+        if let Some(contact::SpeedScale { parameter, value }) = scale {
+            v.push((value, format!("{p}.{law}.{parameter} = {value:e}")));
         }
-        NormalLawParams::Hertz(_) => {}
     }
     v
 }

@@ -6,8 +6,8 @@ use std::collections::HashSet;
 
 use super::error::Validator;
 use super::{
-    BodyRef, ClearanceJointSpec, ContactModelName, DriverTarget, GROUND, MAX_WEAR_CELLS, Scene,
-    SceneError, Solver, TimeLaw,
+    BodyRef, ClearanceJointSpec, DriverTarget, GROUND, MAX_WEAR_CELLS, Scene, SceneError, Solver,
+    TimeLaw,
 };
 
 impl Scene {
@@ -28,19 +28,6 @@ impl Scene {
 }
 
 impl Validator {
-    /// Finite and, if `positive`, > 0; returns whether it passed.
-    fn number(&mut self, path: &str, x: f64, positive: bool) -> bool {
-        if !x.is_finite() {
-            self.push(path, x, "must be a finite number");
-            false
-        } else if positive && x <= 0.0 {
-            self.push(path, x, "must be positive");
-            false
-        } else {
-            true
-        }
-    }
-
     fn vector(&mut self, path: &str, v: [f64; 2]) {
         for (k, x) in v.iter().enumerate() {
             self.number(&format!("{path}[{k}]"), *x, false);
@@ -249,7 +236,7 @@ impl Validator {
             &format!("{p}.friction"),
             contact::FrictionLawKind::from_params(c.friction),
         );
-        self.contact_model(p, c, s.run.wear_stepping);
+        c.contact.check(self, p, c, &s.run);
         if let Some(w) = &c.wear {
             let q = format!("{p}.wear");
             self.number(&format!("{q}.k_d"), w.k_d, true);
@@ -264,146 +251,6 @@ impl Validator {
                     format!("must lie in 8..={MAX_WEAR_CELLS}"),
                 );
             }
-        }
-    }
-
-    fn contact_model(&mut self, p: &str, c: &ClearanceJointSpec, stepping: wear::WearStepping) {
-        let spec = &c.contact;
-        let q = format!("{p}.contact");
-        if spec.model == ContactModelName::LinearSpring {
-            match spec.stiffness {
-                Some(k) => {
-                    self.number(&format!("{q}.stiffness"), k, true);
-                }
-                None => self.push(
-                    format!("{q}.stiffness"),
-                    "(none)",
-                    "the linear-spring model needs its stiffness (N/m)",
-                ),
-            }
-            if c.wear.is_some() {
-                self.push(
-                    format!("{p}.wear"),
-                    "…",
-                    "the linear-spring test model is exact on round surfaces only: it takes no \
-                     wear",
-                );
-            }
-        } else if spec.stiffness.is_some() {
-            self.push(
-                format!("{q}.stiffness"),
-                "…",
-                "only the linear-spring model takes it",
-            );
-        }
-        if spec.model != ContactModelName::Foundation {
-            for (field, given) in [
-                ("layer_modulus", spec.layer_modulus.is_some()),
-                ("width", spec.width.is_some()),
-                ("cells", spec.cells.is_some()),
-                ("quadrature", spec.quadrature.is_some()),
-                ("reference_speed", spec.reference_speed.is_some()),
-                ("layer", spec.layer.is_some()),
-            ] {
-                if given {
-                    self.push(
-                        format!("{q}.{field}"),
-                        "…",
-                        format!(
-                            "only the foundation model takes it (model = \"{}\")",
-                            spec.model.as_str()
-                        ),
-                    );
-                }
-            }
-            return;
-        }
-        if let Some(k) = spec.layer_modulus {
-            self.number(&format!("{q}.layer_modulus"), k, true);
-            if spec.width.is_none() && c.wear.is_none() {
-                self.push(
-                    format!("{q}.width"),
-                    "(none)",
-                    "a layer_modulus needs the hinge width it acts over: give contact.width \
-                     (or wear.width)",
-                );
-            }
-        }
-        if let Some(w) = spec.width {
-            self.number(&format!("{q}.width"), w, true);
-        }
-        if spec.layer.is_some() && spec.layer_modulus.is_some() {
-            self.push(
-                format!("{q}.layer"),
-                "…",
-                "a layer_modulus sets the layer itself: give one of the two",
-            );
-        } else if spec.layer == Some(super::LayerCalibration::PinInHole)
-            && spec.width.is_none()
-            && c.wear.is_none()
-        {
-            self.push(
-                format!("{q}.width"),
-                "(none)",
-                "the pin-in-hole layer needs the hinge width: give contact.width (or wear.width)",
-            );
-        }
-        if let Some(v) = spec.reference_speed {
-            self.number(&format!("{q}.reference_speed"), v, true);
-        }
-        if let Some(n) = spec.cells {
-            if !(8..=MAX_WEAR_CELLS).contains(&n) {
-                self.push(
-                    format!("{q}.cells"),
-                    n,
-                    format!("must lie in 8..={MAX_WEAR_CELLS}"),
-                );
-            } else if let Some(w) = c
-                .wear
-                .filter(|w| w.cells > 0 && n % w.cells != 0 && w.cells % n != 0)
-            {
-                self.push(
-                    format!("{q}.cells"),
-                    n,
-                    format!(
-                        "must be a whole multiple of wear.cells ({}) or divide it: the \
-                         foundation's nodes subdivide the pin's wear cells, or span whole ones",
-                        w.cells
-                    ),
-                );
-            } else if let Some(w) = c.wear.filter(|w| n < w.cells)
-                && stepping == wear::WearStepping::LinearlyImplicit
-            {
-                self.push(
-                    format!("{q}.cells"),
-                    n,
-                    format!(
-                        "run.wear_stepping = \"linearly-implicit\" needs at least one node per \
-                         wear cell ({}): its contact zones map each node to one cell",
-                        w.cells
-                    ),
-                );
-            }
-        }
-        // Simpson's quadrature pairs the nodes: their count (contact.cells, else wear.cells,
-        // else the default) must be even.
-        let nodes = c.foundation_nodes();
-        if spec.quadrature.unwrap_or_default() == contact::Quadrature::Simpson
-            && !nodes.is_multiple_of(2)
-        {
-            let (field, source) = if spec.cells.is_some() {
-                (format!("{q}.cells"), "contact.cells")
-            } else {
-                (format!("{p}.wear.cells"), "wear.cells, the nodes' default")
-            };
-            self.push(
-                field,
-                nodes,
-                format!(
-                    "Simpson's quadrature (the default) needs an even node count ({source}): \
-                     give an even count or contact.quadrature = \"trapezoid\""
-                ),
-            );
         }
     }
 

@@ -371,9 +371,9 @@ fn a_scene_changed_in_code_is_checked_before_a_run_can_take_it() {
 #[test]
 fn work_bounds_hold_over_fuzzed_values() {
     use scene::limits::{
-        MAX_CYCLES_PER_STAGE_REPRESENTED, MAX_LAYER_MODULUS, MAX_LENGTH, MAX_SUBSTEPS,
-        MIN_SUBSTEP_FRACTION,
+        MAX_CYCLES_PER_STAGE_REPRESENTED, MAX_LENGTH, MAX_SUBSTEPS, MIN_SUBSTEP_FRACTION,
     };
+    const MAX_LAYER_MODULUS: f64 = scene::FoundationSpec::MAX_LAYER_MODULUS;
     // Values spread over every decade, and each bound with its neighbours.
     let mut values: Vec<f64> = (-323..=308).step_by(7).map(|e| 10f64.powi(e)).collect();
     for bound in [

@@ -4,7 +4,7 @@
 //! model, not a flag: the verdict names the model and judges the one measure it names, and an
 //! undamped, frictionless spring neither dissipates nor creates energy.
 
-use scene::{ContactModelName, ContactSpec, ValidScene};
+use scene::{ContactSpec, LinearSpringSpec, ValidScene};
 use sim::{RunOptions, run_scene};
 
 /// A stiffness of the order of the Hertz law's secant at the start-up impacts (~30 kN at
@@ -19,11 +19,10 @@ fn the_test_model_runs_a_scene_from_its_scene_value() {
     scene.run.cycles = 1;
     scene.run.wear_stages = 0;
     for joint in &mut scene.clearance_joints {
-        joint.contact = ContactSpec {
-            model: ContactModelName::LinearSpring,
-            stiffness: Some(STIFFNESS),
-            ..ContactSpec::default()
-        };
+        joint.contact = LinearSpringSpec {
+            stiffness: STIFFNESS,
+        }
+        .into();
         // Exact on round surfaces only: the test model takes no wear.
         joint.wear = None;
         assert!(
@@ -66,68 +65,73 @@ fn the_test_model_runs_a_scene_from_its_scene_value() {
     }
 }
 
+/// The scene value takes the model's own fields only: serde refuses another model's field
+/// or a missing one by name, validation a value the model or the joint cannot take.
 #[test]
 fn the_scene_value_refuses_what_the_model_does_not_take() {
+    let parsed = |contact: &str| {
+        scene::load_str(
+            &format!(
+                "extends = \"lgres-elastic\"\n[[clearance_joints]]\nname = \"A\"\n\
+                 contact = {{ {contact} }}\n"
+            ),
+            "patch",
+            lgres::scenes::BUILTINS,
+        )
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default()
+    };
+    let missing = parsed("model = \"linear-spring\"");
+    assert!(
+        missing.contains("clearance_joints[0].contact")
+            && missing.contains("missing field `stiffness`"),
+        "{missing}"
+    );
+    let layer = parsed(&format!(
+        "model = \"linear-spring\", stiffness = {STIFFNESS:e}, layer_modulus = 1e14"
+    ));
+    assert!(layer.contains("unknown field `layer_modulus`"), "{layer}");
+    let elsewhere = parsed(&format!("stiffness = {STIFFNESS:e}"));
+    assert!(
+        elsewhere.contains("unknown field `stiffness`"),
+        "{elsewhere}"
+    );
+    let unknown = parsed("model = \"springy\"");
+    assert!(
+        unknown.contains("unknown variant `springy`") && unknown.contains("linear-spring"),
+        "{unknown}"
+    );
+
     let base = lgres::scenes::builtin("lgres-elastic")
         .expect("built-in")
         .into_scene();
-    let with = |contact: ContactSpec| {
+    let with = |stiffness: f64, keep_wear: bool| {
         let mut scene = base.clone();
-        scene.clearance_joints[0].contact = contact;
+        let joint = &mut scene.clearance_joints[0];
+        joint.contact = LinearSpringSpec { stiffness }.into();
+        if !keep_wear {
+            joint.wear = None;
+        }
         scene
             .validate("lgres-elastic")
             .err()
             .map(|e| e.to_string())
             .unwrap_or_default()
     };
-    let missing = with(ContactSpec {
-        model: ContactModelName::LinearSpring,
-        ..ContactSpec::default()
-    });
+    assert_eq!(with(STIFFNESS, false), "");
+    let negative = with(-1.0, false);
     assert!(
-        missing.contains("stiffness") && missing.contains("needs"),
-        "{missing}"
+        negative.contains("contact.stiffness = -1.0: must be positive"),
+        "{negative}"
     );
-    let layer = with(ContactSpec {
-        model: ContactModelName::LinearSpring,
-        stiffness: Some(STIFFNESS),
-        layer_modulus: Some(1e14),
-        ..ContactSpec::default()
-    });
-    assert!(layer.contains("model = \"linear-spring\""), "{layer}");
-    let elsewhere = with(ContactSpec {
-        stiffness: Some(STIFFNESS),
-        ..ContactSpec::default()
-    });
     assert!(
-        elsewhere.contains("only the linear-spring model takes it"),
-        "{elsewhere}"
+        base.clearance_joints[0].wear.is_some(),
+        "a wear table to refuse"
     );
-    let negative = with(ContactSpec {
-        model: ContactModelName::LinearSpring,
-        stiffness: Some(-1.0),
-        ..ContactSpec::default()
-    });
-    assert!(negative.contains("stiffness"), "{negative}");
-    let mut worn = base.clone();
-    let joint = &mut worn.clearance_joints[0];
-    joint.contact = ContactSpec {
-        model: ContactModelName::LinearSpring,
-        stiffness: Some(STIFFNESS),
-        ..ContactSpec::default()
-    };
-    assert!(joint.wear.is_some(), "a wear table to refuse");
-    let refused = worn
-        .validate("lgres-elastic")
-        .err()
-        .map(|e| e.to_string())
-        .unwrap_or_default();
+    let refused = with(STIFFNESS, true);
     assert!(refused.contains("round surfaces only"), "{refused}");
-    let absurd = with(ContactSpec {
-        model: ContactModelName::LinearSpring,
-        stiffness: Some(1e20),
-        ..ContactSpec::default()
-    });
+    let absurd = with(1e20, false);
     assert!(
         absurd.contains("contact.stiffness") && absurd.contains("N/m"),
         "{absurd}"

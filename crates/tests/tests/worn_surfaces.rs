@@ -8,7 +8,8 @@
 use std::f64::consts::TAU;
 use std::path::{Path, PathBuf};
 
-use scene::{ContactModelName, ContactSpec, ValidScene};
+use contact::{ContactModel, ValidityMeasure};
+use scene::{ContactSpec, ValidScene};
 use sim::surfaces::SurfacesError;
 use sim::{RunError, RunOptions, run_scene};
 
@@ -58,21 +59,19 @@ fn worn_folder(name: &str) -> PathBuf {
 /// stored energy that peaks at tens of joules per impact.
 #[test]
 fn elastic_contact_on_worn_surfaces_conserves_energy() {
-    for model in [
-        ContactModelName::Foundation,
-        ContactModelName::LineOfCentres,
-    ] {
+    for model in [ContactSpec::default(), ContactSpec::line_of_centres()] {
         elastic_contact_conserves_energy(model);
     }
 }
 
-fn elastic_contact_conserves_energy(model: ContactModelName) {
-    let dir = worn_folder(&format!("elastic-{model:?}"));
+fn elastic_contact_conserves_energy(model: ContactSpec) {
+    let name = model.name();
+    let dir = worn_folder(&format!("elastic-{name}"));
     let scene = one_cycle_on("lgres-elastic", model);
     let outcome = run_scene("lgres-elastic", &scene, &from_surfaces(&dir), &mut ()).expect("runs");
     let r = &outcome.summary.response;
     eprintln!(
-        "elastic LGRES on 20 µm dents ({model:?}): dissipated {:.4} J per cycle (A {:.4}, B {:.4})",
+        "elastic LGRES on 20 µm dents ({name}): dissipated {:.4} J per cycle (A {:.4}, B {:.4})",
         r.dissipated_per_cycle_j,
         r.joints[0].contact_dissipation_per_cycle_j,
         r.joints[1].contact_dissipation_per_cycle_j
@@ -81,39 +80,34 @@ fn elastic_contact_conserves_energy(model: ContactModelName) {
     assert_eq!(r.damping_per_cycle_j, 0.0);
     assert_eq!(r.friction_per_cycle_j, 0.0);
     assert!(r.energy_warnings.is_empty(), "{:?}", r.energy_warnings);
-    for j in &r.joints {
+    for (j, joint) in r.joints.iter().zip(&scene.clearance_joints) {
         let v = j.validity.as_ref().expect("measured");
-        match model {
-            // The run did sample the dents: the validity measures saw non-zero slopes.
-            ContactModelName::LineOfCentres => {
-                assert!(v.max_slope_ratio > 0.0 && v.overlap_frames > 0, "{v:?}");
+        let model = joint.contact_model().expect("a model");
+        assert_eq!(v.model, model.name());
+        // The run did sample the dents: each measure the model is judged by that a dent
+        // makes non-zero was measured so.
+        for measure in model.validity_measures() {
+            match measure {
+                ValidityMeasure::SlopeRatio => assert!(v.max_slope_ratio > 0.0, "{v:?}"),
+                ValidityMeasure::OverlapError => assert!(v.overlap_frames > 0, "{v:?}"),
+                ValidityMeasure::OverlapRatio => assert!(v.max_overlap_ratio > 0.0, "{v:?}"),
+                ValidityMeasure::ResolutionError => {
+                    assert!(v.narrowest_zone_cells.is_some(), "{v:?}")
+                }
+                _ => {}
             }
-            // The foundation measured its overlap and zones.
-            ContactModelName::Foundation => {
-                assert_eq!(v.model, "foundation");
-                assert!(
-                    v.max_overlap_ratio > 0.0 && v.narrowest_zone_cells.is_some(),
-                    "{v:?}"
-                );
-            }
-            // Exact on round surfaces only: not run on dents (tests/contact_models.rs).
-            ContactModelName::LinearSpring => panic!("the linear spring is not run on dents"),
         }
     }
     std::fs::remove_dir_all(dir).ok();
 }
 
-fn set_model(scene: &mut scene::Scene, model: ContactModelName) {
+/// `scene`'s clearance joints on the contact model `model`: the scene's own table where it
+/// names the same model (its nodes kept), else `model`.
+fn set_model(scene: &mut scene::Scene, model: ContactSpec) {
     for joint in &mut scene.clearance_joints {
-        joint.contact = match model {
-            ContactModelName::LineOfCentres => ContactSpec::line_of_centres(),
-            // It takes no wear (scene validation refuses it): not a model for dents.
-            ContactModelName::LinearSpring => panic!("the linear spring is not run on dents"),
-            ContactModelName::Foundation => ContactSpec {
-                model,
-                ..joint.contact
-            },
-        };
+        if joint.contact.name() != model.name() {
+            joint.contact = model;
+        }
     }
 }
 
@@ -127,10 +121,10 @@ fn lgres_beside_worn_folder(name: &str) -> (PathBuf, ValidScene, Vec<Option<wear
 }
 
 /// The built-in scene `name` for one response cycle, its clearance joints on `model`.
-fn one_cycle_on(name: &str, model: ContactModelName) -> ValidScene {
+fn one_cycle_on(name: &str, model: ContactSpec) -> ValidScene {
     lgres::scenes::builtin(name)
         .expect("built-in")
-        .edit(&format!("{name}, one cycle, {model:?}"), |s| {
+        .edit(&format!("{name}, one cycle, {}", model.name()), |s| {
             s.run.cycles = 1;
             set_model(s, model);
         })
@@ -200,7 +194,7 @@ fn missing_or_mismatched_wear_files_are_named_errors() {
 fn line_of_centres_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_energy() {
     let dir = std::env::temp_dir().join(format!("wornjoint-default-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let scene = one_cycle_on("lgres", ContactModelName::LineOfCentres);
+    let scene = one_cycle_on("lgres", ContactSpec::line_of_centres());
     let options = RunOptions {
         cycles_per_stage: Some(1),
         ..RunOptions::default()
@@ -221,7 +215,7 @@ fn line_of_centres_stage_stops_at_the_validity_limit_and_its_surfaces_conserve_e
     }
     output::artifacts::write_run(&outcome, &dir).expect("writes");
 
-    let elastic = one_cycle_on("lgres-elastic", ContactModelName::LineOfCentres);
+    let elastic = one_cycle_on("lgres-elastic", ContactSpec::line_of_centres());
     let outcome =
         run_scene("lgres-elastic", &elastic, &from_surfaces(&dir), &mut ()).expect("runs");
     let dissipated = outcome.summary.response.dissipated_per_cycle_j;

@@ -33,7 +33,7 @@ mod render;
 pub use engine::{run_battery, run_case, run_cases};
 pub use render::{csv, markdown, write_report};
 
-use contact::{FrictionLawParams, NormalLawParams};
+use contact::FrictionLawParams;
 use serde::Serialize;
 
 use output::files::OutputError;
@@ -221,20 +221,11 @@ fn set_wear_cells(scene: &mut Scene, cells: usize) {
 }
 
 fn set_restitution(scene: &mut Scene, e: f64) {
-    each_joint(scene, |c| match &mut c.normal_law {
-        NormalLawParams::LankaraniNikravesh(d)
-        | NormalLawParams::HuntCrossley(d)
-        | NormalLawParams::Flores(d) => d.restitution = e,
-        NormalLawParams::Hertz(_) => {}
-    });
+    each_joint(scene, |c| c.normal_law = c.normal_law.with_restitution(e));
 }
 
 fn set_friction(scene: &mut Scene, cf: f64) {
-    each_joint(scene, |c| match &mut c.friction {
-        FrictionLawParams::Ambrosio(a) => a.coefficient = cf,
-        FrictionLawParams::Coulomb(k) => k.coefficient = cf,
-        FrictionLawParams::None => {}
-    });
+    each_joint(scene, |c| c.friction = c.friction.with_coefficient(cf));
 }
 
 /// The battery's cases on `base` (normally the shipped `lgres`), short ones lasting

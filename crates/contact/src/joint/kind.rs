@@ -98,11 +98,3 @@ contact_models! {
     /// the interface.
     LinearSpring(LinearSpring),
 }
-
-/// The line of centres, the lower crates' default: it needs no parameters (a scene's default
-/// is the foundation, whose layer is calibrated from the joint's materials and radii).
-impl Default for ContactModelKind {
-    fn default() -> Self {
-        Self::LineOfCentres(LineOfCentres)
-    }
-}

@@ -67,6 +67,7 @@ pub fn round_joint<N: NormalLaw, F: FrictionLaw>(
         friction,
     )
     .expect("valid joint")
+    .with_model(contact::LineOfCentres)
 }
 
 pub fn lgres_laws(restitution: f64) -> (LankaraniNikravesh, Ambrosio) {
@@ -394,4 +395,5 @@ pub fn off_centre_joint<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: F
         friction,
     )
     .expect("valid joint")
+    .with_model(contact::LineOfCentres)
 }
