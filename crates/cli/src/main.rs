@@ -16,7 +16,7 @@ mod sweep;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
 use error::CliError;
 use lgres::scenes;
 use overrides::Overrides;
@@ -47,7 +47,9 @@ enum Command {
     },
     /// Run one of the paper's studies, or all of them.
     Study {
-        study: StudyName,
+        /// The study to run.
+        #[arg(value_parser = study::name_parser())]
+        study: String,
         /// Drive cycles one wear stage stands for (default: the scenes' 2 million). Fewer make a
         /// quick look at the machinery in seconds, not the paper's study.
         #[arg(long, value_name = "CYCLES", allow_hyphen_values = true)]
@@ -108,27 +110,6 @@ fn method_parser() -> impl clap::builder::TypedValueParser<Value = scene::Integr
     clap::builder::PossibleValuesParser::new(names).try_map(|name| {
         analysis::precision::method_by_name(&name).ok_or("no integrator of this name")
     })
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum StudyName {
-    WearStages,
-    Clearance,
-    Speed,
-    Extrapolation,
-    All,
-}
-
-impl StudyName {
-    fn name(self) -> &'static str {
-        match self {
-            StudyName::WearStages => "wear-stages",
-            StudyName::Clearance => "clearance",
-            StudyName::Speed => "speed",
-            StudyName::Extrapolation => analysis::study::EXTRAPOLATION,
-            StudyName::All => "all",
-        }
-    }
 }
 
 /// A loaded scene and the name outputs are filed under.
@@ -681,7 +662,7 @@ fn main() -> ExitCode {
         Command::Study {
             study: s,
             stage_cycles,
-        } => study::run(s.name(), *stage_cycles, o),
+        } => study::run(s, *stage_cycles, o),
         Command::Check { scene } => check(scene, o),
         Command::Scenes => {
             list_scenes();
