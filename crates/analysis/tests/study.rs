@@ -104,7 +104,14 @@ fn tiny_study_writes_a_report_listing_every_scene() {
     let (results, path) = study::run_studies(&studies, &o, &()).expect("study runs");
     // lgres is shared by both studies and run once.
     let keys: Vec<&str> = results.runs.iter().map(|r| r.key.as_str()).collect();
-    assert_eq!(keys, ["lgres-c02", "lgres", lgres::studies::EXTRAPOLATION.single_jump_run]);
+    assert_eq!(
+        keys,
+        [
+            "lgres-c02",
+            "lgres",
+            lgres::studies::EXTRAPOLATION.single_jump_run
+        ]
+    );
     let md = std::fs::read_to_string(&path).expect("report written");
     for key in &keys {
         assert!(md.contains(&format!("`{key}`")), "report lists {key}");

@@ -98,7 +98,11 @@ fn study_help_lists_every_study() {
     assert!(o.status.success(), "{}", stderr(&o));
     let help = String::from_utf8_lossy(&o.stdout);
     for s in lgres::studies::STUDIES {
-        assert!(help.contains(&format!("- {}: ", s.name)), "{}: {help}", s.name);
+        assert!(
+            help.contains(&format!("- {}: ", s.name)),
+            "{}: {help}",
+            s.name
+        );
     }
     let extrapolation = lgres::studies::EXTRAPOLATION.name;
     assert!(help.contains(&format!("- {extrapolation}: ")), "{help}");

@@ -40,15 +40,27 @@ fn every_claim_judges_scenes_its_study_runs() {
                 response,
             } => {
                 assert_ne!(first, second, "{}", s.name);
-                assert!(!(response.is_empty() && s.claim.wear.is_empty()), "{}", s.name);
+                assert!(
+                    !(response.is_empty() && s.claim.wear.is_empty()),
+                    "{}",
+                    s.name
+                );
             }
             Cases::Stages {
                 scene,
                 first,
                 second,
             } => {
-                assert!(1 <= first && first < second, "{}: stages {first}, {second}", s.name);
-                assert!(second <= scene_stages(scene), "{}: {scene} has too few stages", s.name);
+                assert!(
+                    1 <= first && first < second,
+                    "{}: stages {first}, {second}",
+                    s.name
+                );
+                assert!(
+                    second <= scene_stages(scene),
+                    "{}: {scene} has too few stages",
+                    s.name
+                );
                 assert!(!s.claim.wear.is_empty(), "{}", s.name);
             }
         }
@@ -78,7 +90,11 @@ fn every_mirror_covers_its_study_scene_by_scene() {
         assert_eq!(m.scenes.len(), s.scenes.len(), "{}", s.name);
         for scene in s.scenes {
             let theirs = mirrored(s, scene);
-            assert!(m.study.scenes.contains(&theirs.as_str()), "{}: {theirs}", s.name);
+            assert!(
+                m.study.scenes.contains(&theirs.as_str()),
+                "{}: {theirs}",
+                s.name
+            );
             assert_eq!(s.scene_for(&theirs), Some(*scene));
         }
         assert_eq!(s.claim.trend, m.study.claim.trend, "{}", s.name);
@@ -102,8 +118,15 @@ fn the_papers_numbers_are_found_by_every_study_filed_under_them() {
     for p in filed {
         let physical = study(&p.name).unwrap_or_else(|| panic!("no study {}", p.name));
         assert!(physical.mirror.is_none(), "{}", p.name);
-        let readers: Vec<&Study> = STUDIES.iter().filter(|s| s.paper_name() == p.name).collect();
-        assert!(readers.len() >= 2, "{}: physical and paper formulation", p.name);
+        let readers: Vec<&Study> = STUDIES
+            .iter()
+            .filter(|s| s.paper_name() == p.name)
+            .collect();
+        assert!(
+            readers.len() >= 2,
+            "{}: physical and paper formulation",
+            p.name
+        );
         for s in readers {
             for v in &p.values {
                 assert!(s.scene_for(&v.scene).is_some(), "{}: {}", s.name, v.scene);

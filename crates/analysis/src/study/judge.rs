@@ -315,9 +315,9 @@ pub fn wear_comparisons(
                     format!("worn arc {} (deg, depth ≥ {ARC_FRACTION}·peak)", a.name),
                     JointMetrics::arc_deg,
                 ),
-                WearMeasure::PeakDepth => (format!("peak depth {} (µm)", a.name), |m| {
-                    m.peak_m() * 1e6
-                }),
+                WearMeasure::PeakDepth => {
+                    (format!("peak depth {} (µm)", a.name), |m| m.peak_m() * 1e6)
+                }
                 WearMeasure::DepthVariation => (
                     format!("irregularity {}: CV of depth over the worn arc", a.name),
                     JointMetrics::cv,
@@ -346,11 +346,7 @@ pub fn compare_stages(
     high: usize,
     measures: &[WearMeasure],
 ) -> Vec<Comparison> {
-    wear_comparisons(
-        &wear_metrics(run, low),
-        &wear_metrics(run, high),
-        measures,
-    )
+    wear_comparisons(&wear_metrics(run, low), &wear_metrics(run, high), measures)
 }
 
 /// A trend verdict for the summary.
@@ -414,7 +410,8 @@ fn judge_claim(claim: &Claim, results: &StudyResults) -> Option<(Vec<Comparison>
             second,
             response,
         } => {
-            let (low, high) = smaller_first(claim.direction, results.run(first)?, results.run(second)?);
+            let (low, high) =
+                smaller_first(claim.direction, results.run(first)?, results.run(second)?);
             Some((
                 compare_runs(&low.outcome, &high.outcome, response, claim.wear),
                 [low.key.clone(), high.key.clone()],

@@ -366,10 +366,9 @@ fn extrapolation_section(
     study: &ExtrapolationStudy,
     results: &StudyResults,
 ) -> Result<(), OutputError> {
-    let (Some(adaptive), Some(single)) = (
-        results.run(study.scene),
-        results.run(study.single_jump_run),
-    ) else {
+    let (Some(adaptive), Some(single)) =
+        (results.run(study.scene), results.run(study.single_jump_run))
+    else {
         return Ok(());
     };
     let _ = writeln!(
