@@ -9,7 +9,7 @@
 //!
 //! // The paper's wear-stages study on tiny runs: every scene's files under `out/study/<scene>/`
 //! // and the report `out/study/report.md`.
-//! let kinds = study::resolve("wear-stages")?;
+//! let kinds = study::resolve(lgres::studies::WEAR_STAGES.name)?;
 //! let options = StudyOptions {
 //!     response_cycles: 1,
 //!     cycles_per_stage: 1,

@@ -61,8 +61,18 @@ fn bad_names_and_options_are_bad_input() {
     let e = study::resolve("nope").unwrap_err();
     assert!(e.is_bad_input());
     assert!(e.to_string().contains("extrapolation"));
-    // Three paper studies in each of the two wear formulations, and the extrapolation study.
-    assert_eq!(study::resolve("all").map(|s| s.len()).ok(), Some(7));
+    // Every study of the list, and the extrapolation study.
+    assert_eq!(
+        study::resolve(study::ALL).map(|s| s.len()).ok(),
+        Some(lgres::studies::STUDIES.len() + 1)
+    );
+    // Every name offered resolves, `all` last.
+    let choices = study::choices();
+    assert_eq!(choices.last().map(|c| c.name), Some(study::ALL));
+    for c in &choices {
+        assert!(study::resolve(c.name).is_ok(), "{}", c.name);
+        assert!(!c.summary.is_empty(), "{}", c.name);
+    }
 
     let dir = std::env::temp_dir().join(format!("lgres-study-bad-{}", std::process::id()));
     let mut o = StudyOptions::new(&dir);
@@ -94,7 +104,14 @@ fn tiny_study_writes_a_report_listing_every_scene() {
     let (results, path) = study::run_studies(&studies, &o, &()).expect("study runs");
     // lgres is shared by both studies and run once.
     let keys: Vec<&str> = results.runs.iter().map(|r| r.key.as_str()).collect();
-    assert_eq!(keys, ["lgres-c02", "lgres", study::SINGLE_JUMP_RUN]);
+    assert_eq!(
+        keys,
+        [
+            "lgres-c02",
+            "lgres",
+            lgres::studies::EXTRAPOLATION.single_jump_run
+        ]
+    );
     let md = std::fs::read_to_string(&path).expect("report written");
     for key in &keys {
         assert!(md.contains(&format!("`{key}`")), "report lists {key}");

@@ -24,7 +24,7 @@ mod sweep;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Parser, Subcommand};
 use lgres::scenes;
 use overrides::Overrides;
 use precision::PrecisionArgs;
@@ -53,7 +53,9 @@ enum Command {
     },
     /// Run one of the paper's studies, or all of them.
     Study {
-        study: StudyName,
+        /// The study to run.
+        #[arg(value_parser = study::name_parser())]
+        study: String,
         /// Drive cycles one wear stage stands for (default: the scenes' 2 million). Fewer make a
         /// quick look at the machinery in seconds, not the paper's study.
         #[arg(long, value_name = "CYCLES", allow_hyphen_values = true)]
@@ -114,27 +116,6 @@ fn method_parser() -> impl clap::builder::TypedValueParser<Value = scene::Integr
     clap::builder::PossibleValuesParser::new(names).try_map(|name| {
         analysis::precision::method_by_name(&name).ok_or("no integrator of this name")
     })
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum StudyName {
-    WearStages,
-    Clearance,
-    Speed,
-    Extrapolation,
-    All,
-}
-
-impl StudyName {
-    fn name(self) -> &'static str {
-        match self {
-            StudyName::WearStages => "wear-stages",
-            StudyName::Clearance => "clearance",
-            StudyName::Speed => "speed",
-            StudyName::Extrapolation => analysis::study::EXTRAPOLATION,
-            StudyName::All => "all",
-        }
-    }
 }
 
 fn list_scenes() {
@@ -233,7 +214,7 @@ fn main() -> ExitCode {
         Command::Study {
             study: s,
             stage_cycles,
-        } => study::run(s.name(), *stage_cycles, o),
+        } => study::run(s, *stage_cycles, o),
         Command::Check { scene } => run::check(scene, o),
         Command::Scenes => {
             list_scenes();

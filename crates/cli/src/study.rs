@@ -4,6 +4,8 @@
 
 use std::path::PathBuf;
 
+use clap::builder::{PossibleValue, PossibleValuesParser};
+
 use analysis::study::judge;
 use analysis::study::{self, StudyError, StudyOptions};
 
@@ -14,7 +16,17 @@ use crate::progress::StudyBars;
 /// Output folder when `--out` is not given.
 const DEFAULT_OUT: &str = "out/study";
 
-/// Runs study `name` (`wear-stages`, `clearance`, `speed`, `extrapolation` or `all`).
+/// The names `wearsim study` takes, each with its summary as help: every name
+/// [`study::resolve`] accepts.
+pub fn name_parser() -> PossibleValuesParser {
+    PossibleValuesParser::new(
+        study::choices()
+            .into_iter()
+            .map(|c| PossibleValue::new(c.name).help(c.summary)),
+    )
+}
+
+/// Runs study `name`, one of [`study::choices`].
 /// `stage_cycles`: drive cycles one wear stage stands for, instead of the scenes' (a quick look).
 pub fn run(name: &str, stage_cycles: Option<f64>, o: &Overrides) -> Result<(), CliError> {
     if let Some(s) = o.stages {

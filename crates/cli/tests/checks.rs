@@ -90,6 +90,27 @@ fn scenes_lists_every_builtin() {
     }
 }
 
+/// `study --help` offers every study of the list with its summary, the extrapolation study and
+/// `all`; an unknown name is refused with the names offered.
+#[test]
+fn study_help_lists_every_study() {
+    let o = wearsim(&["study", "--help"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let help = String::from_utf8_lossy(&o.stdout);
+    for s in lgres::studies::STUDIES {
+        assert!(
+            help.contains(&format!("- {}: ", s.name)),
+            "{}: {help}",
+            s.name
+        );
+    }
+    let extrapolation = lgres::studies::EXTRAPOLATION.name;
+    assert!(help.contains(&format!("- {extrapolation}: ")), "{help}");
+    assert!(help.contains("- all: "), "{help}");
+    let o = wearsim(&["study", "no-such-study"]);
+    assert_exit(&o, 2, lgres::studies::SPEED_PAPER.name);
+}
+
 #[test]
 fn cycles_per_stage_zero_is_rejected_naming_the_flag() {
     let o = wearsim(&["run", "lgres", "--cycles-per-stage", "0"]);

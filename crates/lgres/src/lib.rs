@@ -5,7 +5,9 @@
 //! - [`scenes`]: the shipped scenes (`scenes/*.toml`, embedded; the list `extends` resolves
 //!   names against, [`scenes::BUILTINS`]). The reconstructed geometry lives in
 //!   `scenes/lgres.toml` only; the variants override a few values.
-//! - [`studies`]: the paper's studies (Sec. 4.2) as lists of scenes, [`studies::STUDIES`].
+//! - [`studies`]: the paper's studies (Sec. 4.2) as values, [`studies::STUDIES`]: the scenes
+//!   each runs, the trend the paper claims for them ([`claim`]) and, for a study in the paper's
+//!   wear formulation, the physical study it mirrors.
 //! - [`paper`]: the numbers the paper reports, kept as data (`data/paper.toml`).
 //!
 //! Running a scene is crate `sim`'s, writing its files crate `output`'s, and running a study
@@ -29,6 +31,7 @@
 
 #![warn(missing_docs)]
 
+pub mod claim;
 pub mod paper;
 pub mod scenes;
 pub mod studies;

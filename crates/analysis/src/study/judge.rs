@@ -13,6 +13,7 @@ use std::fmt;
 use wear::{WornJoint, WornProfile};
 
 use super::results::{StudyKind, StudyResults};
+use lgres::claim::{Cases, Claim, Direction, ResponseMeasure, WearMeasure};
 use sim::{ResponseSummary, RunOutcome};
 
 /// Fraction of a surface's peak depth that counts as worn, for the worn arc and irregularity.
@@ -210,9 +211,14 @@ pub fn final_wear(outcome: &RunOutcome) -> Vec<JointMetrics> {
     wear_metrics(outcome, last.saturating_sub(1))
 }
 
-/// The chaos-robust comparisons of a `low` and a `high` run: force medians, rod-3 deviation,
-/// dissipation (unworn and worn response) and the wear after the last stage.
-pub fn compare_runs(low: &RunOutcome, high: &RunOutcome) -> Vec<Comparison> {
+/// The comparisons of a `low` and a `high` run: the `response` quantities on unworn and then
+/// on worn surfaces, then the `wear` quantities after the last stage, joint by joint.
+pub fn compare_runs(
+    low: &RunOutcome,
+    high: &RunOutcome,
+    response: &[ResponseMeasure],
+    wear: &[WearMeasure],
+) -> Vec<Comparison> {
     let mut out = Vec::new();
     let responses = [
         (
@@ -228,95 +234,119 @@ pub fn compare_runs(low: &RunOutcome, high: &RunOutcome) -> Vec<Comparison> {
     ];
     for (label, a, b) in responses {
         let (Some(a), Some(b)) = (a, b) else { continue };
-        out.extend(response_comparisons(label, a, b));
+        for measure in response {
+            out.extend(response_comparisons(*measure, label, a, b));
+        }
     }
-    for (a, b) in final_wear(low).iter().zip(final_wear(high)) {
-        out.push(Comparison {
-            quantity: format!("worn volume {} (mm³)", a.name),
-            low: a.volume_m3 * 1e9,
-            high: b.volume_m3 * 1e9,
-            noise: 0.0,
-        });
-        out.push(Comparison {
-            quantity: format!("worn arc {} (deg, depth ≥ {ARC_FRACTION}·peak)", a.name),
-            low: a.arc_deg(),
-            high: b.arc_deg(),
-            noise: 0.0,
-        });
-    }
+    out.extend(wear_comparisons(&final_wear(low), &final_wear(high), wear));
     out
 }
 
-fn response_comparisons(label: &str, a: &ResponseSummary, b: &ResponseSummary) -> Vec<Comparison> {
-    let mut out = Vec::new();
-    for (ja, jb) in a.joints.iter().zip(&b.joints) {
-        // Not measured (a window covering the run) compares as NaN: inconclusive.
-        let stat = |p: &Option<sim::PeakStats>, f: fn(&sim::PeakStats) -> f64| {
-            p.as_ref().map_or(f64::NAN, |p| f(p) * 1e-3)
-        };
-        let (pa, pb) = (
-            &ja.normal_force_after_transient,
-            &jb.normal_force_after_transient,
-        );
-        out.push(Comparison {
-            quantity: format!("{label}: median cycle peak F_n {} (kN)", ja.name),
-            low: stat(pa, |p| p.cycle_median),
-            high: stat(pb, |p| p.cycle_median),
-            noise: 0.5 * (stat(pa, |p| p.cycle_iqr) + stat(pb, |p| p.cycle_iqr)),
-        });
-    }
+fn response_comparisons(
+    measure: ResponseMeasure,
+    label: &str,
+    a: &ResponseSummary,
+    b: &ResponseSummary,
+) -> Vec<Comparison> {
     let deviation = |r: &ResponseSummary, f: fn(&sim::Deviation) -> f64| {
         r.deviation_after_transient
             .as_ref()
             .map_or(f64::NAN, |d| f(d) * 1e3)
     };
-    out.push(Comparison {
-        quantity: format!("{label}: rod-3 max |Δx| (mm)"),
-        low: deviation(a, |d| d.x_m),
-        high: deviation(b, |d| d.x_m),
-        noise: 0.0,
-    });
-    out.push(Comparison {
-        quantity: format!("{label}: rod-3 max |Δy| (mm)"),
-        low: deviation(a, |d| d.y_m),
-        high: deviation(b, |d| d.y_m),
-        noise: 0.0,
-    });
-    out.push(Comparison {
-        quantity: format!("{label}: energy dissipated per cycle (J)"),
-        low: a.dissipated_per_cycle_j,
-        high: b.dissipated_per_cycle_j,
-        noise: 0.0,
-    });
+    match measure {
+        ResponseMeasure::PeakForce => a
+            .joints
+            .iter()
+            .zip(&b.joints)
+            .map(|(ja, jb)| {
+                // Not measured (a window covering the run) compares as NaN: inconclusive.
+                let stat = |p: &Option<sim::PeakStats>, f: fn(&sim::PeakStats) -> f64| {
+                    p.as_ref().map_or(f64::NAN, |p| f(p) * 1e-3)
+                };
+                let (pa, pb) = (
+                    &ja.normal_force_after_transient,
+                    &jb.normal_force_after_transient,
+                );
+                Comparison {
+                    quantity: format!("{label}: median cycle peak F_n {} (kN)", ja.name),
+                    low: stat(pa, |p| p.cycle_median),
+                    high: stat(pb, |p| p.cycle_median),
+                    noise: 0.5 * (stat(pa, |p| p.cycle_iqr) + stat(pb, |p| p.cycle_iqr)),
+                }
+            })
+            .collect(),
+        ResponseMeasure::Deviation => vec![
+            Comparison {
+                quantity: format!("{label}: rod-3 max |Δx| (mm)"),
+                low: deviation(a, |d| d.x_m),
+                high: deviation(b, |d| d.x_m),
+                noise: 0.0,
+            },
+            Comparison {
+                quantity: format!("{label}: rod-3 max |Δy| (mm)"),
+                low: deviation(a, |d| d.y_m),
+                high: deviation(b, |d| d.y_m),
+                noise: 0.0,
+            },
+        ],
+        ResponseMeasure::Dissipation => vec![Comparison {
+            quantity: format!("{label}: energy dissipated per cycle (J)"),
+            low: a.dissipated_per_cycle_j,
+            high: b.dissipated_per_cycle_j,
+            noise: 0.0,
+        }],
+    }
+}
+
+/// The `measures` of the joints' wear in a `low` and a `high` case, joint by joint.
+pub fn wear_comparisons(
+    low: &[JointMetrics],
+    high: &[JointMetrics],
+    measures: &[WearMeasure],
+) -> Vec<Comparison> {
+    let mut out = Vec::new();
+    for (a, b) in low.iter().zip(high) {
+        for measure in measures {
+            let (quantity, value): (String, fn(&JointMetrics) -> f64) = match measure {
+                WearMeasure::Volume => (format!("worn volume {} (mm³)", a.name), |m| {
+                    m.volume_m3 * 1e9
+                }),
+                WearMeasure::Arc => (
+                    format!("worn arc {} (deg, depth ≥ {ARC_FRACTION}·peak)", a.name),
+                    JointMetrics::arc_deg,
+                ),
+                WearMeasure::PeakDepth => {
+                    (format!("peak depth {} (µm)", a.name), |m| m.peak_m() * 1e6)
+                }
+                WearMeasure::DepthVariation => (
+                    format!("irregularity {}: CV of depth over the worn arc", a.name),
+                    JointMetrics::cv,
+                ),
+                WearMeasure::ConcentratedRanges => (
+                    format!("irregularity {}: concentrated ranges (count)", a.name),
+                    |m| m.range_count() as f64,
+                ),
+            };
+            out.push(Comparison {
+                quantity,
+                low: value(a),
+                high: value(b),
+                noise: 0.0,
+            });
+        }
+    }
     out
 }
 
-/// Stage 2 against stage 1 of a two-stage run: deeper (peak depth, volume) and more irregular
-/// (coefficient of variation over the worn arc, number of concentrated ranges).
-pub fn compare_stages(two_stages: &RunOutcome) -> Vec<Comparison> {
-    let (one, two) = (wear_metrics(two_stages, 0), wear_metrics(two_stages, 1));
-    let mut out = Vec::new();
-    for (a, b) in one.iter().zip(&two) {
-        out.push(Comparison {
-            quantity: format!("peak depth {} (µm)", a.name),
-            low: a.peak_m() * 1e6,
-            high: b.peak_m() * 1e6,
-            noise: 0.0,
-        });
-        out.push(Comparison {
-            quantity: format!("irregularity {}: CV of depth over the worn arc", a.name),
-            low: a.cv(),
-            high: b.cv(),
-            noise: 0.0,
-        });
-        out.push(Comparison {
-            quantity: format!("irregularity {}: concentrated ranges (count)", a.name),
-            low: a.range_count() as f64,
-            high: b.range_count() as f64,
-            noise: 0.0,
-        });
-    }
-    out
+/// Stage `low` against stage `high` (0-based) of one run: the `measures` of the wear after
+/// each.
+pub fn compare_stages(
+    run: &RunOutcome,
+    low: usize,
+    high: usize,
+    measures: &[WearMeasure],
+) -> Vec<Comparison> {
+    wear_comparisons(&wear_metrics(run, low), &wear_metrics(run, high), measures)
 }
 
 /// A trend verdict for the summary.
@@ -350,50 +380,67 @@ fn trend_verdict(study: &'static str, claim: &str, c: &[Comparison]) -> TrendVer
     }
 }
 
-/// The trends of `results`' studies, with their comparisons.
+/// The trends of `results`' studies, with their comparisons and the labels of their two
+/// cases (the case the paper says is smaller first).
 pub fn trends(results: &StudyResults) -> Vec<(TrendVerdict, Vec<Comparison>, [String; 2])> {
     let mut out = Vec::new();
     for kind in &results.studies {
         let StudyKind::Paper(study) = kind else {
             continue;
         };
-        let (claim, comparisons, labels) = match lgres::studies::physical_counterpart(study.name)
-            .as_str()
-        {
-            "wear-stages" => {
-                let Some(run) = study.scenes.get(1).and_then(|s| results.run(s)) else {
-                    continue;
-                };
-                (
-                    "second wear stage → deeper and more irregular wear than the first",
-                    compare_stages(&run.outcome),
-                    ["stage 1".to_string(), "stage 2".to_string()],
-                )
-            }
-            _ => {
-                let (Some(low), Some(high)) = (
-                    study.scenes.first().and_then(|s| results.run(s)),
-                    study.scenes.get(1).and_then(|s| results.run(s)),
-                ) else {
-                    continue;
-                };
-                let claim = if lgres::studies::physical_counterpart(study.name) == "clearance" {
-                    "larger clearance → larger forces, deviations, dissipation and wear over a wider arc"
-                } else {
-                    "faster drive → larger forces, deviations, dissipation and wear over a wider arc"
-                };
-                (
-                    claim,
-                    compare_runs(&low.outcome, &high.outcome),
-                    [low.key.clone(), high.key.clone()],
-                )
-            }
+        let claim = &study.claim;
+        let Some((comparisons, labels)) = judge_claim(claim, results) else {
+            continue;
         };
         out.push((
-            trend_verdict(study.name, claim, &comparisons),
+            trend_verdict(study.name, claim.trend, &comparisons),
             comparisons,
             labels,
         ));
     }
     out
+}
+
+/// The comparisons a claim is judged on, and its cases' labels, with the case the paper says
+/// is smaller as `low`; `None` when a case's run is missing.
+fn judge_claim(claim: &Claim, results: &StudyResults) -> Option<(Vec<Comparison>, [String; 2])> {
+    match claim.cases {
+        Cases::Scenes {
+            first,
+            second,
+            response,
+        } => {
+            let (low, high) =
+                smaller_first(claim.direction, results.run(first)?, results.run(second)?);
+            Some((
+                compare_runs(&low.outcome, &high.outcome, response, claim.wear),
+                [low.key.clone(), high.key.clone()],
+            ))
+        }
+        Cases::Stages {
+            scene,
+            first,
+            second,
+        } => {
+            let run = results.run(scene)?;
+            let (low, high) = smaller_first(claim.direction, first, second);
+            Some((
+                compare_stages(
+                    &run.outcome,
+                    low.saturating_sub(1),
+                    high.saturating_sub(1),
+                    claim.wear,
+                ),
+                [format!("stage {low}"), format!("stage {high}")],
+            ))
+        }
+    }
+}
+
+/// The two cases with the one the paper says is smaller first.
+fn smaller_first<T>(direction: Direction, first: T, second: T) -> (T, T) {
+    match direction {
+        Direction::Grows => (first, second),
+        Direction::Shrinks => (second, first),
+    }
 }

@@ -24,40 +24,66 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use lgres::scenes;
-use lgres::studies::{self, STUDIES};
+use lgres::studies::{EXTRAPOLATION, STUDIES};
 use output::artifacts::write_run;
 use output::files::OutputError;
 use scene::{SceneError, ValidScene};
 use sim::{Progress, RunError, RunOptions, run_scene};
 
 pub use results::{
-    DEFAULT_CYCLES_PER_STAGE, DEFAULT_RESPONSE_CYCLES, EXTRAPOLATION, SINGLE_JUMP_RUN, SceneRun,
-    StudyKind, StudyOptions, StudyResults,
+    ALL, DEFAULT_CYCLES_PER_STAGE, DEFAULT_RESPONSE_CYCLES, SceneRun, StudyKind, StudyOptions,
+    StudyResults, StudyRun,
 };
 
-/// Every study name `resolve` accepts, `all` last.
-pub fn study_names() -> Vec<&'static str> {
-    let mut names: Vec<&str> = STUDIES.iter().map(|s| s.name).collect();
-    names.push(EXTRAPOLATION);
-    names.push("all");
-    names
+/// A name [`resolve`] accepts and what it runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StudyChoice {
+    /// The name.
+    pub name: &'static str,
+    /// What it runs.
+    pub summary: &'static str,
 }
 
-/// The studies behind a command-line name (`all`: every study, the extrapolation one last).
+/// Every name [`resolve`] accepts: each study of [`STUDIES`], the extrapolation study, and
+/// [`ALL`] last.
+pub fn choices() -> Vec<StudyChoice> {
+    let mut choices: Vec<StudyChoice> = every_study()
+        .iter()
+        .map(|kind| StudyChoice {
+            name: kind.name(),
+            summary: kind.summary(),
+        })
+        .collect();
+    choices.push(StudyChoice {
+        name: ALL,
+        summary: "every study above, one after the other",
+    });
+    choices
+}
+
+/// Every study, the extrapolation one last.
+fn every_study() -> Vec<StudyKind> {
+    let mut all: Vec<StudyKind> = STUDIES.iter().map(StudyKind::Paper).collect();
+    all.push(StudyKind::Extrapolation(&EXTRAPOLATION));
+    all
+}
+
+/// The studies behind a command-line name ([`ALL`]: every study, the extrapolation one last).
 pub fn resolve(name: &str) -> Result<Vec<StudyKind>, StudyError> {
-    if name == "all" {
-        let mut all: Vec<StudyKind> = STUDIES.iter().map(StudyKind::Paper).collect();
-        all.push(StudyKind::Extrapolation);
-        return Ok(all);
+    if name == ALL {
+        return Ok(every_study());
     }
-    if name == EXTRAPOLATION {
-        return Ok(vec![StudyKind::Extrapolation]);
-    }
-    studies::study(name)
-        .map(|s| vec![StudyKind::Paper(s)])
+    every_study()
+        .into_iter()
+        .find(|kind| kind.name() == name)
+        .map(|kind| vec![kind])
         .ok_or_else(|| StudyError::UnknownStudy {
             name: name.to_string(),
-            known: study_names().join(", "),
+            known: choices()
+                .iter()
+                .map(|c| c.name)
+                .collect::<Vec<_>>()
+                .join(", "),
         })
 }
 
@@ -148,16 +174,11 @@ impl Progress for Prefixed<'_> {
     }
 }
 
-/// The scene of run `key` with the study's overrides, validated.
-pub fn prepare_scene(key: &str, options: &StudyOptions) -> Result<ValidScene, StudyError> {
-    let base = if key == SINGLE_JUMP_RUN {
-        scenes::DEFAULT
-    } else {
-        key
-    };
-    let origin = format!("{key} with the study's settings");
-    Ok(scenes::builtin(base)?.edit(&origin, |scene| {
-        if key == SINGLE_JUMP_RUN {
+/// The scene of `run` with the study's overrides, validated.
+pub fn prepare_scene(run: &StudyRun, options: &StudyOptions) -> Result<ValidScene, StudyError> {
+    let origin = format!("{} with the study's settings", run.key);
+    Ok(scenes::builtin(run.scene)?.edit(&origin, |scene| {
+        if run.single_jump {
             scene.run.adaptive_extrapolation = false;
         }
         scene.run.cycles = options.response_cycles;
@@ -218,15 +239,15 @@ pub fn run_studies(
 ) -> Result<(StudyResults, PathBuf), StudyError> {
     let started = Instant::now();
     check(options)?;
-    let mut keys: Vec<&str> = Vec::new();
-    for key in studies.iter().flat_map(StudyKind::runs) {
-        if !keys.contains(&key) {
-            keys.push(key);
+    let mut needed: Vec<StudyRun> = Vec::new();
+    for run in studies.iter().flat_map(StudyKind::runs) {
+        if needed.iter().all(|r| r.key != run.key) {
+            needed.push(run);
         }
     }
-    let prepared: Vec<(&str, ValidScene)> = keys
-        .iter()
-        .map(|k| prepare_scene(k, options).map(|s| (*k, s)))
+    let prepared: Vec<(StudyRun, ValidScene)> = needed
+        .into_iter()
+        .map(|r| prepare_scene(&r, options).map(|s| (r, s)))
         .collect::<Result<_, _>>()?;
     let total = prepared.len();
     // Workers take the runs in order; after a failure no new run starts, and the first
@@ -241,8 +262,8 @@ pub fn run_studies(
             if i >= total || failed.load(Ordering::SeqCst) {
                 break;
             }
-            let (key, scene) = &prepared[i];
-            let result = run_one(key, scene, options, progress.run(key, i, total));
+            let (run, scene) = &prepared[i];
+            let result = run_one(run, scene, options, progress.run(run.key, i, total));
             failed.fetch_or(result.is_err(), Ordering::SeqCst);
             if let Ok(mut slot) = slots[i].lock() {
                 *slot = Some(result);
@@ -278,7 +299,7 @@ pub fn run_studies(
 
 /// One scene run of a study and its files.
 fn run_one(
-    key: &str,
+    run: &StudyRun,
     scene: &ValidScene,
     options: &StudyOptions,
     progress: Box<dyn Progress + Send + '_>,
@@ -291,10 +312,10 @@ fn run_one(
         .any(|c| c.sliding.wear == contact::SlidingVelocity::Paper);
     let run_options = RunOptions {
         cycles_per_stage: (!papers_staging).then_some(options.cycles_per_stage),
-        // The single jump is compared on its worn profile only.
-        skip_worn_response: key == SINGLE_JUMP_RUN,
+        skip_worn_response: run.single_jump,
         ..RunOptions::default()
     };
+    let key = run.key;
     let mut prefixed = Prefixed {
         inner: progress,
         prefix: key.to_string(),

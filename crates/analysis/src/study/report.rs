@@ -11,8 +11,10 @@ use super::judge::{
     ARC_FRACTION, Comparison, JointMetrics, RANGE_FRACTION, RELATIVE_MARGIN, Verdict, final_wear,
     trends, wear_metrics,
 };
-use super::results::{EXTRAPOLATION, SINGLE_JUMP_RUN, SceneRun, StudyKind, StudyResults, relative};
+use super::results::{SceneRun, StudyKind, StudyResults, relative};
+use lgres::claim::Cases;
 use lgres::paper::{PaperStudy, PaperValue, Quantity, paper};
+use lgres::studies::{ExtrapolationStudy, Study};
 use output::files::OutputError;
 use output::plot::{self, DEFAULT_SIZE};
 use sim::{ResponseSummary, RunOutcome};
@@ -256,8 +258,7 @@ fn scene_links(md: &mut String, out: &Path, run: &SceneRun) {
     let _ = writeln!(md, "- `{}`: {}", run.key, links.join(", "));
 }
 
-fn paper_section<'a>(md: &mut String, study: &str, scenes: &[&'a str], results: &StudyResults) {
-    let base = lgres::studies::physical_counterpart(study);
+fn paper_section(md: &mut String, study: &Study, results: &StudyResults) {
     let studies = match paper() {
         Ok(studies) => studies,
         Err(e) => {
@@ -267,17 +268,9 @@ fn paper_section<'a>(md: &mut String, study: &str, scenes: &[&'a str], results: 
     };
     let Some(PaperStudy {
         section, values, ..
-    }) = studies.iter().find(|s| s.name == base)
+    }) = studies.iter().find(|s| s.name == study.paper_name())
     else {
         return;
-    };
-    // Our scene standing for a paper value's scene in this study's formulation.
-    let ours_for = |paper_scene: &'a str| -> &'a str {
-        scenes
-            .iter()
-            .find(|s| lgres::studies::physical_counterpart(s) == paper_scene)
-            .copied()
-            .unwrap_or(paper_scene)
     };
     let _ = writeln!(
         md,
@@ -296,8 +289,7 @@ fn paper_section<'a>(md: &mut String, study: &str, scenes: &[&'a str], results: 
         "| scene | quantity | paper | ours, unworn response | ours, after wear |\n|---|---|---|---|---|"
     );
     for v in values.iter() {
-        let scene = ours_for(&v.scene);
-        let Some(run) = results.run(scene) else {
+        let Some(run) = study.scene_for(&v.scene).and_then(|s| results.run(s)) else {
             continue;
         };
         let names: Vec<String> = run
@@ -311,7 +303,7 @@ fn paper_section<'a>(md: &mut String, study: &str, scenes: &[&'a str], results: 
         let _ = writeln!(
             md,
             "| {} | {} | {} | {unworn} | {worn} |",
-            scene,
+            run.key,
             quantity_label(v, &names),
             v.text
         );
@@ -371,21 +363,23 @@ fn validity_lines(md: &mut String, scenes: &[&str], results: &StudyResults) {
 fn extrapolation_section(
     md: &mut String,
     out: &Path,
+    study: &ExtrapolationStudy,
     results: &StudyResults,
 ) -> Result<(), OutputError> {
-    let (Some(adaptive), Some(single)) = (
-        results.run(lgres::scenes::DEFAULT),
-        results.run(SINGLE_JUMP_RUN),
-    ) else {
+    let (Some(adaptive), Some(single)) =
+        (results.run(study.scene), results.run(study.single_jump_run))
+    else {
         return Ok(());
     };
     let _ = writeln!(
         md,
-        "## Study `{EXTRAPOLATION}`: one wear stage, adaptive sub-steps vs the paper's single jump\n\n\
+        "## Study `{}`: {}\n\n\
          The default LGRES after one stage (2 million cycles). The single jump multiplies the \
          wear of K simulated cycles by the whole amplification at once (the paper's scheme); \
          the adaptive scheme splits the stage into sub-steps, each changing any local clearance \
          by at most {:.0} %, re-simulating K cycles on the worn surfaces in between (docs/model.md §8).\n",
+        study.name,
+        study.summary,
         100.0 * adaptive.outcome.scene.run.max_clearance_change
     );
     let _ = writeln!(
@@ -438,7 +432,7 @@ fn extrapolation_section(
     }
     let files = overlay(
         out,
-        EXTRAPOLATION,
+        study.name,
         "One stage, adaptive vs single jump",
         &[
             ("adaptive".into(), stage_surfaces(&adaptive.outcome, None)),
@@ -534,7 +528,7 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
             study.summary,
             study.scenes.join(", ")
         );
-        paper_section(&mut md, study.name, study.scenes, results);
+        paper_section(&mut md, study, results);
         validity_lines(&mut md, study.scenes, results);
         if let Some((t, comparisons, [low, high])) =
             trend_list.iter().find(|(t, _, _)| t.study == study.name)
@@ -551,26 +545,29 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
             comparison_table(&mut md, low, high, comparisons);
             md.push('\n');
         }
-        let stages_study = lgres::studies::physical_counterpart(study.name) == "wear-stages";
-        let cases: Vec<(String, Vec<JointMetricsSource<'_>>)> = if stages_study {
-            study
-                .scenes
-                .get(1)
-                .and_then(|s| results.run(s))
+        let cases: Vec<(String, Vec<JointMetricsSource<'_>>)> = match study.claim.cases {
+            Cases::Stages {
+                scene,
+                first,
+                second,
+            } => results
+                .run(scene)
                 .map(|r| {
-                    vec![
-                        ("stage 1".to_string(), stage_surfaces(&r.outcome, Some(0))),
-                        ("stage 2".to_string(), stage_surfaces(&r.outcome, Some(1))),
-                    ]
+                    [first, second]
+                        .iter()
+                        .map(|n| {
+                            let stage = Some(n.saturating_sub(1));
+                            (format!("stage {n}"), stage_surfaces(&r.outcome, stage))
+                        })
+                        .collect()
                 })
-                .unwrap_or_default()
-        } else {
-            study
+                .unwrap_or_default(),
+            Cases::Scenes { .. } => study
                 .scenes
                 .iter()
                 .filter_map(|s| results.run(s))
                 .map(|r| (r.key.clone(), stage_surfaces(&r.outcome, None)))
-                .collect()
+                .collect(),
         };
         if !cases.is_empty() {
             let files = overlay(out, study.name, study.summary, &cases)?;
@@ -584,12 +581,10 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
         }
         md.push('\n');
     }
-    if results
-        .studies
-        .iter()
-        .any(|k| matches!(k, StudyKind::Extrapolation))
-    {
-        extrapolation_section(&mut md, out, results)?;
+    for kind in &results.studies {
+        if let StudyKind::Extrapolation(study) = kind {
+            extrapolation_section(&mut md, out, study, results)?;
+        }
     }
     md.push_str(lgres::paper::WHY_DIFFERENT);
     let title = format!("wearsim study: {}", names.join(", "));

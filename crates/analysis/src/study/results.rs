@@ -4,26 +4,23 @@
 
 use std::path::{Path, PathBuf};
 
-use lgres::scenes;
-use lgres::studies::Study;
+use lgres::studies::{ExtrapolationStudy, Study};
 use sim::RunOutcome;
 
 /// Default simulated cycles per wear stage in a study (the paper's K is 100).
 pub const DEFAULT_CYCLES_PER_STAGE: u32 = 2;
 /// Default response cycles per scene in a study.
 pub const DEFAULT_RESPONSE_CYCLES: u32 = 10;
-/// Name of the study comparing the paper's single wear jump with adaptive sub-steps.
-pub const EXTRAPOLATION: &str = "extrapolation";
-/// Key of the extra run of the extrapolation study: `lgres` with the paper's single jump.
-pub const SINGLE_JUMP_RUN: &str = "lgres-single-jump";
+/// The name that runs every study.
+pub const ALL: &str = "all";
 
 /// One study to run.
 #[derive(Debug, Clone, Copy)]
 pub enum StudyKind {
     /// One of the paper's studies (the scenes it compares, in the paper's order).
     Paper(&'static Study),
-    /// The default LGRES after one stage, adaptive sub-steps against the paper's single jump.
-    Extrapolation,
+    /// One wear stage of a scene, adaptive sub-steps against the paper's single jump.
+    Extrapolation(&'static ExtrapolationStudy),
 }
 
 impl StudyKind {
@@ -31,17 +28,49 @@ impl StudyKind {
     pub fn name(&self) -> &'static str {
         match self {
             StudyKind::Paper(s) => s.name,
-            StudyKind::Extrapolation => EXTRAPOLATION,
+            StudyKind::Extrapolation(s) => s.name,
         }
     }
 
-    /// Keys of the runs this study needs (a built-in scene name or [`SINGLE_JUMP_RUN`]).
-    pub fn runs(&self) -> Vec<&'static str> {
+    /// What it runs, for the command line's help.
+    pub fn summary(&self) -> &'static str {
         match self {
-            StudyKind::Paper(s) => s.scenes.to_vec(),
-            StudyKind::Extrapolation => vec![scenes::DEFAULT, SINGLE_JUMP_RUN],
+            StudyKind::Paper(s) => s.summary,
+            StudyKind::Extrapolation(s) => s.summary,
         }
     }
+
+    /// The runs this study needs.
+    pub fn runs(&self) -> Vec<StudyRun> {
+        let as_it_is = |scene| StudyRun {
+            key: scene,
+            scene,
+            single_jump: false,
+        };
+        match self {
+            StudyKind::Paper(s) => s.scenes.iter().copied().map(as_it_is).collect(),
+            StudyKind::Extrapolation(s) => vec![
+                as_it_is(s.scene),
+                StudyRun {
+                    key: s.single_jump_run,
+                    scene: s.scene,
+                    single_jump: true,
+                },
+            ],
+        }
+    }
+}
+
+/// One run a study needs: a built-in scene under a key.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct StudyRun {
+    /// The run's key: its folder's name, and how the report finds it.
+    pub key: &'static str,
+    /// The built-in scene it runs.
+    pub scene: &'static str,
+    /// Whether its wear stage is the paper's single jump instead of the scene's extrapolation;
+    /// such a run is compared on its worn profile only (no worn response).
+    pub single_jump: bool,
 }
 
 /// Settings of a study run.
@@ -81,7 +110,7 @@ impl StudyOptions {
 /// One run of a study and where its files went.
 #[derive(Debug, Clone)]
 pub struct SceneRun {
-    /// Run key: the scene name, or [`SINGLE_JUMP_RUN`].
+    /// Run key: the scene name, or the extrapolation study's single-jump run.
     pub key: String,
     /// Folder of its files (`<out>/<key>`).
     pub dir: PathBuf,
