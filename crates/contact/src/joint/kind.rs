@@ -27,6 +27,9 @@ macro_rules! contact_models {
         }
 
         /// The tables of a [`ContactModelKind`]: its model's, in the variant of that model.
+        // One per joint, built with it and read in place: the foundation's kilobyte of sector
+        // bounds is not worth a pointer to follow at every evaluation.
+        #[allow(clippy::large_enum_variant)]
         #[derive(Clone, Debug)]
         pub enum ModelTables {
             $($(#[$doc])* $variant(<$model as ContactModel>::Tables),)+

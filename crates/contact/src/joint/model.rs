@@ -102,7 +102,7 @@ pub trait ContactKernel<B, P, N, F>: ContactModel {
 
 /// A model's state as one evaluation sees it: its tables for the pair, read, and the
 /// workspace of the joint's evaluations, written.
-pub struct ModelState<'s, M: ContactModel + ?Sized> {
+pub struct ModelState<'s, M: ContactModel> {
     /// What the model precomputed from the pair's outlines.
     pub tables: &'s M::Tables,
     /// What the evaluations carry from one to the next.
