@@ -1,8 +1,11 @@
 //! The clearance force element and its read-only probe.
 
+use std::cell::RefCell;
+
 use contact::{
     BodyState, CircularProfile, ClearanceJoint, ContactDiagnostics, ContactForces, ContactModel,
-    FrictionLaw, FrictionLawKind, ImpactMemory, NodeLoad, NormalLaw, NormalLawKind, SurfaceProfile,
+    ContactWorkspace, FrictionLaw, FrictionLawKind, ImpactMemory, NodeLoad, NormalLaw,
+    NormalLawKind, SurfaceProfile,
 };
 use multibody::{BodyId, ForceElement, ForcePartials};
 use wear::{StageWear, WornProfile};
@@ -22,6 +25,10 @@ pub struct ClearanceForce<
     /// Bearing body then pin body; `None` is ground.
     bodies: [Option<BodyId>; 2],
     joint: ClearanceJoint<B, P, N, F>,
+    /// What the joint's evaluations carry from one to the next (the foundation's overlap
+    /// memory): this element's own, made for its joint. The integrator evaluates the element
+    /// through shared references, one call at a time, so each evaluation borrows it in turn.
+    workspace: RefCell<ContactWorkspace>,
     /// Onset velocity `δ̇⁻` of the current contact (the L–N damping needs it).
     memory: ImpactMemory,
     /// Diagnostics at the end of the last accepted step.
@@ -65,6 +72,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         Self {
             name: name.into(),
             bodies: [bearing_body, pin_body],
+            workspace: RefCell::new(joint.workspace()),
             joint,
             memory: ImpactMemory::new(),
             last: None,
@@ -92,8 +100,19 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     /// recorders at output times.
     pub fn evaluate(&self, q: &[f64], qd: &[f64]) -> ContactForces {
         let [bearing, pin] = self.states(q, qd);
-        self.joint
-            .forces(&bearing, &pin, self.memory.onset_velocity())
+        self.with_workspace(|workspace| {
+            self.joint
+                .forces_in(workspace, &bearing, &pin, self.memory.onset_velocity())
+        })
+    }
+
+    /// Runs `evaluate` with the element's workspace, or with an empty one (the same results)
+    /// should it already be in use.
+    fn with_workspace<T>(&self, evaluate: impl FnOnce(&mut ContactWorkspace) -> T) -> T {
+        match self.workspace.try_borrow_mut() {
+            Ok(mut workspace) => evaluate(&mut workspace),
+            Err(_) => evaluate(&mut ContactWorkspace::default()),
+        }
     }
 
     /// True overlap of the worn outlines at positions `q` (`samples` points on the pin).
@@ -223,9 +242,14 @@ where
 
     fn add_partials(&self, _t: f64, q: &[f64], qd: &[f64], partials: &mut ForcePartials<'_>) {
         let [bearing, pin] = self.states(q, qd);
-        let (contact, jacobian) =
-            self.joint
-                .forces_and_jacobian(&bearing, &pin, self.memory.onset_velocity());
+        let (contact, jacobian) = self.with_workspace(|workspace| {
+            self.joint.forces_and_jacobian_in(
+                workspace,
+                &bearing,
+                &pin,
+                self.memory.onset_velocity(),
+            )
+        });
         if !contact.diagnostics.in_contact {
             return;
         }
@@ -247,7 +271,8 @@ where
             let [bearing, pin] = self.states(q, qd);
             let mut nodes = std::mem::take(&mut self.nodes[1]);
             nodes.clear();
-            let forces = self.joint.forces_visiting_nodes(
+            let forces = self.joint.forces_visiting_nodes_in(
+                self.workspace.get_mut(),
                 &bearing,
                 &pin,
                 self.memory.onset_velocity(),
@@ -306,7 +331,8 @@ where
     /// memory records the onset velocity at the crossing rather than somewhere inside a step.
     fn event_functions(&self, _t: f64, q: &[f64], qd: &[f64], values: &mut [f64]) {
         let [bearing, pin] = self.states(q, qd);
-        values[0] = self.joint.penetration(&bearing, &pin);
+        values[0] =
+            self.with_workspace(|workspace| self.joint.penetration_in(workspace, &bearing, &pin));
     }
 }
 

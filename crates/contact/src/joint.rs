@@ -10,10 +10,12 @@
 //! true outlines: `layer`, `evaluate`, `geometry`, `nodes`, `stream`, `books`) and
 //! [`linear_spring`] (the test model of the interface). Below them: `types` (the values an
 //! evaluation takes and gives: [`BodyState`], [`JointSurface`], [`JointKinematics`],
-//! [`ContactForces`]), `outline` (the outlines' radius bounds and the overlap memory) and
-//! `dual` (the dual numbers of the foundation's Jacobian). Each imports only downwards:
-//! `types`, `outline`, `dual` → `pair` → `model` → the models → `kind` → this module.
-//! docs/architecture.md lists what adding a model takes.
+//! [`ContactForces`]), `kinematics` (the line of centres at one state, on the pair) and `dual`
+//! (the dual numbers of the foundation's Jacobian). Each imports only downwards: `types`,
+//! `dual` → `pair` → `kinematics` → `model` → the models → `kind` → `workspace` → this
+//! module. A model's state is its own ([`ContactModel::Tables`], kept by the joint;
+//! [`ContactModel::Workspace`], kept by the caller in a [`ContactWorkspace`] and passed to each
+//! evaluation). docs/architecture.md lists what adding a model takes.
 
 use nalgebra::Vector2;
 
@@ -25,35 +27,61 @@ use crate::surface::SurfaceProfile;
 mod dual;
 pub mod foundation;
 mod kind;
+mod kinematics;
 pub mod line_of_centres;
 pub mod linear_spring;
 mod model;
-mod outline;
 mod pair;
 mod types;
+mod workspace;
 
 pub use crate::material::{Material, MaterialParams};
-pub use foundation::{DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, Quadrature};
-pub use kind::ContactModelKind;
+pub use foundation::{
+    DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, FoundationWorkspace,
+    NodeWindow, Quadrature,
+};
+pub use kind::{ContactModelKind, ModelTables, ModelWorkspace};
 pub use line_of_centres::LineOfCentres;
 pub use linear_spring::LinearSpring;
-pub use model::{ContactKernel, ContactModel, NodeLoad, ShapeLimits, ValidityMeasure, Visit};
+pub use model::{
+    ContactKernel, ContactModel, ModelState, NodeLoad, ShapeLimits, ValidityMeasure, Visit,
+};
 pub use pair::ContactPair;
 pub use types::{
     BodyState, ContactForces, ContactJacobian, JointKinematics, JointState, JointSurface,
     OutlineOverlap, SlidingVelocity,
 };
+pub use workspace::ContactWorkspace;
+use workspace::TablesKey;
 
 /// A clearance revolute joint between a bearing on body *i* and a pin on body *j*.
 ///
 /// Generic over the surface profiles and the laws, so a fixed configuration is statically
 /// dispatched; the defaults ([`NormalLawKind`], [`FrictionLawKind`]) dispatch at run time, as
 /// the contact model ([`ContactModelKind`]) does.
-#[derive(Clone, Debug, PartialEq)]
+///
+/// It keeps its model's tables for its outlines; what the model's evaluations carry from one
+/// to the next is the caller's, a [`ContactWorkspace`] from [`Self::workspace`] passed to the
+/// `_in` evaluations. The others evaluate with an empty one: the same results, without what
+/// earlier evaluations found.
+#[derive(Clone, Debug)]
 pub struct ClearanceJoint<B, P, N = NormalLawKind, F = FrictionLawKind> {
     pair: ContactPair<B, P, N, F>,
     /// The elastic foundation (default, as in scenes), the line of centres or another model.
     model: ContactModelKind,
+    /// The model's tables for the pair's outlines.
+    tables: ModelTables,
+    /// Names these tables, so that a workspace filled against other ones is not used with them.
+    tables_key: TablesKey,
+}
+
+/// Equal joints: the same pair and model (the tables follow from them).
+impl<B: PartialEq, P: PartialEq, N: PartialEq, F: PartialEq> PartialEq
+    for ClearanceJoint<B, P, N, F>
+{
+    fn eq(&self, other: &Self) -> bool {
+        self.pair == other.pair && self.model == other.model
+    }
 }
 
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
@@ -69,24 +97,32 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         normal_law: N,
         friction_law: F,
     ) -> Result<Self, ContactError> {
-        let pair = ContactPair::new(
-            bearing,
-            pin,
-            normal_law,
-            friction_law,
-            DEFAULT_FOUNDATION_CELLS,
-        )?;
+        let pair = ContactPair::new(bearing, pin, normal_law, friction_law)?;
         let model = default_model(&pair)?;
-        Ok(Self { pair, model })
+        Ok(Self::of(pair, model))
+    }
+
+    /// The joint of `pair` and `model`, with the model's tables for the pair.
+    fn of(pair: ContactPair<B, P, N, F>, model: ContactModelKind) -> Self {
+        Self {
+            tables: model.tables(&pair),
+            tables_key: TablesKey::new(),
+            pair,
+            model,
+        }
     }
 
     /// The same joint with contact model `model` (default: [`default_model`]).
     pub fn with_model(self, model: impl Into<ContactModelKind>) -> Self {
-        let model = model.into();
-        Self {
-            pair: self.pair.with_cells(node_window(&model)),
-            model,
-        }
+        Self::of(self.pair, model.into())
+    }
+
+    /// A workspace for this joint's evaluations (the `_in` ones), ready so that they allocate
+    /// nothing. One per caller that evaluates the joint again and again (an integrator's force
+    /// element): the foundation remembers there which nodes were apart, to pass over them next
+    /// time.
+    pub fn workspace(&self) -> ContactWorkspace {
+        ContactWorkspace::new(self.tables_key, self.model.workspace())
     }
 
     /// The contact model.
@@ -109,8 +145,39 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         onset_velocity: Option<f64>,
         visit: &mut dyn FnMut(&NodeLoad),
     ) -> ContactForces {
+        self.forces_visiting_nodes_in(
+            &mut ContactWorkspace::default(),
+            bearing_body,
+            pin_body,
+            onset_velocity,
+            visit,
+        )
+    }
+
+    /// [`Self::forces_visiting_nodes`] with the joint's `workspace`.
+    pub fn forces_visiting_nodes_in(
+        &self,
+        workspace: &mut ContactWorkspace,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        onset_velocity: Option<f64>,
+        visit: &mut dyn FnMut(&NodeLoad),
+    ) -> ContactForces {
         let at = JointState::new(bearing_body, pin_body, onset_velocity);
-        self.model.forces(&self.pair, at, Some(visit))
+        let state = self.state(workspace);
+        self.model.forces(&self.pair, state, at, Some(visit))
+    }
+
+    /// The model's state for one evaluation: its tables and `workspace`'s part, which is made
+    /// anew for this joint if it was filled for another joint's tables.
+    fn state<'s>(
+        &'s self,
+        workspace: &'s mut ContactWorkspace,
+    ) -> ModelState<'s, ContactModelKind> {
+        ModelState {
+            tables: &self.tables,
+            workspace: workspace.for_tables(self.tables_key, || self.model.workspace()),
+        }
     }
 
     /// The same joint with friction driven by `sliding` (default [`SlidingVelocity::Material`]).
@@ -130,13 +197,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         bearing_profile: B2,
         pin_profile: P2,
     ) -> Result<ClearanceJoint<B2, P2, N, F>, ContactError> {
-        let cells = node_window(&self.model);
-        Ok(ClearanceJoint {
-            pair: self
-                .pair
-                .with_profiles(bearing_profile, pin_profile, cells)?,
-            model: self.model,
-        })
+        let pair = self.pair.with_profiles(bearing_profile, pin_profile)?;
+        Ok(ClearanceJoint::of(pair, self.model))
     }
 
     /// The bearing's profile.
@@ -174,8 +236,20 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     /// outlines at its nodes.
     #[inline]
     pub fn penetration(&self, bearing_body: &BodyState, pin_body: &BodyState) -> f64 {
+        self.penetration_in(&mut ContactWorkspace::default(), bearing_body, pin_body)
+    }
+
+    /// [`Self::penetration`] with the joint's `workspace`.
+    #[inline]
+    pub fn penetration_in(
+        &self,
+        workspace: &mut ContactWorkspace,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+    ) -> f64 {
         let at = JointState::new(bearing_body, pin_body, None);
-        self.model.penetration(&self.pair, at)
+        let state = self.state(workspace);
+        self.model.penetration(&self.pair, state, at)
     }
 
     /// Full kinematics of the line of centres at the given states.
@@ -194,8 +268,26 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_body: &BodyState,
         onset_velocity: Option<f64>,
     ) -> ContactForces {
+        self.forces_in(
+            &mut ContactWorkspace::default(),
+            bearing_body,
+            pin_body,
+            onset_velocity,
+        )
+    }
+
+    /// [`Self::forces`] with the joint's `workspace`.
+    #[inline]
+    pub fn forces_in(
+        &self,
+        workspace: &mut ContactWorkspace,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        onset_velocity: Option<f64>,
+    ) -> ContactForces {
         let at = JointState::new(bearing_body, pin_body, onset_velocity);
-        self.model.forces(&self.pair, at, None)
+        let state = self.state(workspace);
+        self.model.forces(&self.pair, state, at, None)
     }
 
     /// Generalized forces and their exact partials (layout: [`ContactJacobian`]).
@@ -210,8 +302,25 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         pin_body: &BodyState,
         onset_velocity: Option<f64>,
     ) -> (ContactForces, ContactJacobian) {
+        self.forces_and_jacobian_in(
+            &mut ContactWorkspace::default(),
+            bearing_body,
+            pin_body,
+            onset_velocity,
+        )
+    }
+
+    /// [`Self::forces_and_jacobian`] with the joint's `workspace`.
+    pub fn forces_and_jacobian_in(
+        &self,
+        workspace: &mut ContactWorkspace,
+        bearing_body: &BodyState,
+        pin_body: &BodyState,
+        onset_velocity: Option<f64>,
+    ) -> (ContactForces, ContactJacobian) {
         let at = JointState::new(bearing_body, pin_body, onset_velocity);
-        self.model.forces_and_jacobian(&self.pair, at)
+        let state = self.state(workspace);
+        self.model.forces_and_jacobian(&self.pair, state, at)
     }
 
     /// The true overlap of the two outlines: the largest distance by which a point of the pin's
@@ -295,8 +404,3 @@ fn tightest_fit(bearing: &impl SurfaceProfile, pin: &impl SurfaceProfile) -> (f6
     (bearing_radius, pin_radius)
 }
 
-/// The node count the pair's node window is laid out for: the model's nodes, else the
-/// default (the line of centres has none and reads only the window's radius bounds).
-fn node_window(model: &ContactModelKind) -> usize {
-    model.nodes().unwrap_or(DEFAULT_FOUNDATION_CELLS)
-}

@@ -3,8 +3,11 @@
 //! A clearance joint is a pin (on body *j*) rattling inside a bearing hole (on body *i*). This
 //! crate turns the two bodies' states into the contact forces on them, their exact partial
 //! derivatives for an implicit integrator, and the [`ContactDiagnostics`] that wear accumulation
-//! and recorders need. It holds no integrator and allocates nothing: everything is small `Copy`
-//! data and stack matrices. The equations are those of `docs/model.md` §1–2.
+//! and recorders need. It holds no integrator, and its evaluations allocate nothing: they work on
+//! small `Copy` data and stack matrices, and what a model keeps is built before (its tables, when
+//! the joint is) or owned by the caller (its workspace, [`ContactWorkspace`], made ready by
+//! [`ClearanceJoint::workspace`]); `tests/allocation.rs` counts. The equations are those of
+//! `docs/model.md` §1–2.
 //!
 //! # Pieces
 //! - [`ClearanceJoint`]: the joint — geometry ([`JointSurface`]: body-fixed centre,
@@ -15,7 +18,9 @@
 //!   - [`ClearanceJoint::forces`]: `(F_x, F_y, M)` on both bodies ([`ContactForces`]);
 //!   - [`ClearanceJoint::forces_and_jacobian`]: the same plus the 6×12 [`ContactJacobian`], rows
 //!     `[bearing F_x, F_y, M, pin F_x, F_y, M]`, columns
-//!     `[x_i, y_i, θ_i, x_j, y_j, θ_j, ẋ_i, ẏ_i, θ̇_i, ẋ_j, ẏ_j, θ̇_j]`.
+//!     `[x_i, y_i, θ_i, x_j, y_j, θ_j, ẋ_i, ẏ_i, θ̇_i, ẋ_j, ẏ_j, θ̇_j]`;
+//!   - each also as `…_in`, with a [`ContactWorkspace`] the caller keeps for the joint: what
+//!     the model's evaluations carry from one to the next (the foundation's overlap memory).
 //! - Normal laws ([`normal`]): [`LankaraniNikravesh`] (the model's), [`HuntCrossley`],
 //!   [`Flores`], undamped [`Hertz`]; clamped at `F_n ≥ 0`, with a floor on the onset velocity
 //!   `δ̇⁻` that the caller keeps in an [`ImpactMemory`].
@@ -96,10 +101,10 @@ pub use friction::{
 };
 pub use joint::{
     BodyState, ClearanceJoint, ContactForces, ContactJacobian, ContactKernel, ContactModel,
-    ContactModelKind, ContactPair, DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation,
-    JointKinematics, JointState, JointSurface, LineOfCentres, LinearSpring, Material,
-    MaterialParams, NodeLoad, OutlineOverlap, Quadrature, ShapeLimits, SlidingVelocity,
-    ValidityMeasure,
+    ContactModelKind, ContactPair, ContactWorkspace, DEFAULT_FOUNDATION_CELLS,
+    DEFAULT_REFERENCE_OVERLAP, Foundation, JointKinematics, JointState, JointSurface,
+    LineOfCentres, LinearSpring, Material, MaterialParams, ModelState, NodeLoad, OutlineOverlap,
+    Quadrature, ShapeLimits, SlidingVelocity, ValidityMeasure,
 };
 pub use normal::{
     DEFAULT_HERTZ_EXPONENT, DEFAULT_ONSET_VELOCITY_FLOOR, DampedHertzParams, Flores, Hertz,

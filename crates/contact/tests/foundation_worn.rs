@@ -8,8 +8,9 @@ mod common;
 use common::foundation::*;
 use common::{BEARING_RADIUS, CLEARANCE, round_joint, steel};
 use contact::{
-    Ambrosio, BodyState, ClearanceJoint, ContactModelKind, Foundation, FrictionLaw, Frictionless,
-    NodeLoad, NormalLaw, Quadrature, RadiusSample, SlidingVelocity, SurfaceProfile,
+    Ambrosio, BodyState, ClearanceJoint, ContactModelKind, ContactWorkspace, Foundation,
+    FrictionLaw, Frictionless, NodeLoad, NormalLaw, Quadrature, RadiusSample, SlidingVelocity,
+    SurfaceProfile,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -319,11 +320,11 @@ fn simpsons_quadrature_is_within_its_resolution_estimate() {
 /// The overlap memory (an earlier evaluation's overlaps skip the nodes that cannot have reached
 /// the bearing since) changes no result: along a random walk on the worn outlines — Newton-sized
 /// moves of 10 nm, step-sized ones of 1 µm, jumps into contact up to 30 µm deep or to within
-/// 0.2 µm of it in the groove —
-/// one joint evaluated again and again gives the forces, diagnostics, loaded nodes, Jacobian and
-/// event function (deepest overlap) of a fresh copy without memory, bit for bit; and its plain
-/// evaluations sample the bearing at most 40 % as often (measured 25 %; it was 53 % while the
-/// walk's states near but out of contact, a third of them, were evaluated in full).
+/// 0.2 µm of it in the groove — one joint evaluated again and again with one workspace gives the
+/// forces, diagnostics, loaded nodes, Jacobian and event function (deepest overlap) it gives
+/// with an empty workspace, bit for bit; and its plain evaluations sample the bearing at most
+/// 40 % as often (measured 25 %; it was 53 % while the walk's states near but out of contact, a
+/// third of them, were evaluated in full).
 #[test]
 fn the_overlap_memory_changes_no_result_and_skips_nodes() {
     let (normal, friction) = common::lgres_laws(0.9);
@@ -341,6 +342,8 @@ fn the_overlap_memory_changes_no_result_and_skips_nodes() {
     let (mut bearing, mut pin) =
         random_contact(&joint, &mut rng, 0.2, 250f64.to_radians(), 0.8, 2e-6..3e-5);
     let (mut with_memory, mut fresh) = (0, 0);
+    // The joint's workspace, kept along the walk: it holds the memory.
+    let mut workspace = joint.workspace();
     let counted = |count: &mut usize, f: &mut dyn FnMut()| {
         let before = samples.get();
         f();
@@ -380,22 +383,24 @@ fn the_overlap_memory_changes_no_result_and_skips_nodes() {
             );
         }
         let onset = Some(0.1);
-        let evaluate = |joint: &ClearanceJoint<_, _, _, _>, count: &mut usize| {
+        let evaluate = |workspace: &mut ContactWorkspace, count: &mut usize| {
             let mut out = String::new();
             counted(count, &mut || {
-                let depth = joint.penetration(&bearing, &pin);
-                let forces = joint.forces(&bearing, &pin, onset);
+                let depth = joint.penetration_in(workspace, &bearing, &pin);
+                let forces = joint.forces_in(workspace, &bearing, &pin, onset);
                 let mut loads: Vec<NodeLoad> = Vec::new();
                 let visited =
-                    joint.forces_visiting_nodes(&bearing, &pin, onset, &mut |n| loads.push(*n));
+                    joint.forces_visiting_nodes_in(workspace, &bearing, &pin, onset, &mut |n| {
+                        loads.push(*n)
+                    });
                 out = format!("{:?} {forces:?} {loads:?} {visited:?}", depth.to_bits());
             });
             // The Jacobian (dual numbers) does not use the memory, but is evaluated in between.
-            let (dual, jacobian) = joint.forces_and_jacobian(&bearing, &pin, onset);
+            let (dual, jacobian) = joint.forces_and_jacobian_in(workspace, &bearing, &pin, onset);
             format!("{out} {dual:?} {jacobian:?}")
         };
-        let remembered = evaluate(&joint, &mut with_memory);
-        let from_scratch = evaluate(&joint.clone(), &mut fresh);
+        let remembered = evaluate(&mut workspace, &mut with_memory);
+        let from_scratch = evaluate(&mut ContactWorkspace::default(), &mut fresh);
         if remembered != from_scratch {
             let at = remembered
                 .bytes()

@@ -68,7 +68,7 @@
 //!
 //! Between evaluations the joint moves little (a step's Newton iterations, the next step), so
 //! plain evaluations also remember the overlaps they found and the pose they found them at
-//! (`OverlapMemory`): a node whose remembered gap stays negative by more than the distance it
+//! (the overlap memory, in the [`FoundationWorkspace`] the caller passes in): a node whose remembered gap stays negative by more than the distance it
 //! can have moved since (plus the bearing's slope bound times the angle that subtends), and out
 //! of contact below the remembered deepest node's, is not computed; the event function starts
 //! from the remembered deepest node, so that its bound passes over the rest. This changes no
@@ -79,10 +79,14 @@ mod books;
 mod evaluate;
 mod geometry;
 mod layer;
+mod memory;
 mod nodes;
 mod stream;
+mod window;
 
 pub use layer::{DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, Quadrature};
+pub use memory::FoundationWorkspace;
+pub use window::NodeWindow;
 
 use books::Books;
 use geometry::{Body, Node, angle_near, cross, dot, offset};
@@ -90,13 +94,19 @@ use stream::{NodeQueue, Output, Pending, apply, segment};
 
 use super::dual::Real;
 use super::model::NodeLoad;
-use super::outline::{Noted, Pose, Remembered, Skip};
 use super::pair::ContactPair;
 use super::types::SlidingVelocity;
 use crate::diagnostics::ContactDiagnostics;
 use crate::friction::FrictionLaw;
 use crate::normal::NormalLaw;
 use crate::surface::{SurfaceProfile, wrap_angle};
+use memory::{Noted, Pose, Remembered, Skip};
+
+/// What the foundation evaluates on: the pair, and its node window for the pair's outlines.
+struct Kernel<'k, B, P, N, F> {
+    pair: &'k ContactPair<B, P, N, F>,
+    window: &'k NodeWindow,
+}
 
 /// What one evaluation holds fixed while it streams the nodes.
 struct Pass<T> {
@@ -125,9 +135,10 @@ struct Bodies<T> {
 
 /// Where the loaded nodes go: the visitor of accepted steps, and Simpson's loads held until
 /// the evaluation's totals are known.
-struct Sink<'v> {
+struct Sink<'v, 'd> {
     visit: Option<&'v mut dyn FnMut(&NodeLoad)>,
-    deposits: Vec<NodeLoad>,
+    /// The workspace's buffer, emptied for this evaluation.
+    deposits: &'d mut Vec<NodeLoad>,
 }
 
 /// The overlap memory as one evaluation uses it: what it rules out (`skip`), whether the
@@ -139,7 +150,7 @@ struct MemoryUse<'m> {
     computed: usize,
 }
 
-impl Sink<'_> {
+impl Sink<'_, '_> {
     /// Hands Simpson's held wear loads to the visitor. Simpson's weights alternate along a zone
     /// (4/3, 2/3 of a node's arc): the wear gets the trapezoid's even loads, scaled to the
     /// force's total so that the Archard volume follows the load the joint carries.
@@ -150,7 +161,7 @@ impl Sink<'_> {
             } else {
                 0.0
             };
-            for load in &mut self.deposits {
+            for load in self.deposits.iter_mut() {
                 load.normal_force *= scale;
                 visit(load);
             }
@@ -159,7 +170,7 @@ impl Sink<'_> {
 }
 
 /// The overlap memory an evaluation holds: its notes, and the pose it is evaluated at.
-type HeldMemory = (Box<Remembered>, Pose);
+type HeldMemory<'m> = (&'m mut Remembered, Pose);
 
 /// The line of centres at one state: the direction of the free joint's diagnostics.
 struct Centres<T> {
@@ -207,11 +218,13 @@ fn centres<T: Real>(
     }
 }
 
-impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactPair<B, P, N, F> {
-    /// The kernel: forces on both bodies, diagnostics, and each loaded node to `visit` if any.
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Kernel<'_, B, P, N, F> {
+    /// The kernel: forces on both bodies, diagnostics, and each loaded node to `visit` if any;
+    /// what it passes over by the overlap memory and renews it with, in `workspace`.
     fn foundation_eval<T: Real>(
         &self,
         foundation: &Foundation,
+        workspace: &mut FoundationWorkspace,
         bearing_state: [T; 6],
         pin_state: [T; 6],
         onset_velocity: Option<f64>,
@@ -220,8 +233,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         let cells = foundation.cells;
         let bearing = Body::new(bearing_state);
         let pin = Body::new(pin_state);
-        let bearing_centre_arm = bearing.rotate([self.bearing_centre.x, self.bearing_centre.y]);
-        let pin_centre_arm = pin.rotate([self.pin_centre.x, self.pin_centre.y]);
+        let bearing_centre_arm =
+            bearing.rotate([self.pair.bearing_centre.x, self.pair.bearing_centre.y]);
+        let pin_centre_arm = pin.rotate([self.pair.pin_centre.x, self.pair.pin_centre.y]);
         let Centres {
             e_value,
             rho,
@@ -231,7 +245,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         // The impact's onset velocity as the law reads it (floored), and at least the layer's
         // reference speed when one is set (`Foundation::with_reference_speed`). A node's rate
         // counts only within ± this: the range one impact spans (`Foundation`'s docs).
-        let onset = self.normal_law.effective_onset(
+        let onset = self.pair.normal_law.effective_onset(
             onset_velocity
                 .unwrap_or(centre_rate)
                 .abs()
@@ -251,7 +265,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
             quadrature: foundation.quadrature,
             ..Books::default()
         };
-        let weight = 0.5 * foundation.line_modulus * self.bounds.node_arc;
+        let weight = 0.5 * foundation.line_modulus * self.window.node_arc;
         let simpson = foundation.quadrature == Quadrature::Simpson;
         let candidates = self.candidates(
             cells,
@@ -260,8 +274,9 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
             if simpson { 2 } else { 1 },
         );
 
+        let FoundationWorkspace { memory, deposits } = workspace;
         let (mut memory, mut skip, recording) =
-            self.overlap_memory(&bearing, cells, e_value, theta_pin);
+            self.overlap_memory(memory, &bearing, cells, e_value, theta_pin);
         let mem: Option<&mut Remembered> = memory.as_mut().map(|(m, pose)| {
             if recording && m.renew(*pose).is_none() {
                 skip = None;
@@ -289,10 +304,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
             pin,
             bearing_centre_arm,
         };
-        let mut sink = Sink {
-            visit,
-            deposits: Vec::new(),
-        };
+        deposits.clear();
+        let mut sink = Sink { visit, deposits };
         let mut memory_use = MemoryUse {
             mem,
             skip,
@@ -313,7 +326,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         let computed = memory_use.computed;
         sink.deposit(&books);
         if let Some((m, _)) = memory {
-            self.keep_memory(m, recording, computed);
+            Self::keep_memory(m, recording, computed);
         }
         if books.deepest.is_none_or(|d| d < candidates.outside_bound) {
             books.deepest = Some(candidates.outside_bound);
@@ -338,29 +351,26 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
     /// The overlap memory this evaluation uses, what it rules out and whether it renews it.
     /// Plain evaluations pass over the nodes the memory rules out (`Skip`), and renew it with
     /// the overlaps they find when it has nothing to say or has gone stale. (No memory, no
-    /// pose: nothing of it runs for round bearings or dual numbers.)
-    fn overlap_memory<T: Real>(
+    /// pose: nothing of it runs for round bearings, dual numbers or an empty workspace.)
+    fn overlap_memory<'m, T: Real>(
         &self,
+        memory: &'m mut Remembered,
         bearing: &Body<T>,
         cells: usize,
         e_value: [f64; 2],
         theta_pin: f64,
-    ) -> (Option<HeldMemory>, Option<Skip>, bool) {
-        let memory = (T::PLAIN && self.bounds.bearing_slope.is_some()).then(|| {
+    ) -> (Option<HeldMemory<'m>>, Option<Skip>, bool) {
+        let usable =
+            T::PLAIN && self.window.bearing_slope.is_some() && memory.overlap.len() == cells;
+        let memory = usable.then(|| {
             let (s, c) = bearing.theta_sin_cos;
             let pose = Pose::new(e_value, (s.value(), c.value()), bearing.theta, theta_pin);
-            let remembered = self
-                .bounds
-                .memory
-                .take()
-                .filter(|m| m.overlap.len() == cells)
-                .unwrap_or_else(|| Remembered::empty(cells));
-            (remembered, pose)
+            (memory, pose)
         });
         let skip = memory
             .as_ref()
             .filter(|(m, _)| m.deepest > f64::NEG_INFINITY)
-            .and_then(|(m, pose)| Some(Skip::new(m, self.bounds.drift(m.pose, *pose)?)));
+            .and_then(|(m, pose)| Some(Skip::new(m, self.window.drift(m.pose, *pose)?)));
         // A memory whose deepest node surely still overlaps is only read; otherwise (and when
         // stale) this evaluation renews it, passing over what the old notes rule out and
         // carrying their bounds (plus the drift) into the new ones.
@@ -370,15 +380,14 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         (memory, skip, recording)
     }
 
-    /// Puts the memory back for the next evaluation: a renewed one with the count of nodes it
+    /// Keeps the memory for the next evaluation: a renewed one with the count of nodes it
     /// computed, a read one marked stale once it saves less than half of that.
-    fn keep_memory(&self, mut memory: Box<Remembered>, recording: bool, computed: usize) {
+    fn keep_memory(memory: &mut Remembered, recording: bool, computed: usize) {
         if recording {
             memory.computed = computed;
         } else {
             memory.stale = 2 * computed > memory.computed;
         }
-        self.bounds.memory.put(memory);
     }
 
     /// A closed node's share: its elastic load `G_k` (the energy's gradient over the node), the
@@ -395,7 +404,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         deposit_gradient: f64,
         books: &mut Books,
         out: &mut Output<T>,
-        sink: &mut Sink<'_>,
+        sink: &mut Sink<'_, '_>,
     ) -> f64 {
         let g_k = load_gradient * pass.weight;
         if g_k.value() < 0.0 {
@@ -415,6 +424,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         books.elastic_resultant[1] += g_k.value() * node.m[1].value();
         let rate = node.g_rate.value();
         let (factor, d_factor) = self
+            .pair
             .normal_law
             .hysteresis(rate.clamp(-pass.onset, pass.onset), pass.onset);
         // Beyond the impact's range the factor is held: no partial in the rate.
@@ -438,11 +448,14 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         } else {
             T::constant(0.0)
         };
-        let sliding = match self.friction_sliding {
+        let sliding = match self.pair.friction_sliding {
             SlidingVelocity::Material => material,
             SlidingVelocity::Paper => paper,
         };
-        let friction = self.friction_law.evaluate(sliding.value(), normal.value());
+        let friction = self
+            .pair
+            .friction_law
+            .evaluate(sliding.value(), normal.value());
         let friction_force = sliding.chain2(
             normal,
             friction.force,
@@ -477,10 +490,10 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
                 angle_near(node.ray, w, pass.theta_pin + node.alpha) - pass.theta_bearing.value()
             })),
             normal_force,
-            arc: self.bounds.node_arc,
+            arc: self.window.node_arc,
             material_sliding: material_v,
             paper_sliding: paper.value(),
-            stiffness: pass.line_modulus * self.bounds.node_arc * factor * m_norm.value(),
+            stiffness: pass.line_modulus * self.window.node_arc * factor * m_norm.value(),
         };
         if pass.simpson {
             // Held until the evaluation's totals are known (the quadrature's docs).
@@ -504,7 +517,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         pending: &Pending<T>,
         books: &mut Books,
         out: &mut Output<T>,
-        sink: &mut Sink<'_>,
+        sink: &mut Sink<'_, '_>,
     ) {
         let (gradient, deposit) = if pass.simpson {
             (
@@ -532,7 +545,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         bodies: &Bodies<T>,
         books: &mut Books,
         out: &mut Output<T>,
-        sink: &mut Sink<'_>,
+        sink: &mut Sink<'_, '_>,
         memory: &mut MemoryUse<'_>,
     ) {
         let n = pass.cells as i64;
@@ -686,8 +699,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         };
         let bearing_angle = wrap_angle(contact_angle - bearing_pose[2]);
         let pin_angle = wrap_angle(contact_angle - theta_pin);
-        let bearing_sample = self.bearing_profile.sample(bearing_angle);
-        let pin_sample = self.pin_profile.sample(pin_angle);
+        let bearing_sample = self.pair.bearing_profile.sample(bearing_angle);
+        let pin_sample = self.pair.pin_profile.sample(pin_angle);
         let (sin, cos) = contact_angle.sin_cos();
         let centre = [
             bearing_pose[0] + bearing_centre_arm[0],
@@ -699,7 +712,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
             Some(g) if g > 0.0 => (g, books.deepest_rate),
             Some(g) => (g, centre_rate),
             None => (
-                rho + self.bounds.pin_max.min(1e300) - self.bounds.bearing_min,
+                rho + self.window.pin_max.min(1e300) - self.window.bearing_min,
                 centre_rate,
             ),
         };

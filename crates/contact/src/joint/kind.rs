@@ -1,11 +1,12 @@
-//! The built-in contact models as one value a scene can choose at run time.
+//! The built-in contact models as one value a scene can choose at run time, with their state
+//! ([`ModelTables`], [`ModelWorkspace`]) as one value each.
 
 use serde::{Deserialize, Serialize};
 
 use super::foundation::Foundation;
 use super::line_of_centres::LineOfCentres;
 use super::linear_spring::LinearSpring;
-use super::model::{ContactKernel, ContactModel, ShapeLimits, ValidityMeasure, Visit};
+use super::model::{ContactKernel, ContactModel, ModelState, ShapeLimits, ValidityMeasure, Visit};
 use super::pair::ContactPair;
 use super::types::{ContactForces, ContactJacobian, JointState};
 use crate::friction::FrictionLaw;
@@ -25,6 +26,26 @@ macro_rules! contact_models {
             $($(#[$doc])* $variant($model),)+
         }
 
+        /// The tables of a [`ContactModelKind`]: its model's, in the variant of that model.
+        // One per joint, built with it and read in place: the foundation's kilobyte of sector
+        // bounds is not worth a pointer to follow at every evaluation.
+        #[allow(clippy::large_enum_variant)]
+        #[derive(Clone, Debug)]
+        pub enum ModelTables {
+            $($(#[$doc])* $variant(<$model as ContactModel>::Tables),)+
+        }
+
+        /// The workspace of a [`ContactModelKind`]: its model's, in the variant of that model;
+        /// [`ModelWorkspace::Empty`] (the default) or another model's evaluates with an empty
+        /// one.
+        #[derive(Clone, Debug, Default)]
+        pub enum ModelWorkspace {
+            /// None yet: evaluations keep nothing.
+            #[default]
+            Empty,
+            $($(#[$doc])* $variant(<$model as ContactModel>::Workspace),)+
+        }
+
         $(impl From<$model> for ContactModelKind {
             fn from(model: $model) -> Self {
                 Self::$variant(model)
@@ -32,9 +53,27 @@ macro_rules! contact_models {
         })+
 
         impl ContactModel for ContactModelKind {
+            type Tables = ModelTables;
+            type Workspace = ModelWorkspace;
+
             fn name(&self) -> &'static str {
                 match self {
                     $(Self::$variant(m) => m.name(),)+
+                }
+            }
+
+            fn tables<B: SurfaceProfile, P: SurfaceProfile, N, F>(
+                &self,
+                pair: &ContactPair<B, P, N, F>,
+            ) -> ModelTables {
+                match self {
+                    $(Self::$variant(m) => ModelTables::$variant(m.tables(pair)),)+
+                }
+            }
+
+            fn workspace(&self) -> ModelWorkspace {
+                match self {
+                    $(Self::$variant(m) => ModelWorkspace::$variant(m.workspace()),)+
                 }
             }
 
@@ -57,31 +96,64 @@ macro_rules! contact_models {
             }
         }
 
+        /// Hands the call to the variant's model with its own state: the tables of that model
+        /// (built here if `state` holds another's) and its workspace (an empty one if `state`
+        /// holds none of that model's).
+        macro_rules! dispatch {
+            ($self:ident, $pair:ident, $state:ident, |$m:ident, $model_state:ident| $call:expr) => {
+                match $self {
+                    $(Self::$variant($m) => {
+                        let built;
+                        let tables = match $state.tables {
+                            ModelTables::$variant(tables) => tables,
+                            _ => {
+                                built = $m.tables($pair);
+                                &built
+                            }
+                        };
+                        let mut empty = None;
+                        let workspace = match $state.workspace {
+                            ModelWorkspace::$variant(workspace) => workspace,
+                            _ => empty.insert(Default::default()),
+                        };
+                        let $model_state = ModelState { tables, workspace };
+                        $call
+                    })+
+                }
+            };
+        }
+
         impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             ContactKernel<B, P, N, F> for ContactModelKind
         {
             #[inline]
-            fn forces(&self, pair: &ContactPair<B, P, N, F>, at: JointState, visit: Visit) -> ContactForces {
-                match self {
-                    $(Self::$variant(m) => m.forces(pair, at, visit),)+
-                }
+            fn forces(
+                &self,
+                pair: &ContactPair<B, P, N, F>,
+                state: ModelState<'_, Self>,
+                at: JointState,
+                visit: Visit,
+            ) -> ContactForces {
+                dispatch!(self, pair, state, |m, own| m.forces(pair, own, at, visit))
             }
 
             fn forces_and_jacobian(
                 &self,
                 pair: &ContactPair<B, P, N, F>,
+                state: ModelState<'_, Self>,
                 at: JointState,
             ) -> (ContactForces, ContactJacobian) {
-                match self {
-                    $(Self::$variant(m) => m.forces_and_jacobian(pair, at),)+
-                }
+                dispatch!(self, pair, state, |m, own| m.forces_and_jacobian(pair, own, at))
             }
 
             #[inline]
-            fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64 {
-                match self {
-                    $(Self::$variant(m) => m.penetration(pair, at),)+
-                }
+            fn penetration(
+                &self,
+                pair: &ContactPair<B, P, N, F>,
+                state: ModelState<'_, Self>,
+                at: JointState,
+            ) -> f64 {
+                dispatch!(self, pair, state, |m, own| m.penetration(pair, own, at))
             }
         }
     };

@@ -39,7 +39,8 @@
 
 use nalgebra::{Matrix2, SMatrix, Vector2, Vector3};
 
-use super::model::{ContactKernel, ContactModel, ShapeLimits, ValidityMeasure, Visit};
+use super::kinematics::{kinematics_from, perp};
+use super::model::{ContactKernel, ContactModel, ModelState, ShapeLimits, ValidityMeasure, Visit};
 use super::pair::ContactPair;
 use super::types::{
     BodyState, ContactForces, ContactJacobian, Geometry, JointKinematics, JointState,
@@ -69,9 +70,15 @@ const COL_VEL_J: usize = 9;
 pub struct LineOfCentres;
 
 impl ContactModel for LineOfCentres {
+    /// Reads the outlines directly: no tables, no workspace.
+    type Tables = ();
+    type Workspace = ();
+
     fn name(&self) -> &'static str {
         "line-of-centres"
     }
+
+    fn tables<B: SurfaceProfile, P: SurfaceProfile, N, F>(&self, _: &ContactPair<B, P, N, F>) {}
 
     fn validity_measures(&self) -> &'static [ValidityMeasure] {
         &[
@@ -98,19 +105,31 @@ impl ContactModel for LineOfCentres {
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactKernel<B, P, N, F>
     for LineOfCentres
 {
-    fn forces(&self, pair: &ContactPair<B, P, N, F>, at: JointState, _: Visit) -> ContactForces {
+    fn forces(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        _: ModelState<'_, Self>,
+        at: JointState,
+        _: Visit,
+    ) -> ContactForces {
         pair.line_forces(at)
     }
 
     fn forces_and_jacobian(
         &self,
         pair: &ContactPair<B, P, N, F>,
+        _: ModelState<'_, Self>,
         at: JointState,
     ) -> (ContactForces, ContactJacobian) {
         pair.line_forces_and_jacobian(at)
     }
 
-    fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64 {
+    fn penetration(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        _: ModelState<'_, Self>,
+        at: JointState,
+    ) -> f64 {
         pair.geometry(at.bearing, at.pin).penetration
     }
 }
@@ -123,12 +142,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         self.friction_sliding == SlidingVelocity::Material
             && self.bearing_profile.is_round()
             && self.pin_profile.is_round()
-    }
-
-    /// Full kinematics of the line of centres at the given states.
-    pub fn kinematics(&self, bearing_body: &BodyState, pin_body: &BodyState) -> JointKinematics {
-        let geometry = self.geometry(bearing_body, pin_body);
-        kinematics_from(&geometry, bearing_body, pin_body)
     }
 
     /// The line-of-centres forces (see the module docs).
@@ -235,72 +248,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
             / (clearance * clearance);
         let d_stiffness = d_effective_radius * (0.5 * stiffness / effective_radius);
         (stiffness, d_stiffness)
-    }
-
-    pub(super) fn geometry(&self, bearing_body: &BodyState, pin_body: &BodyState) -> Geometry {
-        let bearing_centre_arm = bearing_body.rotate(&self.bearing_centre);
-        let pin_centre_arm = pin_body.rotate(&self.pin_centre);
-        let eccentricity =
-            pin_body.position() + pin_centre_arm - bearing_body.position() - bearing_centre_arm;
-        let eccentricity_norm = eccentricity.norm();
-        let normal = if eccentricity_norm > 0.0 {
-            eccentricity / eccentricity_norm
-        } else {
-            Vector2::x()
-        };
-        let contact_angle = normal.y.atan2(normal.x);
-        let bearing = self
-            .bearing_profile
-            .sample(contact_angle - bearing_body.theta);
-        let pin = self.pin_profile.sample(contact_angle - pin_body.theta);
-        Geometry {
-            bearing_centre_arm,
-            pin_centre_arm,
-            eccentricity,
-            eccentricity_norm,
-            normal,
-            contact_angle,
-            bearing,
-            pin,
-            penetration: eccentricity_norm - (bearing.radius - pin.radius),
-        }
-    }
-}
-
-fn kinematics_from(
-    geometry: &Geometry,
-    bearing_body: &BodyState,
-    pin_body: &BodyState,
-) -> JointKinematics {
-    let n = geometry.normal;
-    let t = perp(&n);
-    let bearing_point =
-        bearing_body.position() + geometry.bearing_centre_arm + n * geometry.bearing.radius;
-    let pin_point = pin_body.position() + geometry.pin_centre_arm + n * geometry.pin.radius;
-    let bearing_point_velocity = bearing_body.velocity()
-        + perp(&(bearing_point - bearing_body.position())) * bearing_body.omega;
-    let pin_point_velocity =
-        pin_body.velocity() + perp(&(pin_point - pin_body.position())) * pin_body.omega;
-    let relative_velocity = pin_point_velocity - bearing_point_velocity;
-    let eccentricity_rate = pin_body.velocity() + perp(&geometry.pin_centre_arm) * pin_body.omega
-        - bearing_body.velocity()
-        - perp(&geometry.bearing_centre_arm) * bearing_body.omega;
-    JointKinematics {
-        eccentricity: geometry.eccentricity,
-        eccentricity_norm: geometry.eccentricity_norm,
-        normal: n,
-        tangent: t,
-        contact_angle: geometry.contact_angle,
-        bearing: geometry.bearing,
-        pin: geometry.pin,
-        penetration: geometry.penetration,
-        bearing_point,
-        pin_point,
-        bearing_point_velocity,
-        pin_point_velocity,
-        eccentricity_rate,
-        normal_velocity: relative_velocity.dot(&n),
-        tangential_velocity: relative_velocity.dot(&t),
     }
 }
 
@@ -493,12 +440,6 @@ impl ArmPartials {
             d_relative_velocity: d_rel_vel,
         }
     }
-}
-
-/// `v` turned by +90°.
-#[inline]
-fn perp(v: &Vector2<f64>) -> Vector2<f64> {
-    Vector2::new(-v.y, v.x)
 }
 
 /// z component of `a × b`.

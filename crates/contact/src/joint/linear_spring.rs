@@ -13,7 +13,7 @@
 
 use nalgebra::{Matrix2, Vector2};
 
-use super::model::{ContactKernel, ContactModel, ValidityMeasure, Visit};
+use super::model::{ContactKernel, ContactModel, ModelState, ValidityMeasure, Visit};
 use super::pair::ContactPair;
 use super::types::{BodyState, ContactForces, ContactJacobian, JointKinematics, JointState};
 use crate::diagnostics::ContactDiagnostics;
@@ -146,9 +146,15 @@ impl LinearSpring {
 }
 
 impl ContactModel for LinearSpring {
+    /// Reads the outlines directly: no tables, no workspace.
+    type Tables = ();
+    type Workspace = ();
+
     fn name(&self) -> &'static str {
         "linear-spring"
     }
+
+    fn tables<B: SurfaceProfile, P: SurfaceProfile, N, F>(&self, _: &ContactPair<B, P, N, F>) {}
 
     /// Exact on round surfaces only: judged by the profile slope at its contacts.
     fn validity_measures(&self) -> &'static [ValidityMeasure] {
@@ -159,13 +165,20 @@ impl ContactModel for LinearSpring {
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactKernel<B, P, N, F>
     for LinearSpring
 {
-    fn forces(&self, pair: &ContactPair<B, P, N, F>, at: JointState, _: Visit) -> ContactForces {
+    fn forces(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        _: ModelState<'_, Self>,
+        at: JointState,
+        _: Visit,
+    ) -> ContactForces {
         self.evaluate(pair, at, None)
     }
 
     fn forces_and_jacobian(
         &self,
         pair: &ContactPair<B, P, N, F>,
+        _: ModelState<'_, Self>,
         at: JointState,
     ) -> (ContactForces, ContactJacobian) {
         let mut jacobian = ContactJacobian::zeros();
@@ -173,7 +186,12 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         (forces, jacobian)
     }
 
-    fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64 {
+    fn penetration(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        _: ModelState<'_, Self>,
+        at: JointState,
+    ) -> f64 {
         pair.kinematics(at.bearing, at.pin).penetration
     }
 }

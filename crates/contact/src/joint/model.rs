@@ -1,11 +1,13 @@
 //! What a contact model is ([`ContactModel`]): the trait every model of a clearance joint
-//! implements, the validity measures and shape limits a model names, the node loads a
-//! node-resolved model reports for wear, and which relative velocity counts as sliding.
+//! implements, the state it keeps (its tables and its workspace), the validity measures and
+//! shape limits a model names, the node loads a node-resolved model reports for wear, and which
+//! relative velocity counts as sliding.
 
 use std::fmt::Debug;
 
 use super::pair::ContactPair;
 use super::types::{ContactForces, ContactJacobian, JointState, SlidingVelocity};
+use crate::surface::SurfaceProfile;
 
 /// A contact model of a clearance joint: how the pin's and the bearing's outlines load each
 /// other. A model is a value (its parameters) and one module of this crate implementing this
@@ -17,9 +19,35 @@ use super::types::{ContactForces, ContactJacobian, JointState, SlidingVelocity};
 /// elastic energy plus the law's damping and friction, so that an elastic frictionless joint
 /// conserves energy; the Jacobian must be the exact partials of the same forces (a test
 /// compares it with finite differences).
+///
+/// A model's state is its own, in two parts. Its [`Self::Tables`], what it precomputes from a
+/// pair's outlines (the foundation's node table and radius bounds), are built once per pair
+/// and read by every evaluation; the joint keeps them beside the model. Its
+/// [`Self::Workspace`], what its evaluations carry from one to the next (the foundation's
+/// overlap memory), belongs to whoever evaluates: each evaluation takes it as an argument, so
+/// nothing is shared behind a shared reference. A model that needs neither names `()` for both.
 pub trait ContactModel: Copy + Debug + PartialEq + Send + Sync {
+    /// What the model precomputes from a pair's outlines, fixed while they are.
+    type Tables: Clone + Debug + Send + Sync;
+
+    /// What the model's evaluations of one joint carry from one to the next. The default value
+    /// is an empty one: evaluations with it give the same results (they may take longer).
+    type Workspace: Clone + Debug + Default + Send;
+
     /// The model's name in scenes, summaries and reports (kebab-case).
     fn name(&self) -> &'static str;
+
+    /// The model's tables for `pair`: built when a joint takes the model or new profiles.
+    fn tables<B: SurfaceProfile, P: SurfaceProfile, N, F>(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+    ) -> Self::Tables;
+
+    /// A workspace for evaluations of this model, made ready (sized) so that they allocate
+    /// nothing; by default the empty one.
+    fn workspace(&self) -> Self::Workspace {
+        Self::Workspace::default()
+    }
 
     /// How many nodes the model resolves the pin's outline into, when it does: its wear is
     /// then deposited node by node from [`NodeLoad`]s, else from the one contact point of the
@@ -41,23 +69,44 @@ pub trait ContactModel: Copy + Debug + PartialEq + Send + Sync {
 
 /// What a [`ContactModel`] evaluates on a pair of outlines of types `B`, `P` with laws `N`,
 /// `F`: the forces, their exact partials and the event function. A model implements it for
-/// every pair it can evaluate (the built-in ones for any profiles and laws).
+/// every pair it can evaluate (the built-in ones for any profiles and laws). Each evaluation
+/// reads the model's tables for `pair` and may use its workspace (see [`ContactModel`]).
 pub trait ContactKernel<B, P, N, F>: ContactModel {
     /// Generalized forces on both bodies at `at`; every loaded node to `visit` when the model
     /// has nodes.
-    fn forces(&self, pair: &ContactPair<B, P, N, F>, at: JointState, visit: Visit)
-    -> ContactForces;
+    fn forces(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        state: ModelState<'_, Self>,
+        at: JointState,
+        visit: Visit,
+    ) -> ContactForces;
 
     /// The forces and their exact partials ([`ContactJacobian`]'s layout).
     fn forces_and_jacobian(
         &self,
         pair: &ContactPair<B, P, N, F>,
+        state: ModelState<'_, Self>,
         at: JointState,
     ) -> (ContactForces, ContactJacobian);
 
     /// The event function: a signed depth (m) that crosses zero where contact begins and
     /// ends, positive in contact. Cheap: it is evaluated at every step.
-    fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64;
+    fn penetration(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        state: ModelState<'_, Self>,
+        at: JointState,
+    ) -> f64;
+}
+
+/// A model's state as one evaluation sees it: its tables for the pair, read, and the
+/// workspace of the joint's evaluations, written.
+pub struct ModelState<'s, M: ContactModel> {
+    /// What the model precomputed from the pair's outlines.
+    pub tables: &'s M::Tables,
+    /// What the evaluations carry from one to the next.
+    pub workspace: &'s mut M::Workspace,
 }
 
 /// Where a model's forces hand each loaded node, if anywhere.

@@ -4,7 +4,6 @@
 
 use nalgebra::Vector2;
 
-use super::outline::OutlineBounds;
 use super::types::{JointSurface, SlidingVelocity};
 use crate::error::{ContactError, finite, positive};
 use crate::material::Material;
@@ -29,20 +28,17 @@ pub struct ContactPair<B, P, N, F> {
     pub(super) friction_law: F,
     /// Which sliding velocity the friction law sees.
     pub(super) friction_sliding: SlidingVelocity,
-    /// The outlines' radius bounds, for the foundation's node window.
-    pub(super) bounds: OutlineBounds,
 }
 
 impl<B: SurfaceProfile, P: SurfaceProfile, N, F> ContactPair<B, P, N, F> {
     /// A pair, validated: finite centres, and profiles that are finite, positive and leave a
     /// positive clearance in every direction (checked on 64 angles per surface: the smallest
-    /// bearing radius must exceed the largest pin radius); its node window for `cells` nodes.
+    /// bearing radius must exceed the largest pin radius).
     pub(super) fn new(
         bearing: JointSurface<B>,
         pin: JointSurface<P>,
         normal_law: N,
         friction_law: F,
-        cells: usize,
     ) -> Result<Self, ContactError> {
         for (parameter, value) in [
             ("bearing centre x", bearing.centre[0]),
@@ -54,7 +50,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N, F> ContactPair<B, P, N, F> {
         }
         validate_profiles(&bearing.profile, &pin.profile)?;
         let compliance = bearing.material.compliance() + pin.material.compliance();
-        let bounds = OutlineBounds::new(&bearing.profile, &pin.profile, cells);
         Ok(Self {
             bearing_centre: Vector2::from(bearing.centre),
             pin_centre: Vector2::from(pin.centre),
@@ -66,14 +61,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N, F> ContactPair<B, P, N, F> {
             normal_law,
             friction_law,
             friction_sliding: SlidingVelocity::Material,
-            bounds,
         })
-    }
-
-    /// The same pair with its node window for `cells` nodes.
-    pub(super) fn with_cells(mut self, cells: usize) -> Self {
-        self.bounds = OutlineBounds::new(&self.bearing_profile, &self.pin_profile, cells);
-        self
     }
 
     /// The same pair with new surface profiles (e.g. after a wear stage), validated again.
@@ -81,10 +69,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N, F> ContactPair<B, P, N, F> {
         self,
         bearing_profile: B2,
         pin_profile: P2,
-        cells: usize,
     ) -> Result<ContactPair<B2, P2, N, F>, ContactError> {
         validate_profiles(&bearing_profile, &pin_profile)?;
-        let bounds = OutlineBounds::new(&bearing_profile, &pin_profile, cells);
         Ok(ContactPair {
             bearing_centre: self.bearing_centre,
             pin_centre: self.pin_centre,
@@ -96,7 +82,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N, F> ContactPair<B, P, N, F> {
             normal_law: self.normal_law,
             friction_law: self.friction_law,
             friction_sliding: self.friction_sliding,
-            bounds,
         })
     }
 

@@ -3,27 +3,31 @@
 
 use nalgebra::Vector3;
 
+use super::Kernel;
 use super::geometry::{Body, offset};
 use super::layer::Foundation;
+use super::memory::{FoundationWorkspace, Pose, Remembered, Skip};
+use super::window::NodeWindow;
 use crate::friction::FrictionLaw;
 use crate::joint::dual::Dual;
-use crate::joint::model::{ContactKernel, ContactModel, ValidityMeasure, Visit};
-use crate::joint::outline::{Pose, Skip};
+use crate::joint::model::{ContactKernel, ContactModel, ModelState, ValidityMeasure, Visit};
 use crate::joint::pair::ContactPair;
 use crate::joint::types::{BodyState, ContactForces, ContactJacobian, JointState};
 use crate::normal::NormalLaw;
 use crate::surface::SurfaceProfile;
 
-impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactPair<B, P, N, F> {
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Kernel<'_, B, P, N, F> {
     /// Forces of the foundation model at the given states.
     fn foundation_forces(
         &self,
         foundation: &Foundation,
+        workspace: &mut FoundationWorkspace,
         at: JointState,
         visit: Visit,
     ) -> ContactForces {
         let out = self.foundation_eval(
             foundation,
+            workspace,
             state_array(at.bearing),
             state_array(at.pin),
             at.onset_velocity,
@@ -40,6 +44,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
     fn foundation_forces_and_jacobian(
         &self,
         foundation: &Foundation,
+        workspace: &mut FoundationWorkspace,
         at: JointState,
     ) -> (ContactForces, ContactJacobian) {
         let seed = |state: &BodyState, offset: usize| -> [Dual; 6] {
@@ -56,6 +61,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         };
         let out = self.foundation_eval(
             foundation,
+            workspace,
             seed(at.bearing, 0),
             seed(at.pin, 3),
             at.onset_velocity,
@@ -84,13 +90,15 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
     fn foundation_overlap(
         &self,
         foundation: &Foundation,
+        memory: &Remembered,
         bearing_body: &BodyState,
         pin_body: &BodyState,
     ) -> f64 {
         let bearing = Body::new(state_array(bearing_body));
         let pin = Body::new(state_array(pin_body));
-        let bearing_centre_arm = bearing.rotate([self.bearing_centre.x, self.bearing_centre.y]);
-        let pin_centre_arm = pin.rotate([self.pin_centre.x, self.pin_centre.y]);
+        let bearing_centre_arm =
+            bearing.rotate([self.pair.bearing_centre.x, self.pair.bearing_centre.y]);
+        let pin_centre_arm = pin.rotate([self.pair.pin_centre.x, self.pair.pin_centre.y]);
         let e = offset(&pin, &pin_centre_arm, &bearing, &bearing_centre_arm);
         let cells = foundation.cells;
         // The nodes that may overlap (the runs' outer nodes, which cannot, are sampled too).
@@ -98,13 +106,13 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         let mut deepest = candidates.outside_bound;
         // The overlap memory skips the nodes that cannot beat the deepest so far (read only).
         let memory = self
-            .bounds
+            .window
             .bearing_slope
-            .and_then(|_| self.bounds.memory.take())
+            .and(Some(memory))
             .filter(|m| m.overlap.len() == cells);
-        let skip = memory.as_deref().and_then(|m| {
+        let skip = memory.and_then(|m| {
             let now = Pose::new(e, bearing.theta_sin_cos, bearing_body.theta, pin_body.theta);
-            Some((Skip::new(m, self.bounds.drift(m.pose, now)?), m))
+            Some((Skip::new(m, self.window.drift(m.pose, now)?), m))
         });
         let floor = skip.map_or(f64::NEG_INFINITY, |(skip, _)| skip.floor);
         let runs = &candidates.runs[..candidates.count];
@@ -148,17 +156,31 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
                 deepest = deepest.max(g);
             }
         }
-        if let Some(m) = memory {
-            self.bounds.memory.put(m);
-        }
         deepest
     }
 }
 
 /// No shape limits (the default): the layer follows any outline.
 impl ContactModel for Foundation {
+    /// The node table and the outlines' radius bounds by sector.
+    type Tables = NodeWindow;
+    /// The overlap memory and the buffer of Simpson's wear loads.
+    type Workspace = FoundationWorkspace;
+
     fn name(&self) -> &'static str {
         "foundation"
+    }
+
+    fn tables<B: SurfaceProfile, P: SurfaceProfile, N, F>(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+    ) -> NodeWindow {
+        NodeWindow::new(pair.bearing_profile(), pair.pin_profile(), self.cells)
+    }
+
+    /// Room for an overlap memory of every node.
+    fn workspace(&self) -> FoundationWorkspace {
+        FoundationWorkspace::for_cells(self.cells)
     }
 
     fn nodes(&self) -> Option<usize> {
@@ -194,22 +216,41 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
     fn forces(
         &self,
         pair: &ContactPair<B, P, N, F>,
+        state: ModelState<'_, Self>,
         at: JointState,
         visit: Visit,
     ) -> ContactForces {
-        pair.foundation_forces(self, at, visit)
+        let kernel = Kernel {
+            pair,
+            window: state.tables,
+        };
+        kernel.foundation_forces(self, state.workspace, at, visit)
     }
 
     fn forces_and_jacobian(
         &self,
         pair: &ContactPair<B, P, N, F>,
+        state: ModelState<'_, Self>,
         at: JointState,
     ) -> (ContactForces, ContactJacobian) {
-        pair.foundation_forces_and_jacobian(self, at)
+        let kernel = Kernel {
+            pair,
+            window: state.tables,
+        };
+        kernel.foundation_forces_and_jacobian(self, state.workspace, at)
     }
 
-    fn penetration(&self, pair: &ContactPair<B, P, N, F>, at: JointState) -> f64 {
+    fn penetration(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        state: ModelState<'_, Self>,
+        at: JointState,
+    ) -> f64 {
         // The deepest overlap of the outlines at the nodes.
-        pair.foundation_overlap(self, at.bearing, at.pin)
+        let kernel = Kernel {
+            pair,
+            window: state.tables,
+        };
+        kernel.foundation_overlap(self, &state.workspace.memory, at.bearing, at.pin)
     }
 }

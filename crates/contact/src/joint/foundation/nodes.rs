@@ -1,11 +1,12 @@
 //! Which nodes an evaluation visits and what each one is: the sectors that can touch, a node's
 //! cheap overlap for the look-ahead, and a node in full (its gap, normal, rate and arms).
 
+use super::Kernel;
 use super::geometry::{Body, Node, angle_near, dot, offset};
+use super::memory::{Noted, Remembered, Skip};
+use super::window::{BLOCK, BLOCKS};
 use crate::friction::FrictionLaw;
 use crate::joint::dual::Real;
-use crate::joint::outline::{BLOCK, BLOCKS, Noted, Remembered, Skip};
-use crate::joint::pair::ContactPair;
 use crate::normal::NormalLaw;
 use crate::surface::{SurfaceProfile, wrap_angle};
 
@@ -23,7 +24,7 @@ pub(super) struct Candidates {
     pub(super) outside_bound: f64,
 }
 
-impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactPair<B, P, N, F> {
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Kernel<'_, B, P, N, F> {
     /// The nodes that can touch, sector by sector: a pin sector whose farthest reach from the
     /// bearing centre (its largest radius, at the angle nearest the eccentricity) stays inside
     /// the smallest bearing radius where it can land is skipped. In free flight (`|e| + R_j⁺ ≤
@@ -36,7 +37,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         (theta_pin, theta_bearing): (f64, f64),
         beyond: i64,
     ) -> Candidates {
-        let b = &self.bounds;
+        let b = self.window;
         let rho = e[0].hypot(e[1]);
         let mut found = Candidates {
             runs: [(0, 0); MAX_RUNS],
@@ -176,11 +177,11 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
     ) -> Option<f64> {
         let (_, _, d) = self.node_point(cell, bearing, pin, bearing_centre_arm);
         let rho = d[0].hypot(d[1]);
-        let below = rho - self.bounds.bearing_min;
+        let below = rho - self.window.bearing_min;
         if below <= deepest {
             return None;
         }
-        if rho <= self.bounds.bearing_min {
+        if rho <= self.window.bearing_min {
             return Some(below);
         }
         if gap_bound <= deepest {
@@ -188,6 +189,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         }
         Some(
             rho - self
+                .pair
                 .bearing_profile
                 .sample(self.ray_angle(cell, pin, &d) - theta_bearing)
                 .radius,
@@ -237,8 +239,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         }
         let (_, _, d) = self.node_point(cell, &bodies.0, &bodies.1, bearing_centre_arm);
         let rho = dot(&d, &d).sqrt();
-        if rho <= self.bounds.bearing_min {
-            return (rho - self.bounds.bearing_min, Noted::Below);
+        if rho <= self.window.bearing_min {
+            return (rho - self.window.bearing_min, Noted::Below);
         }
         if ruled_out.is_some() {
             return (f64::NEG_INFINITY, Noted::Carried);
@@ -250,6 +252,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         // seven into contact, saved 1–3 %.)
         if gap_bound.is_some_and(|(skip, bound)| bound < skip.drift) {
             let radius = self
+                .pair
                 .bearing_profile
                 .sample(self.ray_angle(cell, &bodies.1, &d) - theta_bearing)
                 .radius;
@@ -268,8 +271,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         pin: &Body<T>,
         bearing_centre_arm: &[T; 2],
     ) -> (f64, [T; 2], [T; 2]) {
-        let ([x, y], alpha) = self.bounds.pin_nodes[cell];
-        let pin_arm = pin.rotate([self.pin_centre.x + x, self.pin_centre.y + y]);
+        let ([x, y], alpha) = self.window.pin_nodes[cell];
+        let pin_arm = pin.rotate([self.pair.pin_centre.x + x, self.pair.pin_centre.y + y]);
         let d = offset(pin, &pin_arm, bearing, bearing_centre_arm);
         (alpha, pin_arm, d)
     }
@@ -281,7 +284,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
     /// Jacobian) take `atan2`'s partials with the same value, so that both evaluations agree.
     #[inline]
     pub(super) fn ray_angle<T: Real>(&self, cell: usize, pin: &Body<T>, d: &[T; 2]) -> T {
-        let ([x, y], alpha) = self.bounds.pin_nodes[cell];
+        let ([x, y], alpha) = self.window.pin_nodes[cell];
         let w = pin.rotate([x, y]);
         let value = angle_near(
             [d[0].value(), d[1].value()],
@@ -310,11 +313,11 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         // The ray's angle matters for a worn bearing's sample and for the partials; a plain
         // node on a round bearing needs neither (its bearing angle for wear is found only when
         // the node is visited).
-        let (angle, sample, bearing_angle) = match self.bounds.round_bearing {
+        let (angle, sample, bearing_angle) = match self.window.round_bearing {
             Some(sample) if T::PLAIN => (theta_bearing, sample, None),
             _ => {
                 let angle = self.ray_angle(cell, pin, &d) - theta_bearing;
-                let sample = self.bearing_profile.sample(angle.value());
+                let sample = self.pair.bearing_profile.sample(angle.value());
                 (angle, sample, Some(angle.value()))
             }
         };
@@ -332,11 +335,11 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         };
         let bearing_velocity = bearing.point_velocity(&bearing_arm);
         let g = rho - bearing_radius;
-        let beyond = rho.value() > self.bounds.bearing_min;
+        let beyond = rho.value() > self.window.bearing_min;
         let overlap = if beyond {
             g.value()
         } else {
-            rho.value() - self.bounds.bearing_min
+            rho.value() - self.window.bearing_min
         };
         Node {
             cell,
