@@ -4,7 +4,7 @@
 //! model, not a flag: the verdict names the model and judges the one measure it names, and an
 //! undamped, frictionless spring neither dissipates nor creates energy.
 
-use scene::{ContactSpec, LinearSpringSpec, ValidScene};
+use scene::{LinearSpringSpec, ValidScene};
 use sim::{RunOptions, run_scene};
 
 /// A stiffness of the order of the Hertz law's secant at the start-up impacts (~30 kN at

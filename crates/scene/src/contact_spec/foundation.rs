@@ -234,7 +234,7 @@ impl FoundationSpec {
             );
         } else if let Some(w) = joint
             .wear
-            .filter(|w| w.cells > 0 && n % w.cells != 0 && w.cells % n != 0)
+            .filter(|w| w.cells > 0 && !n.is_multiple_of(w.cells) && !w.cells.is_multiple_of(n))
         {
             v.push(
                 format!("{q}.cells"),
