@@ -403,4 +403,3 @@ fn tightest_fit(bearing: &impl SurfaceProfile, pin: &impl SurfaceProfile) -> (f6
     );
     (bearing_radius, pin_radius)
 }
-
