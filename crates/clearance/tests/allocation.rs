@@ -2,10 +2,9 @@
 //! forces (the right-hand side), their Jacobian and its event function, on worn surfaces, with
 //! the elastic foundation and with the line of centres, along a walk in and out of contact.
 
-use std::alloc::{GlobalAlloc, Layout, System as SystemAllocator};
-use std::cell::Cell;
 use std::f64::consts::TAU;
 
+use alloc_count::{CountingAllocator, allocations_of};
 use clearance::WornClearanceForce;
 use contact::{
     Ambrosio, BodyState, ClearanceJoint, ContactModelKind, Foundation, FrictionLawKind,
@@ -15,24 +14,8 @@ use multibody::{Baumgarte, Body, BodyId, Equations, ForceElement, Model, System}
 use nalgebra::DMatrix;
 use wear::{Side, WornProfile};
 
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-struct Counting;
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.with(|a| a.set(a.get() + 1));
-        unsafe { SystemAllocator.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { SystemAllocator.dealloc(ptr, layout) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 const BEARING_RADIUS: f64 = 0.05;
 const CLEARANCE: f64 = 5e-4;
@@ -132,17 +115,17 @@ fn the_worn_clearance_force_does_not_allocate() {
         let mut jacobian = DMatrix::zeros(6, 6);
         let mut event = [0.0];
         let mut in_contact = 0;
-        let before = ALLOCATIONS.with(Cell::get);
-        for (k, x) in states.iter().enumerate() {
-            let t = 1e-4 * k as f64;
-            evaluator.rhs(elements, t, x, &mut dx).expect("regular");
-            evaluator
-                .jacobian(elements, t, x, &mut jacobian)
-                .expect("regular");
-            element.event_functions(t, &x[..3], &x[3..], &mut event);
-            in_contact += usize::from(event[0] > 0.0);
-        }
-        let allocations = ALLOCATIONS.with(Cell::get) - before;
+        let allocations = allocations_of(|| {
+            for (k, x) in states.iter().enumerate() {
+                let t = 1e-4 * k as f64;
+                evaluator.rhs(elements, t, x, &mut dx).expect("regular");
+                evaluator
+                    .jacobian(elements, t, x, &mut jacobian)
+                    .expect("regular");
+                element.event_functions(t, &x[..3], &x[3..], &mut event);
+                in_contact += usize::from(event[0] > 0.0);
+            }
+        });
         assert!(in_contact > 30, "{model:?}: {in_contact} states in contact");
         assert!(jacobian.iter().any(|v| *v != 0.0), "{model:?}: loaded");
         assert_eq!(allocations, 0, "{model:?}: {allocations} allocations");

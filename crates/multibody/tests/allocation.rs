@@ -2,31 +2,13 @@
 
 mod common;
 
-use std::alloc::{GlobalAlloc, Layout, System as SystemAllocator};
-use std::cell::Cell;
-
+use alloc_count::{CountingAllocator, allocations_of};
 use common::{SliderCrank, SpringDamper, with_gravity_and_spring};
 use multibody::{Baumgarte, Equations};
 use nalgebra::DMatrix;
 
-thread_local! {
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-struct Counting;
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.with(|a| a.set(a.get() + 1));
-        unsafe { SystemAllocator.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { SystemAllocator.dealloc(ptr, layout) }
-    }
-}
-
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 #[test]
 fn rhs_and_jacobian_do_not_allocate() {
@@ -38,13 +20,14 @@ fn rhs_and_jacobian_do_not_allocate() {
     let mut jacobian = DMatrix::zeros(y.len(), y.len());
     let mut evaluator = system.evaluator(Baumgarte::default());
     let elements = system.elements();
-    let before = ALLOCATIONS.with(Cell::get);
-    for k in 0..10 {
-        let t = 0.1 * k as f64;
-        evaluator.rhs(elements, t, &y, &mut dy).expect("regular");
-        evaluator
-            .jacobian(elements, t, &y, &mut jacobian)
-            .expect("regular");
-    }
-    assert_eq!(ALLOCATIONS.with(Cell::get) - before, 0);
+    let allocations = allocations_of(|| {
+        for k in 0..10 {
+            let t = 0.1 * k as f64;
+            evaluator.rhs(elements, t, &y, &mut dy).expect("regular");
+            evaluator
+                .jacobian(elements, t, &y, &mut jacobian)
+                .expect("regular");
+        }
+    });
+    assert_eq!(allocations, 0);
 }
