@@ -1,4 +1,4 @@
-//! How the cost of a run grows with the size of the mechanism (issue 12, item 4):
+//! How the cost of a run grows with the size of the mechanism:
 //! `cargo bench -p analysis --bench scaling`.
 //!
 //! The mechanism is [`analysis::family::chain`] with `N` bodies and a clearance joint at every

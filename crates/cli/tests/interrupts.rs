@@ -1,4 +1,4 @@
-//! Interrupts at random moments (issue 22): `run`, `precision`, a quick `study` (two scene
+//! Interrupts at random moments: `run`, `precision`, a quick `study` (two scene
 //! runs at once), `sweep` and `stress --quick` are sent SIGINT at moments spread over their
 //! whole length, the writing of their files included, by a fixed sequence (every CI run sees
 //! the same moments). Whatever the moment, nothing hidden may stay beside or in the output

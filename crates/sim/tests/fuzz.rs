@@ -1,4 +1,4 @@
-//! Scene fuzzing (issue 13): mutants of the shipped `lgres` and `slider-crank` scenes —
+//! Scene fuzzing: mutants of the shipped `lgres` and `slider-crank` scenes —
 //! numbers scaled by 1e±3/1e±6, signs flipped, set to 0/NaN/±inf, integers set to edge values,
 //! keys deleted, array elements duplicated, names swapped — are parsed, validated and checked
 //! like `wearsim check`; every one that passes validation is also briefly run like `wearsim run`. No

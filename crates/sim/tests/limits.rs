@@ -1,4 +1,4 @@
-//! Regression tests of issue 13: bad input ends in a named error (never a panic, hang or a
+//! Bad input ends in a named error (never a panic, hang or a
 //! silently wrong run), and `check` rejects what `run` would.
 
 use lgres::scenes;
