@@ -96,13 +96,16 @@ impl Default for ContactSpec {
 impl<'de> Deserialize<'de> for ContactSpec {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         let mut table = toml::Table::deserialize(deserializer)?;
-        table
+        let model = table
             .entry("model")
-            .or_insert_with(|| Self::default().name().into());
+            .or_insert_with(|| Self::default().name().into())
+            .clone();
+        // The model is named beside serde's words, which say only what the table lacks or
+        // holds too many of ("unknown field `cells`, there are no fields").
         toml::Value::Table(table)
             .try_into::<Tagged>()
             .map(Self::from)
-            .map_err(|e| serde::de::Error::custom(e.message()))
+            .map_err(|e| serde::de::Error::custom(format!("{} (model = {model})", e.message())))
     }
 }
 
