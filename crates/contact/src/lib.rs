@@ -50,18 +50,20 @@
 //! ```
 //! use contact::{
 //!     Ambrosio, BodyState, CircularProfile, ClearanceJoint, ImpactMemory, JointSurface,
-//!     LankaraniNikravesh, Material,
+//!     LankaraniNikravesh, LineOfCentres, Material,
 //! };
 //!
 //! # fn main() -> Result<(), contact::ContactError> {
 //! let steel = Material::new(200e9, 0.3)?;
-//! // LGRES joint A: bearing radius 50 mm, clearance 0.5 mm.
+//! // LGRES joint A: bearing radius 50 mm, clearance 0.5 mm, on the paper's one-point
+//! // line-of-centres contact (a joint given no model runs the elastic foundation).
 //! let joint = ClearanceJoint::new(
 //!     JointSurface { centre: [0.0, 0.0], profile: CircularProfile::new(0.05), material: steel },
 //!     JointSurface { centre: [0.0, 0.0], profile: CircularProfile::new(0.0495), material: steel },
 //!     LankaraniNikravesh::new(0.9)?,
 //!     Ambrosio::new(0.15, 1e-4, 1e-3)?,
-//! )?;
+//! )?
+//! .with_model(LineOfCentres);
 //! let bearing = BodyState::at_rest(0.0, 0.0, 0.0);
 //! // Pin 10 µm into the bottom of the bearing, moving down at 0.1 m/s.
 //! let pin = BodyState::new([0.0, -5.1e-4, 0.0], [0.0, -0.1, 0.0]);
