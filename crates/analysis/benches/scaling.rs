@@ -1,7 +1,7 @@
 //! How the cost of a run grows with the size of the mechanism:
 //! `cargo bench -p analysis --bench scaling`.
 //!
-//! The mechanism is [`analysis::family::chain`] with `N` bodies and a clearance joint at every
+//! The mechanism is [`clearance::family::chain`] with `N` bodies and a clearance joint at every
 //! 5th joint, driven from rest. For each `N` and each path — Cartesian coordinates with the
 //! dense LU of the reduced iteration matrix (default), the same with faer's sparse LU, and
 //! joint coordinates — it times [`multibody::System::simulate`] over a fixed interval from the
@@ -18,7 +18,7 @@
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use analysis::family::{ChainParams, chain};
+use clearance::family::{ChainParams, chain};
 use multibody::{Formulation, LinearSolverKind, OutputTimes, SimulationOptions};
 use output::plot::{Panel, Series, log_panels};
 

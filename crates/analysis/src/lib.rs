@@ -1,8 +1,8 @@
 //! The analyses beyond one run, each engine apart from its rendering: the paper's studies and
 //! their report ([`study`]: the runner, the trend verdicts, the report; the studies themselves
 //! and the paper's numbers are the LGRES model's, in crate `lgres`), the work–precision sweep of
-//! the integrators ([`precision`]), the stress battery ([`stress`]) and a family of mechanisms of
-//! any size for measuring how the cost of a run grows ([`family`]).
+//! the integrators ([`precision`]) and the stress battery ([`stress`]). Every simulation they make
+//! runs through `sim` (`sim::run_scene`, `sim::integrate`): no system is built here.
 //!
 //! ```no_run
 //! use analysis::study::{self, StudyOptions};
@@ -22,7 +22,6 @@
 
 #![warn(missing_docs)]
 
-pub mod family;
 pub mod precision;
 pub mod stress;
 pub mod study;

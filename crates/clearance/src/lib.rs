@@ -14,10 +14,14 @@
 //! [`run_wear_stages`] drives the wear stages of any mechanism the caller builds; with
 //! [`run_ensemble_stages`] a sub-step's cycles run as an [`Ensemble`] of trajectories on
 //! threads, each continuing from where it ended, with results independent of the threads.
+//!
+//! [`family`] builds a mechanism of any size from these elements (a ladder of four-bar loops
+//! with a clearance joint every few joints), for measuring how the cost of a run grows.
 
 #![warn(missing_docs)]
 
 mod builder;
+pub mod family;
 mod force;
 mod stages;
 

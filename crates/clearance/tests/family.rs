@@ -1,7 +1,7 @@
 //! The mechanism family of any size: it builds, assembles and runs in every formulation and
 //! linear solver, and refuses sizes below the smallest chain.
 
-use analysis::family::{Chain, ChainParams, FamilyError, chain};
+use clearance::family::{Chain, ChainParams, FamilyError, chain};
 use multibody::{Formulation, Harmonic, LinearSolverKind, OutputTimes, SimulationOptions};
 
 /// The chain assembles with one driven rocker and runs in each formulation, following its

@@ -12,7 +12,7 @@
 //! the Cartesian iteration matrix block-banded; a clearance at a pivot opens a loop. The ideal
 //! joints that remain close loops, which the joint-coordinate formulation keeps as constraints.
 
-use clearance::RoundClearanceForce;
+use crate::RoundClearanceForce;
 use contact::{
     Ambrosio, CircularProfile, ClearanceJoint, ContactError, FrictionLawKind, JointSurface,
     LankaraniNikravesh, LineOfCentres, Material, NormalLawKind,
