@@ -228,8 +228,8 @@ fn wear(w: &sim::WearSummary) {
             micrometres(j.pin_peak_depth_m, j.pin_peak_depth_noise_m),
             j.pin_peak_angle_deg,
             match j.worn_volume_noise_m3 {
-                Some(n) => format!("{:.4} ± {:.4} mm³", j.worn_volume_m3 * 1e9, n * 1e9),
-                None => format!("{:.4} mm³", j.worn_volume_m3 * 1e9),
+                Some(n) => format!("{:.3e} ± {:.1e} m³", j.worn_volume_m3, n),
+                None => format!("{:.3e} m³", j.worn_volume_m3),
             }
         );
     }

@@ -474,7 +474,7 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
          - Judging (docs/model.md §8, the dynamics are chaotic): per-cycle medians of peak force after \
          the start-up window (noise: their bootstrap noises combined), rod-3 maximum deviation \
          after the window (noise: the jackknife over the cycles' maxima), energy dissipated per \
-         cycle (no noise measured: 0), worn volume, worn arc (depth ≥ {ARC_FRACTION}·peak), peak \
+         cycle (no noise measured: n/a), worn volume, worn arc (depth ≥ {ARC_FRACTION}·peak), peak \
          depth and irregularity (noise: the jackknife over the wear stage's batches, \
          docs/model.md §10.4); the noise of a change is √(σ_low² + σ_high²), n/a where a case \
          measured none. A quantity changes when it moves by more than its noise and {:.0} %. A trend is \
