@@ -15,7 +15,8 @@ use multibody::{
 };
 use rayon::prelude::*;
 use wear::{
-    RunContext, StagePlan, StageReport, StageWear, StagingError, WearError, WearSample, WornJoint,
+    Extrapolation, JointNoise, NOISE_GROUPS, NoiseBatches, Replicas, RunContext, StagePlan,
+    StageReport, StageWear, StagingError, WearError, WearSample, WornJoint,
 };
 
 use crate::WornClearanceForce;
@@ -194,6 +195,16 @@ pub struct WearStages {
     /// cycles alone, `Σ amplification × half`, compared: the larger relative difference of
     /// their peak depths and of their worn volumes over all joints ([`StageHalves`]).
     pub stage_halves: Vec<Option<StageHalves>>,
+    /// Per wearing joint, per point of its life curve (the start, then every sub-step of every
+    /// stage): the sampling noise of its results there ([`wear::NoiseBatches`], batches over
+    /// all runs so far). `None` at the start, inside an error-controlled stage (whose runs are
+    /// simulated on predicted surfaces; its end has one), and throughout when a run kept no
+    /// halves (odd K on one trajectory, an odd number of trajectories).
+    pub life_noise: Vec<Vec<Option<JointNoise>>>,
+    /// Per stage, per wearing joint: the jackknife replicas of its surfaces at the stage's end,
+    /// from which the noise of any measure of them follows ([`Replicas::noise`]); none (no
+    /// replica) when a run kept no halves.
+    pub stage_replicas: Vec<Vec<Replicas>>,
 }
 
 /// How far a whole stage's wear depends on which half of its simulated cycles it came from:
@@ -250,10 +261,20 @@ pub fn run_ensemble_stages<R: StageRuns>(
         surfaces: Vec::with_capacity(plan.stages),
         halves_differences: Vec::new(),
         stage_halves: Vec::new(),
+        life_noise: vec![vec![None]; joints.len()],
+        stage_replicas: Vec::with_capacity(plan.stages),
     };
+    let mut noise = Some(NoiseBatches::new(joints, NOISE_GROUPS));
+    // Runs of an error-controlled stage simulate predicted surfaces, not the life's points.
+    let controlled = matches!(plan.extrapolation, Extrapolation::Controlled { .. });
     for stage in 0..plan.stages {
         let mut halves: Vec<Vec<[StageWear; 2]>> = Vec::new();
+        // The surfaces each run started from: the life's points between sub-steps.
+        let mut entries: Vec<Vec<WornJoint>> = Vec::new();
         let mut runner = |context: RunContext, surfaces: &[WornJoint]| {
+            if !controlled {
+                entries.push(surfaces.to_vec());
+            }
             let (wear, difference, split) = match &mut members {
                 None => run_once(runs, context, surfaces, plan.smoothing)?,
                 Some(members) => members.run(runs, context, surfaces, plan.smoothing)?,
@@ -272,10 +293,74 @@ pub fn run_ensemble_stages<R: StageRuns>(
         })?;
         out.stage_halves
             .push(stage_halves(&halves, &report, joints));
+        let replicas = stage_noise(
+            &mut noise,
+            &halves,
+            &report,
+            (!controlled).then_some(&entries[..]),
+            joints,
+            &mut out.life_noise,
+        );
+        out.stage_replicas.push(replicas);
         out.reports.push(report);
         out.surfaces.push(joints.to_vec());
     }
     Ok(out)
+}
+
+/// Adds a stage's runs to the noise batches (`None` once a run kept no halves) and appends
+/// the noise of each sub-step's point to `life_noise`: measured on the surfaces the next run
+/// started from (`entries`; the stage's end on `joints`), or, without entries (an
+/// error-controlled stage), at the stage's end only. Returns the stage end's replicas.
+fn stage_noise(
+    noise: &mut Option<NoiseBatches>,
+    halves: &[Vec<[StageWear; 2]>],
+    report: &StageReport,
+    entries: Option<&[Vec<WornJoint>]>,
+    joints: &[WornJoint],
+    life_noise: &mut [Vec<Option<JointNoise>>],
+) -> Vec<Replicas> {
+    let point = |noise: &Option<NoiseBatches>, surfaces: &[WornJoint]| -> Vec<Option<JointNoise>> {
+        match noise {
+            Some(batches) => batches
+                .replicas()
+                .iter()
+                .zip(surfaces)
+                .map(|(r, j)| r.joint_noise(j))
+                .collect(),
+            None => vec![None; surfaces.len()],
+        }
+    };
+    let push = |life_noise: &mut [Vec<Option<JointNoise>>], values: Vec<Option<JointNoise>>| {
+        for (curve, value) in life_noise.iter_mut().zip(values) {
+            curve.push(value);
+        }
+    };
+    for (run, &weight) in report.run_weights.iter().enumerate() {
+        if let Some(batches) = noise.as_mut() {
+            match halves.get(run) {
+                Some(h) if !h.is_empty() => batches.add(h, weight),
+                _ if weight > 0.0 => *noise = None,
+                _ => {}
+            }
+        }
+        if let Some(entries) = entries
+            && run < report.substeps.len()
+        {
+            let surfaces = entries.get(run + 1).map_or(joints, |e| &e[..]);
+            push(life_noise, point(noise, surfaces));
+        }
+    }
+    if entries.is_none() && !report.substeps.is_empty() {
+        for _ in 1..report.substeps.len() {
+            push(life_noise, vec![None; joints.len()]);
+        }
+        push(life_noise, point(noise, joints));
+    }
+    match noise {
+        Some(batches) => batches.replicas(),
+        None => vec![Replicas::default(); joints.len()],
+    }
 }
 
 /// One run's stage wear per joint and its largest halves difference.

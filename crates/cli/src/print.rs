@@ -221,12 +221,16 @@ fn wear(w: &sim::WearSummary) {
     );
     for j in &w.joints {
         outln!(
-            "  joint {}: bearing peak {:.1} µm at {:.0}°, pin peak {:.1} µm at {:.0}°",
+            "  joint {}: bearing peak {} at {:.0}°, pin peak {} at {:.0}°, worn volume {}",
             j.name,
-            j.bearing_peak_depth_m * 1e6,
+            micrometres(j.bearing_peak_depth_m, j.bearing_peak_depth_noise_m),
             j.bearing_peak_angle_deg,
-            j.pin_peak_depth_m * 1e6,
-            j.pin_peak_angle_deg
+            micrometres(j.pin_peak_depth_m, j.pin_peak_depth_noise_m),
+            j.pin_peak_angle_deg,
+            match j.worn_volume_noise_m3 {
+                Some(n) => format!("{:.3e} ± {:.1e} m³", j.worn_volume_m3, n),
+                None => format!("{:.3e} m³", j.worn_volume_m3),
+            }
         );
     }
     for j in &w.joints {
@@ -239,6 +243,14 @@ fn wear(w: &sim::WearSummary) {
     }
     for text in &w.warnings {
         outln!("  {text}");
+    }
+}
+
+/// A depth in µm with its sampling noise when measured: `358.1 ± 6.2 µm`.
+fn micrometres(metres: f64, noise: Option<f64>) -> String {
+    match noise {
+        Some(n) => format!("{:.1} ± {:.1} µm", metres * 1e6, n * 1e6),
+        None => format!("{:.1} µm", metres * 1e6),
     }
 }
 
@@ -257,15 +269,18 @@ fn clearance_limit_line(
                 .is_ok_and(|v| (v - value).abs() <= 1e-9 * value)
         })
         .unwrap_or_else(|| format!("{value:e}"));
-    match limit.cycles {
-        Some(c) if c > 0.0 => {
+    match (limit.cycles, limit.cycles_noise) {
+        (Some(c), Some(n)) if c > 0.0 => {
+            format!("joint {name} reaches {mm} mm clearance after {c:.1e} ± {n:.1e} cycles")
+        }
+        (Some(c), None) if c > 0.0 => {
             format!("joint {name} reaches {mm} mm clearance after {c:.1e} cycles")
         }
-        Some(_) => format!(
+        (Some(_), _) => format!(
             "joint {name} is at {mm} mm clearance from the start (the surfaces the run started \
              from)"
         ),
-        None => format!(
+        (None, _) => format!(
             "joint {name} does not reach {mm} mm clearance within {cycles_applied:.1e} cycles"
         ),
     }

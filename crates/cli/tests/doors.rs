@@ -198,6 +198,7 @@ fn settings_without_a_bound_on_work_are_refused_naming_the_field() {
             "run.max_curvature_change",
         ),
         ("[run]\nwear_tolerance = 1e-200", "run.wear_tolerance"),
+        ("[run]\nwear_noise = 0", "run.wear_noise"),
         ("[run]\namplification = 1e300", "run.amplification"),
         (
             "[[clearance_joints]]\nname = \"B\"\ncontact = { width = 1e6 }",

@@ -267,6 +267,19 @@ fn life_files(files: &mut Written, outcome: &RunOutcome, dir: &Path) -> Result<(
     for joint in &outcome.wear {
         let column = |f: fn(&LifePoint) -> f64| joint.life.iter().map(f).collect::<Vec<f64>>();
         let cycles = column(|p| p.cycles);
+        // Each point's noise (0 where not measured); none at all: no band.
+        let measured = joint.life_noise.iter().any(Option::is_some);
+        let noise = |f: fn(&wear::JointNoise) -> f64| -> Vec<f64> {
+            if measured {
+                joint
+                    .life_noise
+                    .iter()
+                    .map(|n| n.as_ref().map_or(0.0, f))
+                    .collect()
+            } else {
+                Vec::new()
+            }
+        };
         // A stage's last point is where the next begins (not after the last stage).
         let boundaries: Vec<f64> = joint
             .life
@@ -288,6 +301,11 @@ fn life_files(files: &mut Written, outcome: &RunOutcome, dir: &Path) -> Result<(
                 bearing_depth: &column(|p| p.bearing_peak_depth_m),
                 pin_depth: &column(|p| p.pin_peak_depth_m),
                 max_clearance: &column(|p| p.max_local_clearance_m),
+                noise: [
+                    &noise(|n| n.bearing_peak_depth),
+                    &noise(|n| n.pin_peak_depth),
+                    &noise(|n| n.max_local_clearance),
+                ],
                 stage_boundaries: &boundaries,
                 limit,
             },

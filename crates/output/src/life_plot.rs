@@ -20,6 +20,9 @@ pub struct LifeCurve<'a> {
     pub pin_depth: &'a [f64],
     /// Largest local clearance, m.
     pub max_clearance: &'a [f64],
+    /// The sampling noise of the bearing depth, the pin depth and the largest clearance at
+    /// each point, m (0 where not measured; empty: no band), drawn as a band of ± one noise.
+    pub noise: [&'a [f64]; 3],
     /// Cycles where one stage ends and the next begins (dashed verticals).
     pub stage_boundaries: &'a [f64],
     /// Maintenance limit on the largest local clearance, m (dashed horizontal), and the
@@ -39,7 +42,8 @@ fn cycles_label(v: &f64) -> String {
 /// A joint's life curve in two panels over a common, linear cycle axis (the start at 0 cycles
 /// belongs on it, and Archard wear grows about linearly in the cycles): the peak depths of
 /// bearing and pin above, the largest local clearance below, both in µm, one marker per
-/// sub-step; stage boundaries dashed in both, the clearance limit dashed below.
+/// sub-step, each in a pale band of ± its sampling noise; stage boundaries dashed in both, the
+/// clearance limit dashed below.
 pub fn life_curve(
     path: impl AsRef<Path>,
     title: &str,
@@ -52,19 +56,47 @@ pub fn life_curve(
         um(curve.pin_depth),
         um(curve.max_clearance),
     );
+    let [bearing_noise, pin_noise, clearance_noise] = curve.noise.map(um);
+    let band = |y: &[f64], noise: &[f64], sign: f64| -> Vec<f64> {
+        y.iter().zip(noise).map(|(v, n)| v + sign * n).collect()
+    };
+    let (bearing_high, pin_high, clearance_high, clearance_low) = (
+        band(&bearing, &bearing_noise, 1.0),
+        band(&pin, &pin_noise, 1.0),
+        band(&clearance, &clearance_noise, 1.0),
+        band(&clearance, &clearance_noise, -1.0),
+    );
     let limit = curve.limit.map(|(l, at)| (l * 1e6, at));
     let last = curve.cycles.iter().copied().filter(|c| c.is_finite());
     let xs = 0.0..last.fold(0.0, f64::max).max(1.0);
     let panels = [
         (
             "peak wear depth (µm)",
-            padded_range(bearing.iter().chain(&pin).copied().chain([0.0])),
-            vec![("bearing", &bearing), ("pin", &pin)],
+            padded_range(
+                bearing
+                    .iter()
+                    .chain(&pin)
+                    .chain(&bearing_high)
+                    .chain(&pin_high)
+                    .copied()
+                    .chain([0.0]),
+            ),
+            vec![
+                ("bearing", &bearing, &bearing_noise),
+                ("pin", &pin, &pin_noise),
+            ],
         ),
         (
             "largest local clearance (µm)",
-            padded_range(clearance.iter().copied().chain(limit.map(|(l, _)| l))),
-            vec![("c0 + (max h_i + max h_j)/2", &clearance)],
+            padded_range(
+                clearance
+                    .iter()
+                    .chain(&clearance_high)
+                    .chain(&clearance_low)
+                    .copied()
+                    .chain(limit.map(|(l, _)| l)),
+            ),
+            vec![("c0 + (max h_i + max h_j)/2", &clearance, &clearance_noise)],
         ),
     ];
     render(path.as_ref(), size, |root| {
@@ -87,7 +119,7 @@ pub fn life_curve(
                 .axis_desc_style((FONT, 16))
                 .light_line_style(RGBColor(235, 235, 235))
                 .draw()?;
-            for (n, (label, y)) in series.iter().enumerate() {
+            for (n, (label, y, noise)) in series.iter().enumerate() {
                 // Colours run on across the panels: each quantity its own.
                 let c = colour(2 * k + n);
                 let points: Vec<(f64, f64)> = curve
@@ -96,6 +128,19 @@ pub fn life_curve(
                     .copied()
                     .zip(y.iter().copied())
                     .collect();
+                if !noise.is_empty() {
+                    // Up along the upper edge, back along the lower.
+                    let edge = |sign: f64| {
+                        points
+                            .iter()
+                            .zip(noise.iter())
+                            .map(move |((x, v), e)| (*x, v + sign * e))
+                    };
+                    let outline: Vec<(f64, f64)> = edge(1.0)
+                        .chain(edge(-1.0).collect::<Vec<_>>().into_iter().rev())
+                        .collect();
+                    chart.draw_series([Polygon::new(outline, c.mix(0.2).filled())])?;
+                }
                 chart
                     .draw_series(LineSeries::new(points.iter().copied(), c.stroke_width(2)))?
                     .label(*label)

@@ -377,7 +377,9 @@ fn wear(html: &mut Html, s: &Summary) {
     html.lede(&format!(
         "After {} stage(s): {:.3e} drive cycles applied in sub-steps {:?} ({} extrapolation, {} \
          simulated cycles per sub-step on {} trajector{}). Depths are in the body frames; ranges hold the cells \
-         at least half as deep as the peak. The stage's two halves {}.",
+         at least half as deep as the peak; ± is the sampling noise of each result (a standard \
+         error over {} batches of the runs' independent halves, docs/model.md §10.4). The \
+         stage's two halves {}.",
         w.stages,
         w.cycles_applied,
         w.substeps_per_stage,
@@ -385,6 +387,7 @@ fn wear(html: &mut Html, s: &Summary) {
         w.cycles_per_stage,
         w.trajectories,
         if w.trajectories == 1 { "y" } else { "ies" },
+        w.joints.first().map_or(0, |j| j.noise_batches),
         if w.converged {
             "agree: the wear is converged in K"
         } else {
@@ -403,20 +406,34 @@ fn wear(html: &mut Html, s: &Summary) {
         .map(|j| {
             let life = j.clearance_limit.as_ref().map_or_else(
                 || "no limit set".to_string(),
-                |l| match l.cycles {
-                    Some(c) => format!("{} after {c:.2e} cycles", micro(l.limit_m)),
-                    None => format!("{} not reached", micro(l.limit_m)),
+                |l| match (l.cycles, l.cycles_noise) {
+                    (Some(c), Some(n)) => {
+                        format!("{} after {c:.2e} ± {n:.1e} cycles", micro(l.limit_m))
+                    }
+                    (Some(c), None) => format!("{} after {c:.2e} cycles", micro(l.limit_m)),
+                    (None, _) => format!("{} not reached", micro(l.limit_m)),
                 },
             );
             vec![
                 Td::text(&j.name),
-                Td::num(micro(j.bearing_peak_depth_m)),
+                Td::num(micro_noise(
+                    j.bearing_peak_depth_m,
+                    j.bearing_peak_depth_noise_m,
+                )),
                 Td::num(format!("{:.0}°", j.bearing_peak_angle_deg)),
                 Td::text(ranges(&j.bearing_ranges_deg)),
-                Td::num(micro(j.pin_peak_depth_m)),
+                Td::num(micro_noise(j.pin_peak_depth_m, j.pin_peak_depth_noise_m)),
                 Td::num(format!("{:.0}°", j.pin_peak_angle_deg)),
                 Td::text(ranges(&j.pin_ranges_deg)),
-                Td::num(micro(j.max_local_clearance_m)),
+                Td::num(with_noise(
+                    j.worn_volume_m3 * 1e9,
+                    j.worn_volume_noise_m3.map(|n| n * 1e9),
+                    "mm³",
+                )),
+                Td::num(micro_noise(
+                    j.max_local_clearance_m,
+                    j.max_local_clearance_noise_m,
+                )),
                 Td::text(life),
             ]
         })
@@ -430,6 +447,7 @@ fn wear(html: &mut Html, s: &Summary) {
             "pin peak",
             "at",
             "pin ranges",
+            "worn volume",
             "largest clearance",
             "clearance limit",
         ],
@@ -588,6 +606,19 @@ fn kn(newtons: f64) -> String {
 /// A length given in m, in µm.
 fn micro(metres: f64) -> String {
     with_unit(metres * 1e6, "µm")
+}
+
+/// `x ± noise unit` (3 and 2 significant digits), or `x unit` without a noise.
+fn with_noise(x: f64, noise: Option<f64>, unit: &str) -> String {
+    match noise.filter(|n| n.is_finite() && x.is_finite()) {
+        Some(n) => format!("{} ± {} {unit}", sig(x, 3), sig(n, 2)),
+        None => with_unit(x, unit),
+    }
+}
+
+/// A length and its noise given in m, in µm.
+fn micro_noise(metres: f64, noise: Option<f64>) -> String {
+    with_noise(metres * 1e6, noise.map(|n| n * 1e6), "µm")
 }
 
 fn joules(j: f64) -> String {

@@ -177,6 +177,11 @@ fn every_plot_renders_a_png_of_the_right_size() {
         bearing_depth: &bearing,
         pin_depth: &pin,
         max_clearance: &clearance,
+        noise: [
+            &bearing.map(|h| 0.05 * h),
+            &pin.map(|h| 0.05 * h),
+            &[1e-6; 6],
+        ],
         stage_boundaries: &[1e6],
         limit: Some((5.2e-4, Some(1.7e6))),
     };

@@ -96,13 +96,15 @@ fn a_run_report_embeds_every_figure_and_shows_every_verdict() {
     ] {
         assert!(page.contains(&format!("<h2>{heading}</h2>")), "{heading}");
     }
-    // The wear peak in µm as the table prints it, the clearance limit's verdict, the warnings.
+    // The wear peak in µm as the table prints it (with its noise when measured), the
+    // clearance limit's verdict, the warnings.
     let wear = &s.wear.as_ref().unwrap().joints[0];
     let peak = output::report::sig(wear.bearing_peak_depth_m * 1e6, 3);
-    assert!(
-        page.contains(&format!(">{peak} µm<")),
-        "bearing peak {peak} µm"
-    );
+    let printed = match wear.bearing_peak_depth_noise_m {
+        Some(n) => format!(">{peak} ± {} µm<", output::report::sig(n * 1e6, 2)),
+        None => format!(">{peak} µm<"),
+    };
+    assert!(page.contains(&printed), "bearing peak {printed}");
     assert!(page.contains("505 µm"), "clearance limit shown");
     for w in &s.wear.as_ref().unwrap().warnings {
         assert!(page.contains(&html::escape(w)), "warning {w}");

@@ -71,6 +71,17 @@ pub struct RunSettings {
     /// `trajectories`. Needs `adaptive_extrapolation`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wear_tolerance: Option<f64>,
+    /// The target relative sampling noise of each wearing joint's peak depths at the end of a
+    /// stage, in `(0, 1]` (optional; unset: every sub-step at `max_clearance_change`). The
+    /// stage measures its noise from the runs' independent halves as it goes and, after a
+    /// warm-up of [`wear::NOISE_WARM_UP`] sub-steps at `max_clearance_change`, lengthens the
+    /// sub-steps as far as the target allows, up to a clearance change of
+    /// [`wear::NOISE_MAX_FRACTION`] (never below `max_clearance_change`: the target only
+    /// saves cycles, it never adds any). Needs `adaptive_extrapolation` without
+    /// `wear_tolerance`, and the runs' halves (an even K on one trajectory, or an even number
+    /// of trajectories). `K` and the trajectories stay the scene's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wear_noise: Option<f64>,
     /// Standard deviation, in degrees of the surfaces, of the Gaussian that smooths each
     /// sub-step's simulated wear before it is extrapolated (0: none): the wear of K chaotic
     /// cycles is a noisy estimate of the expected wear, and amplified its cell-scale noise
@@ -164,6 +175,7 @@ impl Default for RunSettings {
             max_slope_change: None,
             max_curvature_change: None,
             wear_tolerance: None,
+            wear_noise: None,
             wear_smoothing_deg: wear_smoothing_deg(),
             max_substeps: max_substeps(),
             stop_at_validity_limits: true,

@@ -362,6 +362,27 @@ impl Validator {
                 );
             }
         }
+        if let Some(target) = r.wear_noise
+            && self.number("run.wear_noise", target, true)
+        {
+            if target > 1.0 {
+                self.push("run.wear_noise", target, "must lie in (0, 1]");
+            } else if !r.adaptive_extrapolation {
+                self.push(
+                    "run.wear_noise",
+                    target,
+                    "needs run.adaptive_extrapolation = true (the single jump has no sub-steps \
+                     to size)",
+                );
+            } else if r.wear_tolerance.is_some() {
+                self.push(
+                    "run.wear_noise",
+                    target,
+                    "cannot be combined with run.wear_tolerance (error-controlled sub-steps \
+                     size themselves; drop one)",
+                );
+            }
+        }
         if r.max_substeps == 0 {
             self.push("run.max_substeps", 0, "must be at least 1");
         }

@@ -92,7 +92,7 @@ pub mod validity;
 
 pub use error::RunError;
 pub use integrate::{Integrated, Integration, IntegrationError, IntegrationErrorKind, integrate};
-pub use life::cycles_to_reach;
+pub use life::{crossing_noise, cycles_to_reach};
 pub use options::{RunOptions, simulation_options};
 pub use outcome::{
     ClearanceLimitReport, ContactSeries, Deviation, JointSummary, JointWearHistory,

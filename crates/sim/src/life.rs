@@ -2,7 +2,7 @@
 //! for, one point per sub-step, and when its largest local clearance reaches the maintenance
 //! limit `run.clearance_limit`.
 
-use wear::{StageReport, WornJoint};
+use wear::{JointNoise, StageReport, WornJoint};
 
 use super::{ClearanceLimitReport, LifePoint};
 
@@ -80,26 +80,74 @@ pub fn cycles_to_reach(curve: impl IntoIterator<Item = (f64, f64)>, limit: f64) 
     None
 }
 
-/// When `curve` reaches `limit` (see [`cycles_to_reach`]), in a number and in words.
-pub(super) fn clearance_limit(curve: &[LifePoint], limit: f64) -> ClearanceLimitReport {
+/// When `curve` reaches `limit` (see [`cycles_to_reach`]), in a number and in words, with
+/// its noise from the curve's (`noise`, one per point; see [`crossing_noise`]).
+pub(super) fn clearance_limit(
+    curve: &[LifePoint],
+    noise: &[Option<JointNoise>],
+    limit: f64,
+) -> ClearanceLimitReport {
     let cycles = cycles_to_reach(
         curve.iter().map(|p| (p.cycles, p.max_local_clearance_m)),
         limit,
     );
-    let message = match cycles {
-        Some(c) if c > 0.0 => {
+    let cycles_noise = cycles.and_then(|_| {
+        crossing_noise(
+            curve.iter().zip(noise).map(|(p, n)| {
+                (
+                    p.cycles,
+                    p.max_local_clearance_m,
+                    n.map(|n| n.max_local_clearance),
+                )
+            }),
+            limit,
+        )
+    });
+    let message = match (cycles, cycles_noise) {
+        (Some(c), Some(noise)) if c > 0.0 => {
+            format!("reached after {c:.3e} ± {noise:.1e} cycles (linear between wear sub-steps)")
+        }
+        (Some(c), _) if c > 0.0 => {
             format!("reached after {c:.3e} cycles (linear between wear sub-steps)")
         }
-        Some(_) => {
+        (Some(_), _) => {
             "reached at the start: the surfaces the run started from are at the limit".to_string()
         }
-        None => "not reached within the run".to_string(),
+        (None, _) => "not reached within the run".to_string(),
     };
     ClearanceLimitReport {
         limit_m: limit,
         cycles,
+        cycles_noise,
         message,
     }
+}
+
+/// The noise of the cycles at which a curve of `(cycles, clearance, its noise)` points first
+/// reaches `limit`, to first order: the clearance's noise there (linear between the two
+/// points that straddle the limit) over the chord's slope. The first point, the surfaces the
+/// run started from, counts as noise-free when its noise is unknown; `None` when the limit is
+/// reached at the first point, never, or where a straddling point's noise is unknown.
+pub fn crossing_noise(
+    curve: impl IntoIterator<Item = (f64, f64, Option<f64>)>,
+    limit: f64,
+) -> Option<f64> {
+    let mut previous: Option<(f64, f64, Option<f64>)> = None;
+    for (index, (cycles, clearance, noise)) in curve.into_iter().enumerate() {
+        if clearance >= limit {
+            let (c0, v0, n0) = previous?;
+            let n0 = if index == 1 { n0.or(Some(0.0)) } else { n0 };
+            let (n0, n1) = (n0?, noise?);
+            let slope = (clearance - v0) / (cycles - c0);
+            if !(slope > 0.0 && slope.is_finite()) {
+                return None;
+            }
+            let t = (limit - v0) / (clearance - v0);
+            return Some((n0 + t * (n1 - n0)) / slope);
+        }
+        previous = Some((cycles, clearance, noise));
+    }
+    None
 }
 
 #[cfg(test)]
@@ -141,15 +189,36 @@ mod tests {
             wear_stiffness: 0.0,
         };
         let curve: Vec<LifePoint> = CURVE.iter().map(|(c, v)| point(*c, v * 1e-6)).collect();
-        let r = clearance_limit(&curve, 560e-6);
+        let r = clearance_limit(&curve, &[], 560e-6);
         assert!((r.cycles.unwrap() - 200.0).abs() < 1e-9, "{r:?}");
         assert_eq!(r.limit_m, 560e-6);
         assert!(
             r.message.starts_with("reached after 2.000e2 cycles"),
             "{r:?}"
         );
-        let r = clearance_limit(&curve, 1e-3);
+        let r = clearance_limit(&curve, &[], 1e-3);
         assert_eq!(r.cycles, None);
         assert_eq!(r.message, "not reached within the run");
+        assert_eq!(r.cycles_noise, None);
+    }
+
+    #[test]
+    fn crossing_noise_is_the_clearance_noise_over_the_slope() {
+        // 560 µm is reached halfway from (100, 520) to (300, 600): slope 0.4 µm a cycle, the
+        // clearance's noise there halfway from 2 to 4 µm: 3 µm, so 7.5 cycles.
+        let noisy = [
+            (0.0, 500.0, None),
+            (100.0, 520.0, Some(2.0)),
+            (300.0, 600.0, Some(4.0)),
+        ];
+        let close = |x: Option<f64>, y: f64| x.is_some_and(|x| (x - y).abs() < 1e-12);
+        assert!(close(crossing_noise(noisy, 560.0), 7.5));
+        // Between the start (noise-free) and the first sub-step: a quarter of 2 µm over 0.2.
+        assert!(close(crossing_noise(noisy, 505.0), 2.5));
+        // Not reached, reached at the start, or a straddling point without noise: none.
+        assert_eq!(crossing_noise(noisy, 700.0), None);
+        assert_eq!(crossing_noise(noisy, 400.0), None);
+        let unknown = [(0.0, 500.0, None), (100.0, 520.0, None)];
+        assert_eq!(crossing_noise(unknown, 510.0), None);
     }
 }

@@ -130,6 +130,12 @@ pub struct JointWearHistory {
     /// Its life curve: the surfaces the stages started from at 0 cycles, then one point after
     /// every wear sub-step (`wear_life.csv`).
     pub life: Vec<LifePoint>,
+    /// The sampling noise of each point of `life` (`clearance::WearStages::life_noise`;
+    /// `None` where not measured, as at the start).
+    pub life_noise: Vec<Option<wear::JointNoise>>,
+    /// Per stage: the jackknife replicas of its surfaces at the stage's end, from which the
+    /// noise of any measure of them follows (`wear::Replicas::noise`).
+    pub stage_replicas: Vec<wear::Replicas>,
 }
 
 /// A joint's wear after `cycles` drive cycles: one point of its life curve.
@@ -165,6 +171,9 @@ pub struct ClearanceLimitReport {
     /// Drive cycles after which the largest local clearance reaches it, interpolated linearly
     /// between the sub-steps of the life curve; `None` when the run does not reach it.
     pub cycles: Option<f64>,
+    /// Its sampling noise: the largest local clearance's noise where the curve reaches the
+    /// limit over the curve's slope there; `None` when not reached or not measured.
+    pub cycles_noise: Option<f64>,
     /// The same in words (`not reached within the run` when `cycles` is `None`).
     pub message: String,
 }
@@ -316,18 +325,32 @@ pub struct JointWearSummary {
     pub name: String,
     /// Peak bearing depth `h` (radius grew by h/2), m.
     pub bearing_peak_depth_m: f64,
+    /// Its sampling noise (a standard error; `wear::NoiseBatches`), m; `None` when the runs
+    /// kept no halves to measure it from.
+    pub bearing_peak_depth_noise_m: Option<f64>,
     /// Body-frame angle of the bearing peak, deg.
     pub bearing_peak_angle_deg: f64,
     /// Peak pin depth, m.
     pub pin_peak_depth_m: f64,
+    /// Its sampling noise, m.
+    pub pin_peak_depth_noise_m: Option<f64>,
     /// Body-frame angle of the pin peak, deg.
     pub pin_peak_angle_deg: f64,
+    /// Material removed from both surfaces, m³.
+    pub worn_volume_m3: f64,
+    /// Its sampling noise, m³.
+    pub worn_volume_noise_m3: Option<f64>,
     /// Bearing ranges with depth ≥ half the peak, `[start, end]` deg, deepest first.
     pub bearing_ranges_deg: Vec<[f64; 2]>,
     /// Pin ranges with depth ≥ half the peak, deg.
     pub pin_ranges_deg: Vec<[f64; 2]>,
     /// Largest local clearance `c0 + (max h_i + max h_j)/2` after the last stage, m.
     pub max_local_clearance_m: f64,
+    /// Its sampling noise, m.
+    pub max_local_clearance_noise_m: Option<f64>,
+    /// The jackknife replicas the noises come from (batches of the runs' independent halves
+    /// that hold samples; 0: no noise measured).
+    pub noise_batches: usize,
     /// When the largest local clearance reaches `run.clearance_limit` (absent without one).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub clearance_limit: Option<ClearanceLimitReport>,

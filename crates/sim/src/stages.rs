@@ -231,6 +231,12 @@ pub(super) fn stages(
             pin_radius: j.pin().nominal_radius(),
             stages: staged.surfaces.iter().map(|s| s[i].clone()).collect(),
             life,
+            life_noise: staged.life_noise.get(i).cloned().unwrap_or_default(),
+            stage_replicas: staged
+                .stage_replicas
+                .iter()
+                .map(|s| s.get(i).cloned().unwrap_or_default())
+                .collect(),
         })
         .collect();
     let ran = StagesRan {
@@ -281,6 +287,8 @@ fn stage_plan(r: &RunSettings, shape_limits: Option<ShapeLimits>) -> StagePlan {
     StagePlan::new(r.wear_stages as usize, r.amplification, extrapolation)
         .with_smoothing(r.wear_smoothing_deg.to_radians())
         .with_stepping(r.wear_stepping)
+        // Error-controlled stages size their own sub-steps (validation refuses both).
+        .with_noise_target(r.wear_noise.filter(|_| r.wear_tolerance.is_none()))
         .with_geometry_limits(
             // The stop is the models' own: a model that follows any shape names none.
             shape_limits

@@ -23,6 +23,8 @@
 //!   error-controlled ([`Extrapolation::Controlled`]: a predictor–corrector in cycles whose
 //!   error estimate discounts the sampling noise the runner's [`WearSample`] halves measure);
 //!   the caller's integrator is a closure.
+//! - [`NoiseBatches`]: the sampling noise of the staged wear, a jackknife over the runs'
+//!   independent halves ([`Replicas`] of the surfaces, one batch left out each).
 //!
 //! ```
 //! use contact::{ContactDiagnostics, SurfaceProfile};
@@ -68,6 +70,7 @@ mod controlled;
 mod error;
 mod implicit;
 mod joint;
+mod noise;
 mod profile;
 mod run;
 mod staging;
@@ -76,9 +79,10 @@ pub use accumulate::StageWear;
 pub use error::WearError;
 pub use implicit::ContactZone;
 pub use joint::{ContactArc, DEFAULT_CELLS, ShapeBound, WearParams, WornJoint};
+pub use noise::{JointNoise, NOISE_GROUPS, NOISE_WARM_UP, NoiseBatches, Replicas, jackknife_error};
 pub use profile::{AngularRange, Peak, Side, WornProfile};
 pub use run::{run_stage, run_stages};
 pub use staging::{
-    Extrapolation, ExtrapolationWarning, GeometryLimits, JointSubstep, RunContext, StagePlan,
-    StageReport, StagingError, SubstepReport, WearSample, WearStepping,
+    Extrapolation, ExtrapolationWarning, GeometryLimits, JointSubstep, NOISE_MAX_FRACTION,
+    RunContext, StagePlan, StageReport, StagingError, SubstepReport, WearSample, WearStepping,
 };

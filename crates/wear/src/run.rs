@@ -6,6 +6,7 @@ use crate::accumulate::StageWear;
 use crate::controlled::{self, Control};
 use crate::error::WearError;
 use crate::joint::WornJoint;
+use crate::noise::{NOISE_GROUPS, NoiseBatches, noise_fraction};
 use crate::staging::{
     Extrapolation, ExtrapolationWarning, RunContext, StagePlan, StageReport, StagingError,
     WearSample, WearStepping, apply_all, largest_change_per_amplification, limited_amplification,
@@ -68,13 +69,21 @@ where
         return controlled::run_stage(joints, plan, control, runner, report);
     }
     let mut used = 0.0;
+    // With a noise target: this stage's samples, and its surfaces' peaks at its start.
+    let mut noise = plan
+        .noise_target
+        .map(|target| (target, NoiseBatches::new(joints, NOISE_GROUPS)));
+    let start: Vec<[f64; 2]> = joints
+        .iter()
+        .map(|j| [j.bearing().peak().depth, j.pin().peak().depth])
+        .collect();
     loop {
         let context = RunContext {
             stage,
             substep: report.substeps.len(),
             applied: used / plan.amplification,
         };
-        let wear = sample(runner, context, joints)?.wear;
+        let WearSample { wear, halves } = sample(runner, context, joints)?;
         let per_unit = largest_change_per_amplification(joints, &wear)?;
         let (mut slope_per_unit, mut curvature_per_unit): (f64, f64) = (0.0, 0.0);
         for (joint, w) in joints.iter().zip(&wear) {
@@ -91,6 +100,18 @@ where
                 max_curvature_change,
                 ..
             } => {
+                let max_fraction = match &noise {
+                    Some((target, batches)) => noise_fraction(
+                        *target,
+                        batches,
+                        joints,
+                        &start,
+                        &report.substeps,
+                        [used, remaining],
+                        max_fraction,
+                    ),
+                    None => max_fraction,
+                };
                 // The largest amplification every bound allows; the small slack avoids a
                 // needless re-run for a rounding-sized remainder.
                 let allowed = [
@@ -130,6 +151,12 @@ where
         };
         report.run_weights.push(amplification);
         used += amplification;
+        match (&mut noise, &halves) {
+            (Some((_, batches)), Some(halves)) => batches.add(halves, amplification),
+            // No halves to measure the noise from: the plan's own bound.
+            (Some(_), None) => noise = None,
+            _ => {}
+        }
         if let Extrapolation::SingleJump { warn_fraction } = plan.extrapolation
             && substep.max_change_fraction > warn_fraction
         {

@@ -234,7 +234,18 @@ pub struct StagePlan {
     /// explicit.
     #[serde(default)]
     pub stepping: WearStepping,
+    /// With adaptive extrapolation: the target relative sampling noise of each joint's peak
+    /// depths at the end of a stage, in `(0, 1]` (`None`: every sub-step at the plan's
+    /// `max_fraction`). The sub-steps then change a local clearance by as much as the target
+    /// allows, between `max_fraction` and [`NOISE_MAX_FRACTION`] (see
+    /// `crate::noise::noise_fraction`); it needs the runs' halves to measure the noise.
+    #[serde(default)]
+    pub noise_target: Option<f64>,
 }
+
+/// The largest relative clearance change of a sub-step whose length a noise target sets:
+/// the bound whose bias the LGRES stage measured (docs/convergence.md).
+pub const NOISE_MAX_FRACTION: f64 = 0.1;
 
 /// How a sub-step extrapolates the wear of its simulated cycles over its amplification `a`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -306,7 +317,15 @@ impl StagePlan {
             geometry_limits: None,
             smoothing: 0.0,
             stepping: WearStepping::default(),
+            noise_target: None,
         }
+    }
+
+    /// The same plan sizing adaptive sub-steps for a relative noise `target` of the stage's
+    /// peak depths (see [`StagePlan::noise_target`]; `None`: fixed bounds).
+    pub fn with_noise_target(mut self, target: Option<f64>) -> Self {
+        self.noise_target = target;
+        self
     }
 
     /// The same plan extrapolating each sub-step's wear the way `stepping` says.
@@ -354,6 +373,14 @@ impl StagePlan {
             self.smoothing >= 0.0 && self.smoothing.is_finite(),
             ">= 0 rad",
         )?;
+        if let Some(target) = self.noise_target {
+            require(
+                "noise_target",
+                target,
+                target > 0.0 && target <= 1.0,
+                "in (0, 1]",
+            )?;
+        }
         self.extrapolation.validate()
     }
 }

@@ -219,6 +219,16 @@ impl StagesRan<'_> {
         } else {
             "single-jump (the paper's)".into()
         };
+        if let (Some(target), Extrapolation::Adaptive { .. }) =
+            (plan.noise_target, plan.extrapolation)
+        {
+            words.push_str(&format!(
+                ", sub-steps lengthened to up to {} % for a relative noise of {} % of the peak \
+                 depths at the stage's end (run.wear_noise)",
+                percent(wear::NOISE_MAX_FRACTION.max(r.max_clearance_change)),
+                percent(target)
+            ));
+        }
         // Which stepping ran (error-controlled stages are explicit whatever the scene says).
         if plan.stepping == WearStepping::LinearlyImplicit
             && !matches!(plan.extrapolation, Extrapolation::Controlled { .. })
@@ -239,6 +249,7 @@ fn joint_summaries(history: &[JointWearHistory], r: &RunSettings) -> Vec<JointWe
         .filter_map(|h| h.stages.last().map(|j| (h, j)))
         .map(|(h, j)| {
             let (b, p) = (j.bearing().peak(), j.pin().peak());
+            let noise = h.life_noise.last().copied().flatten();
             let ranges = |p: &wear::WornProfile| {
                 p.concentrated_ranges(0.5)
                     .iter()
@@ -248,15 +259,25 @@ fn joint_summaries(history: &[JointWearHistory], r: &RunSettings) -> Vec<JointWe
             JointWearSummary {
                 name: h.name.clone(),
                 bearing_peak_depth_m: b.depth,
+                bearing_peak_depth_noise_m: noise.map(|n| n.bearing_peak_depth),
                 bearing_peak_angle_deg: b.angle.to_degrees(),
                 pin_peak_depth_m: p.depth,
+                pin_peak_depth_noise_m: noise.map(|n| n.pin_peak_depth),
                 pin_peak_angle_deg: p.angle.to_degrees(),
+                worn_volume_m3: j.worn_volume(),
+                worn_volume_noise_m3: noise.map(|n| n.worn_volume),
                 bearing_ranges_deg: ranges(j.bearing()),
                 pin_ranges_deg: ranges(j.pin()),
                 max_local_clearance_m: j.max_local_clearance(),
+                max_local_clearance_noise_m: noise.map(|n| n.max_local_clearance),
+                noise_batches: if noise.is_some() {
+                    h.stage_replicas.last().map_or(0, wear::Replicas::count)
+                } else {
+                    0
+                },
                 clearance_limit: r
                     .clearance_limit
-                    .map(|limit| clearance_limit(&h.life, limit)),
+                    .map(|limit| clearance_limit(&h.life, &h.life_noise, limit)),
             }
         })
         .collect()

@@ -1,0 +1,114 @@
+//! The jackknife noise of staged wear against a closed form: runs whose two halves are
+//! independent samples of a known variance.
+
+mod common;
+
+use common::joint;
+use wear::{NOISE_GROUPS, NoiseBatches, StageWear, WornJoint};
+
+/// A small deterministic generator (xorshift64*), uniform in [−√3, √3): unit variance.
+struct Uniform(u64);
+
+impl Uniform {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let u = (self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64;
+        3f64.sqrt() * (2.0 * u - 1.0)
+    }
+}
+
+const CELLS: usize = 8;
+/// Mean depth of a half per cell (cell 2 the deepest), m, and its standard deviation.
+const MEAN: [f64; CELLS] = [1e-6, 1e-6, 3e-6, 1e-6, 1e-6, 1e-6, 1e-6, 1e-6];
+const SPREAD: f64 = 0.2e-6;
+const RUNS: usize = 37;
+const REPEATS: usize = 400;
+
+fn weight(run: usize) -> f64 {
+    1.0 + (run % 3) as f64
+}
+
+/// One stage of `RUNS` runs: the batches and the stage's total wear (bearing, pin).
+fn stage(joint: &WornJoint, random: &mut Uniform) -> (NoiseBatches, Vec<f64>, Vec<f64>) {
+    let mut batches = NoiseBatches::new(std::slice::from_ref(joint), NOISE_GROUPS);
+    let (mut bearing, mut pin) = (vec![0.0; CELLS], vec![0.0; CELLS]);
+    for run in 0..RUNS {
+        let mut half = || {
+            let depths: Vec<f64> = MEAN.iter().map(|m| m + SPREAD * random.next()).collect();
+            StageWear::from_depths(joint, depths.clone(), depths).unwrap()
+        };
+        let halves = [half(), half()];
+        for h in &halves {
+            for (total, d) in bearing.iter_mut().zip(h.bearing()) {
+                *total += weight(run) * d;
+            }
+            for (total, d) in pin.iter_mut().zip(h.pin()) {
+                *total += weight(run) * d;
+            }
+        }
+        batches.add(&[halves], weight(run));
+        // A run the stage did not use counts for nothing.
+        batches.add(&[[half(), half()]], 0.0);
+    }
+    (batches, bearing, pin)
+}
+
+/// The noise the jackknife reports is the closed form's: over many stages, its mean square
+/// matches `Σ a_r² · 2σ²` for a linear measure (one cell) and for the peak of a profile whose
+/// peak stands clear of its neighbours.
+#[test]
+fn jackknife_noise_matches_independent_samples() {
+    let joint = joint(CELLS);
+    let mut random = Uniform(0x9E37_79B9_7F4A_7C15);
+    let exact: f64 = (0..RUNS).map(|r| 2.0 * (weight(r) * SPREAD).powi(2)).sum();
+    let (mut cell, mut peak, mut scatter) = (0.0, 0.0, 0.0);
+    let expected_peak: f64 = (0..RUNS).map(|r| 2.0 * weight(r) * MEAN[2]).sum();
+    for _ in 0..REPEATS {
+        let (batches, bearing, pin) = stage(&joint, &mut random);
+        let replicas = &batches.replicas()[0];
+        assert_eq!(replicas.count(), 2 * NOISE_GROUPS);
+        cell += replicas.noise(&bearing, &pin, |b, _| b[5]).unwrap().powi(2);
+        let top = |h: &[f64]| h.iter().copied().fold(0.0, f64::max);
+        peak += replicas
+            .noise(&bearing, &pin, |_, p| top(p))
+            .unwrap()
+            .powi(2);
+        scatter += (top(&bearing) - expected_peak).powi(2);
+    }
+    let n = REPEATS as f64;
+    let (cell, peak, scatter) = (cell / n, peak / n, scatter / n);
+    println!(
+        "exact noise {:.4e}; jackknife rms: cell {:.4e}, peak {:.4e}; the peaks' scatter {:.4e}",
+        exact.sqrt(),
+        cell.sqrt(),
+        peak.sqrt(),
+        scatter.sqrt()
+    );
+    for (what, variance) in [("cell", cell), ("peak", peak), ("scatter", scatter)] {
+        assert!(
+            (variance / exact - 1.0).abs() < 0.1,
+            "{what}: variance {variance:e} against {exact:e}"
+        );
+    }
+}
+
+/// Fewer than two batches holding samples measure nothing.
+#[test]
+fn one_batch_has_no_noise() {
+    let joint = joint(CELLS);
+    let mut batches = NoiseBatches::new(std::slice::from_ref(&joint), 1);
+    let depths = MEAN.to_vec();
+    let half = StageWear::from_depths(&joint, depths.clone(), depths.clone()).unwrap();
+    assert!(
+        batches.replicas()[0]
+            .noise(&depths, &depths, |b, _| b[0])
+            .is_none()
+    );
+    batches.add(&[[half.clone(), half]], 1.0);
+    // One group, two halves: two replicas, identical halves, no noise.
+    let replicas = &batches.replicas()[0];
+    assert_eq!(replicas.count(), 2);
+    assert_eq!(replicas.noise(&depths, &depths, |b, _| b[2]), Some(0.0));
+}
