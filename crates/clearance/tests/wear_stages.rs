@@ -320,11 +320,9 @@ fn controlled_sub_steps_wear_the_archard_volume() -> Result<(), Box<dyn std::err
     );
     assert_eq!(stages.halves_differences.len(), report.run_weights.len());
     // Runs on worn surfaces add the arc-to-chord excess of the deposit (the pressure spread
-    // over the arc of a conforming contact, θ²/6) and a shaft rocking in its groove: at rtol
-    // 1e-8 the stage wears +0.74 % (onsets crossed) and +0.70 % (onsets located), at the
-    // default 1e-6 +0.91 % (crossed; located: +0.21 %), against +0.003 % for the single jump,
-    // whose one run is on fresh surfaces.
-    assert!((volume / expected - 1.0).abs() < 1e-2);
+    // over the arc of a conforming contact, θ²/6): +0.2 % here, against +0.003 % for the single
+    // jump, whose one run is on fresh surfaces.
+    assert!((volume / expected - 1.0).abs() < 5e-3);
     // The halves were kept and weighted like the runs: they agree under the dead load.
     let halves = stages.stage_halves[0].ok_or("stage halves")?;
     assert!(halves.worn_volume < 0.01, "{halves:?}");
