@@ -323,14 +323,8 @@ where
         self.last = Some(current);
     }
 
-    /// One event, `δ`, where the force has a kink at contact onset (a linear law or model);
-    /// none where it is C¹ there ([`contact::ClearanceJoint::smooth_onset`]): the integrator
-    /// then crosses an onset inside a step, as it crosses any smooth change, and the impact
-    /// memory takes the onset velocity interpolated within the step that crossed. Stopping on
-    /// each onset and separation restarts BDF at order one: on the default LGRES cycle that
-    /// costs 16 % (worn) and 27 % (unworn) of the instructions (docs/performance.md).
     fn event_count(&self) -> usize {
-        usize::from(!self.joint.smooth_onset())
+        1
     }
 
     /// `δ`: the integrator lands a step on each contact onset and separation, so the impact

@@ -130,12 +130,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         self.model
     }
 
-    /// Whether the force is C¹ across a contact onset ([`ContactModel::smooth_onset`] for this
-    /// joint's normal law), so an integrator need not stop on one.
-    pub fn smooth_onset(&self) -> bool {
-        self.model.smooth_onset(self.pair.normal_law().exponent())
-    }
-
     /// What the model is evaluated on: outlines, materials, laws.
     pub fn pair(&self) -> &ContactPair<B, P, N, F> {
         &self.pair

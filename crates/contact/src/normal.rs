@@ -76,11 +76,6 @@ pub trait NormalLaw {
     fn effective_onset(&self, onset_velocity: f64) -> f64 {
         onset_velocity.abs()
     }
-
-    /// The Hertz exponent `n` of `K δⁿ`. Above 1 the force and its slope both vanish as contact
-    /// begins, so an integrator may cross an onset inside a step
-    /// ([`crate::ContactModel::smooth_onset`]).
-    fn exponent(&self) -> f64;
 }
 
 /// The shared kernel `F = K δⁿ (1 + damping_rate · δ̇)`, clamped at zero.
@@ -274,10 +269,6 @@ macro_rules! damped_hertz_law {
                 // `max` also maps a NaN onset to the floor.
                 onset_velocity.abs().max(self.params.onset_velocity_floor)
             }
-
-            fn exponent(&self) -> f64 {
-                self.params.exponent
-            }
         }
 
         through_params!($name, DampedHertzParams);
@@ -375,10 +366,6 @@ impl NormalLaw for Hertz {
     #[inline]
     fn hysteresis(&self, velocity: f64, _onset: f64) -> (f64, f64) {
         damping_factor(velocity, 0.0)
-    }
-
-    fn exponent(&self) -> f64 {
-        self.exponent
     }
 }
 
@@ -534,15 +521,6 @@ impl NormalLaw for NormalLawKind {
             Self::Hertz(law) => law.effective_onset(onset),
         }
     }
-
-    fn exponent(&self) -> f64 {
-        match self {
-            Self::LankaraniNikravesh(law) => law.exponent(),
-            Self::HuntCrossley(law) => law.exponent(),
-            Self::Flores(law) => law.exponent(),
-            Self::Hertz(law) => NormalLaw::exponent(law),
-        }
-    }
 }
 
 impl<L: NormalLaw + ?Sized> NormalLaw for &L {
@@ -559,10 +537,6 @@ impl<L: NormalLaw + ?Sized> NormalLaw for &L {
     #[inline]
     fn effective_onset(&self, onset: f64) -> f64 {
         (**self).effective_onset(onset)
-    }
-
-    fn exponent(&self) -> f64 {
-        (**self).exponent()
     }
 }
 

@@ -83,12 +83,6 @@ macro_rules! contact_models {
                 }
             }
 
-            fn smooth_onset(&self, law_exponent: f64) -> bool {
-                match self {
-                    $(Self::$variant(m) => m.smooth_onset(law_exponent),)+
-                }
-            }
-
             fn validity_measures(&self) -> &'static [ValidityMeasure] {
                 match self {
                     $(Self::$variant(m) => m.validity_measures(),)+

@@ -156,11 +156,6 @@ impl ContactModel for LinearSpring {
 
     fn tables<B: SurfaceProfile, P: SurfaceProfile, N, F>(&self, _: &ContactPair<B, P, N, F>) {}
 
-    /// `k δ` jumps in slope at `δ = 0`, whatever the law: onsets are located.
-    fn smooth_onset(&self, _law_exponent: f64) -> bool {
-        false
-    }
-
     /// Exact on round surfaces only: judged by the profile slope at its contacts.
     fn validity_measures(&self) -> &'static [ValidityMeasure] {
         &[ValidityMeasure::SlopeRatio]

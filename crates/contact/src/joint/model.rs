@@ -56,16 +56,6 @@ pub trait ContactModel: Copy + Debug + PartialEq + Send + Sync {
         None
     }
 
-    /// Whether the model's force and its partials vanish as the outlines first touch, for a
-    /// normal law of Hertz exponent `law_exponent`: then the force is C¹ across a contact
-    /// onset, and an integrator may cross one inside a step instead of stopping on it (the
-    /// clearance element then locates no event; the impact memory interpolates the onset
-    /// velocity within the step). By default, a model of one contact point: its force is the
-    /// law's `K δⁿ φ`, whose slope `n K δⁿ⁻¹` vanishes at `δ = 0` only for `n > 1`.
-    fn smooth_onset(&self, law_exponent: f64) -> bool {
-        law_exponent > 1.0
-    }
-
     /// The measures by which a response of this model is judged valid, in the order their
     /// verdicts are reported.
     fn validity_measures(&self) -> &'static [ValidityMeasure];

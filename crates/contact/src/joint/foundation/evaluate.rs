@@ -187,12 +187,6 @@ impl ContactModel for Foundation {
         Some(self.cells)
     }
 
-    /// Whatever the law: a zone grows from one node, whose segments' energy
-    /// `a³/(3(a − b))` has a force of order `a²` (the law sets only the damping factor).
-    fn smooth_onset(&self, _law_exponent: f64) -> bool {
-        true
-    }
-
     /// A thin layer describes shallow overlaps only, and the nodes must resolve the zones.
     /// Unloaded overlapping frames have no limit here: on the foundation they only show the
     /// damped law's own clamp (a pin leaving faster than `1/χ` times its onset velocity), not a
