@@ -44,45 +44,18 @@
 //! bound) none is.
 
 mod kernel;
+mod layer;
 mod tables;
 
+pub use layer::{ThinGap, ThinGapWorkspace};
 pub use tables::ThinGapTables;
 
-use serde::{Deserialize, Serialize};
-
-use super::foundation::Foundation;
-use super::model::{ContactKernel, ContactModel, ModelState, NodeLoad, ValidityMeasure, Visit};
+use super::model::{ContactKernel, ContactModel, ModelState, ValidityMeasure, Visit};
 use super::pair::ContactPair;
 use super::types::{ContactForces, ContactJacobian, JointState};
 use crate::friction::FrictionLaw;
 use crate::normal::NormalLaw;
 use crate::surface::SurfaceProfile;
-
-/// The thin-gap contact model: the foundation's layer (its modulus, nodes, quadrature and
-/// damping speed) with the thin-gap overlap on nodes fixed in the bearing's frame.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ThinGap {
-    layer: Foundation,
-}
-
-impl ThinGap {
-    /// The thin-gap model of a foundation's layer.
-    pub fn new(layer: Foundation) -> Self {
-        Self { layer }
-    }
-
-    /// The layer: modulus, nodes, quadrature, damping speed.
-    pub fn layer(&self) -> Foundation {
-        self.layer
-    }
-}
-
-/// What the thin-gap model's evaluations carry from one to the next: the buffer Simpson's wear
-/// loads wait in until the evaluation's totals are known.
-#[derive(Clone, Debug, Default)]
-pub struct ThinGapWorkspace {
-    pub(super) deposits: Vec<NodeLoad>,
-}
 
 impl ContactModel for ThinGap {
     /// The nodes' directions, the bearing's radii there, the pin's spline and the bounds.
@@ -97,18 +70,22 @@ impl ContactModel for ThinGap {
         &self,
         pair: &ContactPair<B, P, N, F>,
     ) -> ThinGapTables {
-        ThinGapTables::new(pair.bearing_profile(), pair.pin_profile(), self.layer.cells)
+        ThinGapTables::new(
+            pair.bearing_profile(),
+            pair.pin_profile(),
+            self.layer().cells,
+        )
     }
 
     /// Room for every node's wear load.
     fn workspace(&self) -> ThinGapWorkspace {
         ThinGapWorkspace {
-            deposits: Vec::with_capacity(self.layer.cells),
+            deposits: Vec::with_capacity(self.layer().cells),
         }
     }
 
     fn nodes(&self) -> Option<usize> {
-        Some(self.layer.cells)
+        Some(self.layer().cells)
     }
 
     /// The foundation's (a thin layer, resolved zones) and its own: the terms it neglects.

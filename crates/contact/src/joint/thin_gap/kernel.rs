@@ -4,8 +4,8 @@
 
 use nalgebra::Vector3;
 
+use super::layer::{ThinGap, ThinGapWorkspace};
 use super::tables::{Shift, ThinGapTables};
-use super::{ThinGap, ThinGapWorkspace};
 use crate::diagnostics::ContactDiagnostics;
 use crate::friction::FrictionLaw;
 use crate::joint::dual::{Dual, Real};
@@ -336,7 +336,7 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         onset_velocity: Option<f64>,
         visit: Visit,
     ) -> ([T; 3], [T; 3], ContactDiagnostics) {
-        let layer = self.model.layer;
+        let layer = self.model.layer();
         let cells = self.tables.cells;
         let bearing = Body::new(bearing_state);
         let pin = Body::new(pin_state);
@@ -643,7 +643,7 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             arc: t.node_arc,
             material_sliding: material_v,
             paper_sliding: paper,
-            stiffness: self.model.layer.line_modulus * t.node_arc * factor * m_norm.value(),
+            stiffness: self.model.layer().line_modulus * t.node_arc * factor * m_norm.value(),
         };
         if pass.simpson {
             // Held until the evaluation's totals are known (the foundation's quadrature docs).
