@@ -420,7 +420,7 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
                 let cell = k.rem_euclid(n) as usize;
                 let g = ring[2].1;
                 let deepest = books.see_overlap(g);
-                let coarse = simpson && cell % 2 == 0;
+                let coarse = simpson && cell.is_multiple_of(2);
                 let near = [ring[1].0.value(), g, ring[3].0.value()];
                 let reaches = near.iter().any(|&v| v > 0.0)
                     || (coarse && (ring[0].0.value() > 0.0 || ring[4].0.value() > 0.0));
