@@ -1,6 +1,7 @@
-//! How many foundation nodes the contact force needs on worn surfaces: the elastic-foundation
-//! force and moment at random poses, with the pin's outline sampled at a range of node counts,
-//! against the same kernel on 20 nodes per wear cell (the reference).
+//! How many foundation nodes the contact force needs on worn surfaces, and how close the
+//! thin-gap model comes: the elastic-foundation force and moment at random poses, with the
+//! pin's outline sampled at a range of node counts, and the thin gap's on half and on all the
+//! wear cells, against the foundation on 20 nodes per wear cell (the reference).
 //!
 //! ```sh
 //! cargo run --release -p analysis --example foundation_accuracy -- SURFACES [POSES [SEED]]
@@ -14,14 +15,15 @@
 //! friction included). Errors are of the pin's force vector over the reference's magnitude and
 //! of its moment about the pin centre over that magnitude times the pin radius; the table gives
 //! their median, 95th percentile and maximum per node count, and the nanoseconds an evaluation
-//! took (indicative: one process, whatever else runs).
+//! took (indicative: one process, whatever else runs); the last column is the largest force
+//! error over the largest reference force of all poses (the peak load).
 
 use std::path::Path;
 use std::time::Instant;
 
 use contact::{
     BodyState, ClearanceJoint, ContactModelKind, FrictionLawKind, JointSurface, Material,
-    NormalLawKind, Quadrature,
+    NormalLawKind, Quadrature, ThinGap,
 };
 use output::surfaces::load_last_stage;
 use rand::{Rng, SeedableRng};
@@ -53,8 +55,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         };
         let own = surfaces.pin().cells();
         let contact = |cells: usize,
-                       quadrature: Quadrature|
+                       quadrature: Quadrature,
+                       thin: bool|
          -> Result<WornContact, Box<dyn std::error::Error>> {
+            let layer = foundation.with_quadrature(quadrature)?.with_cells(cells)?;
+            let model = if thin {
+                ContactModelKind::ThinGap(ThinGap::new(layer))
+            } else {
+                ContactModelKind::Foundation(layer)
+            };
             let joint = ClearanceJoint::new(
                 JointSurface {
                     centre: [0.0, 0.0],
@@ -70,9 +79,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 FrictionLawKind::from_params(spec.friction)?,
             )?
             .with_friction_sliding(spec.sliding.friction)
-            .with_model(ContactModelKind::Foundation(
-                foundation.with_quadrature(quadrature)?.with_cells(cells)?,
-            ));
+            .with_model(model);
             Ok(joint)
         };
         let counts: Vec<usize> = FACTORS
@@ -82,11 +89,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let mut joints = Vec::new();
         for &n in &counts[..counts.len() - 1] {
             for quadrature in [Quadrature::Trapezoid, Quadrature::Simpson] {
-                joints.push((n, quadrature, contact(n, quadrature)?));
+                joints.push((n, quadrature, "foundation", contact(n, quadrature, false)?));
             }
         }
+        for &n in &counts[2..4] {
+            joints.push((
+                n,
+                Quadrature::Simpson,
+                "thin-gap",
+                contact(n, Quadrature::Simpson, true)?,
+            ));
+        }
         let reference_nodes = counts[counts.len() - 1];
-        let reference = contact(reference_nodes, Quadrature::Simpson)?;
+        let reference = contact(reference_nodes, Quadrature::Simpson, false)?;
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let states = sample_poses(&reference, surfaces, poses, &mut rng);
         println!(
@@ -97,23 +112,30 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             reference_nodes
         );
         println!(
-            "| nodes | quadrature | force error median / 95 % / max | moment error median / 95 % / max | \
-             narrowest zone (nodes, min) | ns per evaluation |"
+            "| model | nodes | quadrature | force error median / 95 % / max | moment error median / 95 % / max | \
+             narrowest zone (nodes, min) | ns per evaluation | largest force error / peak load |"
         );
-        println!("|---:|---|---|---|---:|---:|");
+        println!("|---|---:|---|---|---|---:|---:|---:|");
         let truth: Vec<_> = states
             .iter()
             .map(|(b, p)| reference.forces(b, p, Some(0.1)))
             .collect();
         let radius = surfaces.pin().nominal_radius();
-        for (n, quadrature, joint) in &joints {
+        let peak = truth
+            .iter()
+            .map(|t| t.pin.x.hypot(t.pin.y))
+            .fold(0.0, f64::max);
+        for (n, quadrature, model, joint) in &joints {
+            let mut largest: f64 = 0.0;
             let started = Instant::now();
             let mut force_errors = Vec::with_capacity(states.len());
             let mut moment_errors = Vec::with_capacity(states.len());
             for ((b, p), t) in states.iter().zip(&truth) {
                 let f = joint.forces(b, p, Some(0.1));
                 let scale = t.pin.x.hypot(t.pin.y);
-                force_errors.push((f.pin.x - t.pin.x).hypot(f.pin.y - t.pin.y) / scale);
+                let error = (f.pin.x - t.pin.x).hypot(f.pin.y - t.pin.y);
+                largest = largest.max(error);
+                force_errors.push(error / scale);
                 let moment = |forces: &contact::ContactForces| {
                     // About the pin centre (at the pin body's origin here).
                     forces.pin.z
@@ -130,9 +152,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 .min()
                 .unwrap_or(0);
             println!(
-                "| {n} | {quadrature:?} | {} | {} | {narrowest} | {nanos:.0} |",
+                "| {model} | {n} | {quadrature:?} | {} | {} | {narrowest} | {nanos:.0} | {:.3} % |",
                 quantiles(&mut force_errors),
-                quantiles(&mut moment_errors)
+                quantiles(&mut moment_errors),
+                100.0 * largest / peak
             );
         }
         println!();

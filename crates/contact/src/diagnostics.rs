@@ -78,4 +78,10 @@ pub struct ContactDiagnostics {
     /// resolution of the contact zones, `Σ share · 0.96/n²` over zones of `n` nodes.
     #[serde(default)]
     pub resolution_error: f64,
+    /// Thin-gap model: the terms its overlap neglects (the third-order terms of the pin's
+    /// outline read along the bearing's ray, estimated per overlapping node) over the overlap,
+    /// summed over the overlapping nodes: the relative error of the overlaps that carry the
+    /// load (0 for the other models and when free).
+    #[serde(default)]
+    pub neglected_terms: f64,
 }

@@ -32,6 +32,7 @@ pub mod line_of_centres;
 pub mod linear_spring;
 mod model;
 mod pair;
+pub mod thin_gap;
 mod types;
 mod workspace;
 
@@ -47,6 +48,7 @@ pub use model::{
     ContactKernel, ContactModel, ModelState, NodeLoad, ShapeLimits, ValidityMeasure, Visit,
 };
 pub use pair::ContactPair;
+pub use thin_gap::{ThinGap, ThinGapTables, ThinGapWorkspace};
 pub use types::{
     BodyState, ContactForces, ContactJacobian, JointKinematics, JointState, JointSurface,
     OutlineOverlap, SlidingVelocity,

@@ -106,7 +106,7 @@ pub use joint::{
     ContactModelKind, ContactPair, ContactWorkspace, DEFAULT_FOUNDATION_CELLS,
     DEFAULT_REFERENCE_OVERLAP, Foundation, JointKinematics, JointState, JointSurface,
     LineOfCentres, LinearSpring, Material, MaterialParams, ModelState, NodeLoad, OutlineOverlap,
-    Quadrature, ShapeLimits, SlidingVelocity, ValidityMeasure,
+    Quadrature, ShapeLimits, SlidingVelocity, ThinGap, ValidityMeasure,
 };
 pub use normal::{
     DEFAULT_HERTZ_EXPONENT, DEFAULT_ONSET_VELOCITY_FLOOR, DampedHertzParams, Flores, Hertz,

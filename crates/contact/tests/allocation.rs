@@ -9,6 +9,7 @@ use common::foundation::{random_contact, worn};
 use common::lgres_laws;
 use contact::{
     BodyState, ContactModel, ContactModelKind, Foundation, LineOfCentres, LinearSpring, Quadrature,
+    ThinGap,
 };
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -20,7 +21,7 @@ static GLOBAL: CountingAllocator = CountingAllocator;
 fn evaluations_on_worn_outlines_do_not_allocate() {
     let steel = common::steel();
     let foundation = Foundation::calibrated(&steel, &steel);
-    let models: [ContactModelKind; 4] = [
+    let models: [ContactModelKind; 5] = [
         foundation.into(),
         foundation
             .with_quadrature(Quadrature::Trapezoid)
@@ -28,6 +29,7 @@ fn evaluations_on_worn_outlines_do_not_allocate() {
             .into(),
         LineOfCentres.into(),
         LinearSpring::new(1e8).expect("positive").into(),
+        ThinGap::new(foundation).into(),
     ];
     let (normal, friction) = lgres_laws(0.9);
     for model in models {

@@ -13,10 +13,12 @@ mod foundation;
 mod line_of_centres;
 mod linear_spring;
 mod model;
+mod thin_gap;
 
 pub use foundation::{FoundationSpec, LayerCalibration};
 pub use line_of_centres::LineOfCentresSpec;
 pub use linear_spring::LinearSpringSpec;
+pub use thin_gap::ThinGapSpec;
 
 use model::ModelSpec;
 
@@ -81,6 +83,8 @@ contact_specs! {
     /// A linear spring on the line of centres, `F = k δ`: the test model of the contact-model
     /// interface (`contact::LinearSpring`), no model of a real joint.
     LinearSpring(LinearSpringSpec) = "linear-spring",
+    /// The foundation's layer with the thin-gap overlap on nodes in the bearing's frame.
+    ThinGap(ThinGapSpec) = "thin-gap",
 }
 
 /// The foundation with every field defaulted: what a scene that names no model runs.

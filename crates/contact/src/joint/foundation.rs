@@ -75,13 +75,13 @@
 //! result, bit for bit; on the worn LGRES cycle it saves 40 % of the instructions
 //! (docs/performance.md).
 
-mod books;
+pub(in crate::joint) mod books;
 mod evaluate;
-mod geometry;
+pub(in crate::joint) mod geometry;
 mod layer;
 mod memory;
 mod nodes;
-mod stream;
+pub(in crate::joint) mod stream;
 mod window;
 
 pub use layer::{DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation, Quadrature};
@@ -135,10 +135,10 @@ struct Bodies<T> {
 
 /// Where the loaded nodes go: the visitor of accepted steps, and Simpson's loads held until
 /// the evaluation's totals are known.
-struct Sink<'v, 'd> {
-    visit: Option<&'v mut dyn FnMut(&NodeLoad)>,
+pub(in crate::joint) struct Sink<'v, 'd> {
+    pub(in crate::joint) visit: Option<&'v mut dyn FnMut(&NodeLoad)>,
     /// The workspace's buffer, emptied for this evaluation.
-    deposits: &'d mut Vec<NodeLoad>,
+    pub(in crate::joint) deposits: &'d mut Vec<NodeLoad>,
 }
 
 /// The overlap memory as one evaluation uses it: what it rules out (`skip`), whether the
@@ -154,7 +154,7 @@ impl Sink<'_, '_> {
     /// Hands Simpson's held wear loads to the visitor. Simpson's weights alternate along a zone
     /// (4/3, 2/3 of a node's arc): the wear gets the trapezoid's even loads, scaled to the
     /// force's total so that the Archard volume follows the load the joint carries.
-    fn deposit(&mut self, books: &Books) {
+    pub(in crate::joint) fn deposit(&mut self, books: &Books) {
         if let Some(visit) = self.visit.as_mut() {
             let scale = if books.trapezoid_load > 0.0 {
                 ((books.load + books.pull) / books.trapezoid_load).max(0.0)
@@ -750,6 +750,7 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Kernel<
             contact_zones: books.zones,
             narrowest_zone_cells: books.narrowest(),
             resolution_error: books.resolution_error(),
+            neglected_terms: 0.0,
         }
     }
 }

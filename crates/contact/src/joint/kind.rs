@@ -8,6 +8,7 @@ use super::line_of_centres::LineOfCentres;
 use super::linear_spring::LinearSpring;
 use super::model::{ContactKernel, ContactModel, ModelState, ShapeLimits, ValidityMeasure, Visit};
 use super::pair::ContactPair;
+use super::thin_gap::ThinGap;
 use super::types::{ContactForces, ContactJacobian, JointState};
 use crate::friction::FrictionLaw;
 use crate::normal::NormalLaw;
@@ -169,4 +170,7 @@ contact_models! {
     /// A linear spring on the line of centres ([`super::linear_spring`]): the test model of
     /// the interface.
     LinearSpring(LinearSpring),
+    /// The foundation's layer with the thin-gap overlap on nodes fixed in the bearing's frame
+    /// ([`super::thin_gap`]): the film-thickness form with its second-order terms.
+    ThinGap(ThinGap),
 }

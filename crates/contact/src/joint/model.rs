@@ -133,6 +133,10 @@ pub enum ValidityMeasure {
     OverlapError,
     /// Frames where the outlines overlap but `δ < 0` (needs the outline overlap measured).
     MissedContacts,
+    /// The thin-gap model's neglected terms over its overlap
+    /// ([`crate::ContactDiagnostics::neglected_terms`]): its overlap holds while the
+    /// eccentricity is small against the radius and the outlines are gentle over it.
+    NeglectedTerms,
 }
 
 impl ValidityMeasure {

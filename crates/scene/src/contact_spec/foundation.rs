@@ -108,11 +108,13 @@ impl FoundationSpec {
     }
 }
 
-impl ModelSpec for FoundationSpec {
-    fn build(
+impl FoundationSpec {
+    /// The foundation of `joint`, its defaults filled in: the layer on its nodes, with its
+    /// quadrature and damping speed (the thin-gap model's layer too).
+    pub(super) fn foundation(
         &self,
         joint: &ClearanceJointSpec,
-    ) -> Result<contact::ContactModelKind, contact::ContactError> {
+    ) -> Result<contact::Foundation, contact::ContactError> {
         let mut layer = self
             .layer(joint)?
             .with_quadrature(self.quadrature.unwrap_or_default())?
@@ -120,10 +122,11 @@ impl ModelSpec for FoundationSpec {
         if let Some(speed) = self.reference_speed {
             layer = layer.with_reference_speed(speed)?;
         }
-        Ok(layer.into())
+        Ok(layer)
     }
 
-    fn describe(&self, joint: &ClearanceJointSpec) -> String {
+    /// The layer in words: its nodes, how it was calibrated, how it damps.
+    pub(super) fn describe_layer(&self, joint: &ClearanceJointSpec) -> (String, String) {
         let layer = match (self.layer_modulus, self.layer.unwrap_or_default()) {
             (Some(_), _) => "given",
             (None, LayerCalibration::Paper) => "paper-calibrated",
@@ -137,11 +140,24 @@ impl ModelSpec for FoundationSpec {
                  floored at v_ref = {v} m/s"
             ),
         };
-        format!(
-            "elastic-foundation contact ({} nodes, {layer} layer), {}",
-            self.nodes(joint),
-            law_with_damping(joint, |_| damping)
+        (
+            format!("{} nodes, {layer} layer", self.nodes(joint)),
+            law_with_damping(joint, |_| damping),
         )
+    }
+}
+
+impl ModelSpec for FoundationSpec {
+    fn build(
+        &self,
+        joint: &ClearanceJointSpec,
+    ) -> Result<contact::ContactModelKind, contact::ContactError> {
+        Ok(self.foundation(joint)?.into())
+    }
+
+    fn describe(&self, joint: &ClearanceJointSpec) -> String {
+        let (layer, law) = self.describe_layer(joint);
+        format!("elastic-foundation contact ({layer}), {law}")
     }
 
     fn check(&self, v: &mut Validator, p: &str, joint: &ClearanceJointSpec, run: &RunSettings) {

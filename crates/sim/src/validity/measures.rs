@@ -25,6 +25,9 @@ pub struct ValidityLimits {
     /// Foundation: largest estimated relative error of the normal load from the grid's
     /// resolution of the contact zones, at frames overlapping by more than 1 % of the clearance.
     pub resolution_error: f64,
+    /// Thin gap: largest share of the overlap its neglected terms may reach, at frames
+    /// overlapping by more than 1 % of the clearance.
+    pub neglected_terms: f64,
     /// Smallest median elastic share `F_e/F_n` of the per-cycle force peaks after the
     /// start-up window: below it the peaks are mostly the law's damping term.
     pub elastic_share: f64,
@@ -40,6 +43,7 @@ impl Default for ValidityLimits {
             missed_contact_fraction: 0.01,
             overlap_ratio: 0.2,
             resolution_error: 0.02,
+            neglected_terms: 0.01,
             elastic_share: MIN_ELASTIC_SHARE,
         }
     }
@@ -85,6 +89,10 @@ pub struct Validity {
     /// `contact::ContactDiagnostics::resolution_error`), at frames overlapping by more than 1 %
     /// of the clearance.
     pub max_resolution_error: f64,
+    /// Thin gap: the largest share of the overlap its neglected terms reached (see
+    /// `contact::ContactDiagnostics::neglected_terms`), at frames overlapping by more than 1 %
+    /// of the clearance.
+    pub max_neglected_terms: f64,
     /// Median elastic share of the per-cycle force peaks after the start-up window (`None`:
     /// not judged, e.g. no peak after the window).
     pub elastic_share_median: Option<f64>,
@@ -122,6 +130,7 @@ impl ValidityTally {
                 narrowest_zone_cells: None,
                 max_contact_zones: 0,
                 max_resolution_error: 0.0,
+                max_neglected_terms: 0.0,
                 elastic_share_median: None,
                 limits,
             },
@@ -137,7 +146,11 @@ impl ValidityTally {
             judged(ValidityMeasure::SlopeRatio),
             judged(ValidityMeasure::Conformity),
         );
+        let neglected = judged(ValidityMeasure::NeglectedTerms);
         let v = &mut self.validity;
+        if neglected && d.penetration > 0.01 * self.clearance {
+            v.max_neglected_terms = v.max_neglected_terms.max(d.neglected_terms);
+        }
         if overlap_ratio {
             v.max_overlap_ratio = v.max_overlap_ratio.max(d.penetration / self.clearance);
         }
@@ -214,6 +227,16 @@ impl ValidityTally {
                         100.0 * l.resolution_error
                     ),
                 ),
+                ValidityMeasure::NeglectedTerms => (
+                    v.max_neglected_terms > l.neglected_terms,
+                    format!(
+                        "the thin-gap overlap neglects terms up to {:.2} % of the overlap (limit \
+                             {:.0} %): the eccentricity or the outlines' slopes are too large for \
+                             it; the foundation describes them",
+                        100.0 * v.max_neglected_terms,
+                        100.0 * l.neglected_terms
+                    ),
+                ),
                 ValidityMeasure::SlopeRatio => (
                     v.max_slope_ratio > l.slope_ratio,
                     format!(
@@ -284,6 +307,10 @@ impl Validity {
                     "load error from the grid ≤ {:.2} %, narrowest loaded zone {} nodes",
                     100.0 * self.max_resolution_error,
                     self.narrowest_zone_cells.unwrap_or(0)
+                )),
+                ValidityMeasure::NeglectedTerms => Some(format!(
+                    "neglected terms ≤ {:.3} % of the overlap",
+                    100.0 * self.max_neglected_terms
                 )),
                 ValidityMeasure::SlopeRatio => {
                     Some(format!("slope |c'|/|e| ≤ {:.2}", self.max_slope_ratio))

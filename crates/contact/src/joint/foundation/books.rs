@@ -5,50 +5,50 @@ use super::layer::Quadrature;
 
 /// Running sums for the diagnostics (plain values).
 #[derive(Default)]
-pub(super) struct Books {
-    pub(super) energy: f64,
-    pub(super) damping_power: f64,
-    pub(super) friction_power: f64,
-    pub(super) friction_force: f64,
-    pub(super) normal_resultant: [f64; 2],
+pub(in crate::joint) struct Books {
+    pub(in crate::joint) energy: f64,
+    pub(in crate::joint) damping_power: f64,
+    pub(in crate::joint) friction_power: f64,
+    pub(in crate::joint) friction_force: f64,
+    pub(in crate::joint) normal_resultant: [f64; 2],
     /// `Σ G_k m_k` over the overlapping nodes, clamped ones included.
-    pub(super) elastic_resultant: [f64; 2],
-    pub(super) load: f64,
-    pub(super) load_sliding: f64,
+    pub(in crate::joint) elastic_resultant: [f64; 2],
+    pub(in crate::joint) load: f64,
+    pub(in crate::joint) load_sliding: f64,
     /// The deepest overlap seen (m), and the rate `ġ` of its node once computed.
-    pub(super) deepest: Option<f64>,
-    pub(super) deepest_rate: f64,
-    pub(super) cells: u32,
-    pub(super) zones: u32,
+    pub(in crate::joint) deepest: Option<f64>,
+    pub(in crate::joint) deepest_rate: f64,
+    pub(in crate::joint) cells: u32,
+    pub(in crate::joint) zones: u32,
     /// Nodes around the pin (for zones through cell 0).
-    pub(super) grid: usize,
+    pub(in crate::joint) grid: usize,
     /// The open zone: its last cell, its cells and its load.
-    pub(super) open: Option<(usize, u32, f64)>,
+    pub(in crate::joint) open: Option<(usize, u32, f64)>,
     /// The first [`MAX_ZONES`] closed zones' cells and loads.
-    pub(super) closed: [(u32, f64); MAX_ZONES],
+    pub(in crate::joint) closed: [(u32, f64); MAX_ZONES],
     /// The quadrature, whose error the zones' resolution implies.
-    pub(super) quadrature: Quadrature,
+    pub(in crate::joint) quadrature: Quadrature,
     /// The loaded nodes' normal loads as the trapezoid weighs them (N; Simpson's deposits).
-    pub(super) trapezoid_load: f64,
+    pub(in crate::joint) trapezoid_load: f64,
     /// The normal loads of the nodes Simpson weighs negatively (N, ≤ 0; elastic only).
-    pub(super) pull: f64,
+    pub(in crate::joint) pull: f64,
 }
 
 /// Zones whose width and load are kept for the narrowest-zone measure.
-pub(super) const MAX_ZONES: usize = 16;
+pub(in crate::joint) const MAX_ZONES: usize = 16;
 /// Relative load a zone of one node misses by the linear interpolation between nodes; `n`
 /// nodes miss this over `n²` (see [`Books::resolution_error`]).
-pub(super) const RESOLUTION_ERROR: f64 = 0.96;
+pub(in crate::joint) const RESOLUTION_ERROR: f64 = 0.96;
 /// The same bound for [`Quadrature::Simpson`], also over `n²`: a quarter of the trapezoid's.
 /// Simpson's error falls faster (test `simpsons_quadrature_is_within_its_resolution_estimate`:
 /// worst 3.3 % at zones of 2.5 nodes, 0.48 % at 5, 0.012 % at 10), so this overstates it
 /// beyond a few nodes, where it is far below the validity limit anyway; it is tight where
 /// the limit decides.
-pub(super) const SIMPSON_RESOLUTION_ERROR: f64 = 0.24;
+pub(in crate::joint) const SIMPSON_RESOLUTION_ERROR: f64 = 0.24;
 
 impl Books {
     /// Counts one node's overlap for the deepest; `true` when it is the deepest so far.
-    pub(super) fn see_overlap(&mut self, g: f64) -> bool {
+    pub(in crate::joint) fn see_overlap(&mut self, g: f64) -> bool {
         let deepest = self.deepest.is_none_or(|d| g > d);
         if deepest {
             self.deepest = Some(g);
@@ -58,7 +58,7 @@ impl Books {
 
     /// Adds node `cell` (overlap `g`, normal load `load`) to the zone bookkeeping; nodes come
     /// in order, and a zone is a run of consecutive overlapping cells.
-    pub(super) fn see_zone(&mut self, cell: usize, g: f64, load: f64) {
+    pub(in crate::joint) fn see_zone(&mut self, cell: usize, g: f64, load: f64) {
         let grid = self.grid.max(1);
         let continues = self
             .open
@@ -73,7 +73,7 @@ impl Books {
         }
     }
 
-    pub(super) fn close_zone(&mut self) {
+    pub(in crate::joint) fn close_zone(&mut self) {
         if let Some((_, width, load)) = self.open.take() {
             if (self.zones as usize) < MAX_ZONES {
                 self.closed[self.zones as usize] = (width, load);
@@ -86,7 +86,7 @@ impl Books {
     /// implies: linear interpolation across a smooth cap of `n` nodes misses `≈ 0.96/n²` of its
     /// load (measured on round surfaces: −0.24 % at 20 nodes, −0.025 % at 63, −0.009 % at 108,
     /// docs/model.md §10.2), weighted by each zone's share of the load.
-    pub(super) fn resolution_error(&mut self) -> f64 {
+    pub(in crate::joint) fn resolution_error(&mut self) -> f64 {
         self.close_zone();
         let kept = &self.closed[..(self.zones as usize).min(MAX_ZONES)];
         let total: f64 = kept.iter().map(|(_, load)| load).sum();
@@ -104,7 +104,7 @@ impl Books {
 
     /// Cells across the narrowest zone among those carrying at least a tenth of the load (all
     /// zones when none carries load); 0 without contact.
-    pub(super) fn narrowest(&mut self) -> u32 {
+    pub(in crate::joint) fn narrowest(&mut self) -> u32 {
         self.close_zone();
         let kept = &self.closed[..(self.zones as usize).min(MAX_ZONES)];
         let total: f64 = kept.iter().map(|(_, load)| load).sum();

@@ -8,7 +8,7 @@ use crate::joint::dual::Real;
 /// truncation, the `z¹⁷/17` term, is below 1e-20 of the angle; the sum rounds like `atan2`'s
 /// result), else `atan2`. The result may differ from `atan2`'s by a multiple of 2π.
 #[inline]
-pub(super) fn angle_near(d: [f64; 2], w: [f64; 2], w_angle: f64) -> f64 {
+pub(in crate::joint) fn angle_near(d: [f64; 2], w: [f64; 2], w_angle: f64) -> f64 {
     let along = w[0] * d[0] + w[1] * d[1];
     let across = w[0] * d[1] - w[1] * d[0];
     if !(along > 0.0 && across.abs() <= along * 0.0625) {
@@ -27,45 +27,45 @@ pub(super) fn angle_near(d: [f64; 2], w: [f64; 2], w_angle: f64) -> f64 {
 
 /// The positional and kinematic values of one node.
 #[derive(Clone, Copy)]
-pub(super) struct Node<T> {
-    pub(super) cell: usize,
-    pub(super) alpha: f64,
+pub(in crate::joint) struct Node<T> {
+    pub(in crate::joint) cell: usize,
+    pub(in crate::joint) alpha: f64,
     /// Overlap `g_k` (m; negative: apart).
-    pub(super) g: T,
+    pub(in crate::joint) g: T,
     /// `m_k = n_k − (R_i'/ρ_k) t_k`.
-    pub(super) m: [T; 2],
+    pub(in crate::joint) m: [T; 2],
     /// `ġ_k`.
-    pub(super) g_rate: T,
+    pub(in crate::joint) g_rate: T,
     /// Relative velocity of the pin's material point at `P_k` on the bearing's.
-    pub(super) relative_velocity: [T; 2],
+    pub(in crate::joint) relative_velocity: [T; 2],
     /// `P_k` from the pin body's centroid.
-    pub(super) pin_arm: [T; 2],
+    pub(in crate::joint) pin_arm: [T; 2],
     /// `P_k` from the bearing body's centroid.
-    pub(super) bearing_arm: [T; 2],
+    pub(in crate::joint) bearing_arm: [T; 2],
     /// `D_k`, whose angle less `θ_i` is where the node meets the bearing.
-    pub(super) ray: [f64; 2],
+    pub(in crate::joint) ray: [f64; 2],
     /// `ψ_k − θ_i` (rad, unwrapped) when it was needed for the node (else found from `ray`).
-    pub(super) bearing_angle: Option<f64>,
+    pub(in crate::joint) bearing_angle: Option<f64>,
     /// The overlap as `ContactPair::overlap_at` gives it (m): `g_k`, or the distance
     /// below the bearing's smallest radius where the node cannot touch.
-    pub(super) overlap: f64,
+    pub(in crate::joint) overlap: f64,
     /// Whether the node lies beyond the bearing's smallest radius (`overlap` is `g_k`).
-    pub(super) beyond: bool,
+    pub(in crate::joint) beyond: bool,
 }
 
 /// One body's position and velocity in the kernel's arithmetic.
 #[derive(Clone, Copy)]
-pub(super) struct Body<T> {
-    pub(super) position: [T; 2],
+pub(in crate::joint) struct Body<T> {
+    pub(in crate::joint) position: [T; 2],
     /// The rotation's plain value (rad).
-    pub(super) theta: f64,
-    pub(super) theta_sin_cos: (T, T),
-    pub(super) velocity: [T; 2],
-    pub(super) omega: T,
+    pub(in crate::joint) theta: f64,
+    pub(in crate::joint) theta_sin_cos: (T, T),
+    pub(in crate::joint) velocity: [T; 2],
+    pub(in crate::joint) omega: T,
 }
 
 impl<T: Real> Body<T> {
-    pub(super) fn new(state: [T; 6]) -> Self {
+    pub(in crate::joint) fn new(state: [T; 6]) -> Self {
         Self {
             position: [state[0], state[1]],
             theta: state[2].value(),
@@ -77,14 +77,14 @@ impl<T: Real> Body<T> {
 
     /// A body-fixed vector turned into the global frame.
     #[inline]
-    pub(super) fn rotate(&self, local: [f64; 2]) -> [T; 2] {
+    pub(in crate::joint) fn rotate(&self, local: [f64; 2]) -> [T; 2] {
         let (s, c) = self.theta_sin_cos;
         [c * local[0] - s * local[1], s * local[0] + c * local[1]]
     }
 
     /// Velocity of the material point at `arm` from the centroid.
     #[inline]
-    pub(super) fn point_velocity(&self, arm: &[T; 2]) -> [T; 2] {
+    pub(in crate::joint) fn point_velocity(&self, arm: &[T; 2]) -> [T; 2] {
         [
             self.velocity[0] - self.omega * arm[1],
             self.velocity[1] + self.omega * arm[0],
@@ -95,7 +95,7 @@ impl<T: Real> Body<T> {
 /// The point at `pin_arm` from the pin body's centroid, seen from the point at `bearing_arm`
 /// from the bearing body's.
 #[inline]
-pub(super) fn offset<T: Real>(
+pub(in crate::joint) fn offset<T: Real>(
     pin: &Body<T>,
     pin_arm: &[T; 2],
     bearing: &Body<T>,
@@ -108,12 +108,12 @@ pub(super) fn offset<T: Real>(
 }
 
 #[inline]
-pub(super) fn dot<T: Real>(a: &[T; 2], b: &[T; 2]) -> T {
+pub(in crate::joint) fn dot<T: Real>(a: &[T; 2], b: &[T; 2]) -> T {
     a[0] * b[0] + a[1] * b[1]
 }
 
 #[inline]
-pub(super) fn cross<T: Real>(a: &[T; 2], b: &[T; 2]) -> T {
+pub(in crate::joint) fn cross<T: Real>(a: &[T; 2], b: &[T; 2]) -> T {
     a[0] * b[1] - a[1] * b[0]
 }
 

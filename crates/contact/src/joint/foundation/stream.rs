@@ -8,7 +8,7 @@ use crate::joint::dual::Real;
 /// `∫₀¹ max(0, a + (b − a)s)² ds` and its partials in `a` and `b` (the exact energy of one
 /// segment between two nodes, see the module docs).
 #[inline]
-pub(super) fn segment<T: Real>(a: T, b: T) -> (T, T, T) {
+pub(in crate::joint) fn segment<T: Real>(a: T, b: T) -> (T, T, T) {
     let (av, bv) = (a.value(), b.value());
     let zero = T::constant(0.0);
     if av >= 0.0 && bv >= 0.0 {
@@ -32,10 +32,10 @@ pub(super) fn segment<T: Real>(a: T, b: T) -> (T, T, T) {
 }
 
 /// What one evaluation gives: generalized forces `(F_x, F_y, M)` on bearing and pin bodies.
-pub(super) struct Output<T> {
-    pub(super) bearing: [T; 3],
-    pub(super) pin: [T; 3],
-    pub(super) diagnostics: ContactDiagnostics,
+pub(in crate::joint) struct Output<T> {
+    pub(in crate::joint) bearing: [T; 3],
+    pub(in crate::joint) pin: [T; 3],
+    pub(in crate::joint) diagnostics: ContactDiagnostics,
 }
 
 /// Adds a node's force on the pin (at its point) to both bodies' generalized forces.

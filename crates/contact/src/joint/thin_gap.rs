@@ -1,0 +1,131 @@
+//! The thin-gap contact: the elastic foundation's layer ([`super::foundation`]) with its overlap
+//! in the film-thickness form of a thin clearance, on nodes fixed in the bearing's frame.
+//!
+//! # Overlap
+//! Node `k` is the bearing-frame direction `θ_k = (k + ½) 2π/N`, `n_k = u(θ_k)`,
+//! `t_k = u'(θ_k)`. With `ε` the pin centre from the bearing centre in the bearing's frame,
+//! `a_k = ε·n_k`, `b_k = ε·t_k`, and `Δ = θ_j − θ_i` the pin's turn relative to the bearing,
+//! the pin's outline point on the ray `θ_k` from the bearing centre lies at
+//! `ρ_k = a_k + r(β) cos γ` with `r(β) sin γ = −b_k`, `β = θ_k + γ`, `r` the pin's radius at
+//! its frame's angle `β − Δ`. To second order in `b_k/R` (`R` the pin's largest radius):
+//!
+//! `g_k = ρ_k − R_i(θ_k) = a_k + r_k − r'_k b_k/R − b_k²/(2R) − R_i(θ_k)`,
+//!
+//! `r_k`, `r'_k` the pin's radius and slope at `θ_k − Δ`: the pin read at its turn relative to
+//! the bearing, shifted along its outline by `γ ≈ −b_k/R` (the reading shift), and the ray's
+//! chord through the pin's circle (`−b_k²/(2R)`). Dropping the two second-order terms errs by
+//! tens of per cent on a worn pin (its slope times `b/R` and `|e|²/(2R)` are of the order of
+//! the overlap); kept, what is left is third order (`ContactDiagnostics::neglected_terms`).
+//! The bearing's radius is read at its own nodes (a table); the pin's from an interpolating
+//! periodic cubic spline of its radius at the same grid, whose four weights are the same at
+//! every node for one turn `Δ` ([`tables::Shift`]): no angle, square root or trigonometric
+//! function per node.
+//!
+//! # Energy, force, damping, friction, wear
+//! The foundation's layer, `V = (k w/2) ∫ max(0, g)² ds` over the pin's outline. A ray turning
+//! by `dθ` sweeps `(1 + a_k/R) dθ` of the pin's outline (its centre is nearer by `a_k`), so the
+//! nodes carry the weighed overlap `g̃_k = g_k (1 + a_k/(2R))`, whose square has that factor to
+//! first order (without it the energy is short by `|e|/R`, about 1 % in the LGRES). As the
+//! foundation: `g̃` linear between nodes, each segment's positive part integrated exactly (C¹
+//! forces as a zone edge crosses a node), Simpson's rule by Richardson's combination (or the
+//! trapezoid), the elastic force exactly `−∇V` with `∇g̃_k = m̃_k·∂ε/∂q + (∂g̃_k/∂Δ) ∂Δ/∂q`,
+//! `m̃_k = (1 + a_k/(2R)) (n_k − ((r'_k + b_k)/R) t_k) + g_k n_k/(2R)`,
+//! `∂g̃_k/∂Δ = (1 + a_k/(2R)) (r''_k b_k/R − r'_k)`: on the pin a force `−Σ G_k m̃_k` (turned
+//! to the global frame) and a moment `−Σ G_k ∂g̃_k/∂Δ`, on the bearing their reaction about
+//! its centre. Damping per
+//! node with the rate held within the impact's onset velocity, friction per node at the pin's
+//! point on the ray along `t̂_k ⟂ m_k`, node loads for wear (the pin's angle `θ_k − Δ`, the
+//! bearing's `θ_k`; Simpson's deposits as the trapezoid's scaled to the load).
+//!
+//! # Window
+//! A node can overlap only where `ρ cos(θ_k − φ) > R_i⁻ − R_j⁺ − max|r'| ρ/R` (`ρ = |ε|` at
+//! angle `φ`): the nodes in that arc, and the one or two beyond each end whose segments it
+//! reaches, are visited, in order, their overlaps kept in a ring of five. Free (`ρ` below the
+//! bound) none is.
+
+mod kernel;
+mod layer;
+mod tables;
+
+pub use layer::{ThinGap, ThinGapWorkspace};
+pub use tables::ThinGapTables;
+
+use super::model::{ContactKernel, ContactModel, ModelState, ValidityMeasure, Visit};
+use super::pair::ContactPair;
+use super::types::{ContactForces, ContactJacobian, JointState};
+use crate::friction::FrictionLaw;
+use crate::normal::NormalLaw;
+use crate::surface::SurfaceProfile;
+
+impl ContactModel for ThinGap {
+    /// The nodes' directions, the bearing's radii there, the pin's spline and the bounds.
+    type Tables = ThinGapTables;
+    type Workspace = ThinGapWorkspace;
+
+    fn name(&self) -> &'static str {
+        "thin-gap"
+    }
+
+    fn tables<B: SurfaceProfile, P: SurfaceProfile, N, F>(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+    ) -> ThinGapTables {
+        ThinGapTables::new(
+            pair.bearing_profile(),
+            pair.pin_profile(),
+            self.layer().cells,
+        )
+    }
+
+    /// Room for every node's wear load.
+    fn workspace(&self) -> ThinGapWorkspace {
+        ThinGapWorkspace {
+            deposits: Vec::with_capacity(self.layer().cells),
+        }
+    }
+
+    fn nodes(&self) -> Option<usize> {
+        Some(self.layer().cells)
+    }
+
+    /// The foundation's (a thin layer, resolved zones) and its own: the terms it neglects.
+    fn validity_measures(&self) -> &'static [ValidityMeasure] {
+        &[
+            ValidityMeasure::OverlapRatio,
+            ValidityMeasure::ResolutionError,
+            ValidityMeasure::NeglectedTerms,
+        ]
+    }
+}
+
+impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactKernel<B, P, N, F>
+    for ThinGap
+{
+    fn forces(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        state: ModelState<'_, Self>,
+        at: JointState,
+        visit: Visit,
+    ) -> ContactForces {
+        kernel::Kernel::new(self, pair, state.tables).forces(state.workspace, at, visit)
+    }
+
+    fn forces_and_jacobian(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        state: ModelState<'_, Self>,
+        at: JointState,
+    ) -> (ContactForces, ContactJacobian) {
+        kernel::Kernel::new(self, pair, state.tables).forces_and_jacobian(state.workspace, at)
+    }
+
+    fn penetration(
+        &self,
+        pair: &ContactPair<B, P, N, F>,
+        state: ModelState<'_, Self>,
+        at: JointState,
+    ) -> f64 {
+        kernel::Kernel::new(self, pair, state.tables).deepest(at)
+    }
+}

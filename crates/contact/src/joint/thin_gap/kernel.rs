@@ -1,0 +1,748 @@
+//! The thin-gap evaluation: the loaded window of nodes, each node's overlap, its share of the
+//! energy's gradient, damping and friction, and the forces on both bodies (plain numbers for
+//! the forces, dual numbers for their exact Jacobian).
+
+use nalgebra::Vector3;
+
+use super::layer::{ThinGap, ThinGapWorkspace};
+use super::tables::{Shift, ThinGapTables};
+use crate::diagnostics::ContactDiagnostics;
+use crate::friction::FrictionLaw;
+use crate::joint::dual::{Dual, Real};
+use crate::joint::foundation::books::Books;
+use crate::joint::foundation::geometry::{Body, cross, dot, offset};
+use crate::joint::foundation::stream::segment;
+use crate::joint::foundation::{Quadrature, Sink};
+use crate::joint::model::{NodeLoad, Visit};
+use crate::joint::pair::ContactPair;
+use crate::joint::types::{BodyState, ContactForces, ContactJacobian, JointState, SlidingVelocity};
+use crate::normal::NormalLaw;
+use crate::surface::{SurfaceProfile, wrap_angle};
+
+/// One evaluation's model, pair and tables.
+pub(super) struct Kernel<'k, B, P, N, F> {
+    model: &'k ThinGap,
+    pair: &'k ContactPair<B, P, N, F>,
+    tables: &'k ThinGapTables,
+}
+
+/// The pose in the bearing's frame, in the evaluation's arithmetic.
+struct Pose<T> {
+    /// `ε`, the pin centre from the bearing centre (m), and its rate (m/s).
+    eps: [T; 2],
+    eps_rate: [T; 2],
+    /// `Δ = θ_j − θ_i` (rad) and its rate.
+    turn: T,
+    turn_rate: T,
+}
+
+/// The nodes one evaluation visits, signed and in order (`first..=last`, wrapping), or none.
+#[derive(Clone, Copy)]
+struct Window {
+    first: i64,
+    last: i64,
+    /// Bound on every overlap outside it (m).
+    outside: f64,
+}
+
+/// The sums of the forces over the nodes, in the bearing's frame.
+struct Sums<T> {
+    /// `Σ L_k m_k` (the normal loads; elastic pulls of Simpson's negative weights included).
+    normal: [T; 2],
+    /// `Σ f_k t̂_k`, the friction forces.
+    friction: [T; 2],
+    /// `Σ L_k ∂g_k/∂Δ`: the moment the pin's turn carries.
+    turn: T,
+    /// `Σ q_k × f_k t̂_k`: the friction's moment about the bearing centre.
+    friction_moment: T,
+}
+
+/// Per-evaluation constants of the node loop.
+struct Pass<T> {
+    /// `k w · arc/2` (N/m).
+    weight: f64,
+    simpson: bool,
+    onset: f64,
+    /// The paper's sliding rate `φ̇ = e × ė/|e|²` (rad/s).
+    phi_rate: T,
+    shift: Shift,
+    /// `1/R` (1/m).
+    inverse_radius: f64,
+}
+
+/// One node's quantities beyond its overlap, for its force.
+struct NodeForce<T> {
+    m: [T; 2],
+    /// `∂g_k/∂Δ` (m/rad).
+    d_turn: T,
+    rate: T,
+    /// `g_k` (m).
+    g: T,
+}
+
+impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
+    Kernel<'k, B, P, N, F>
+{
+    pub(super) fn new(
+        model: &'k ThinGap,
+        pair: &'k ContactPair<B, P, N, F>,
+        tables: &'k ThinGapTables,
+    ) -> Self {
+        Self {
+            model,
+            pair,
+            tables,
+        }
+    }
+
+    pub(super) fn forces(
+        &self,
+        workspace: &mut ThinGapWorkspace,
+        at: JointState,
+        visit: Visit,
+    ) -> ContactForces {
+        let out = self.evaluate(
+            workspace,
+            state_array(at.bearing),
+            state_array(at.pin),
+            at.onset_velocity,
+            visit,
+        );
+        ContactForces {
+            bearing: Vector3::from(out.0),
+            pin: Vector3::from(out.1),
+            diagnostics: out.2,
+        }
+    }
+
+    pub(super) fn forces_and_jacobian(
+        &self,
+        workspace: &mut ThinGapWorkspace,
+        at: JointState,
+    ) -> (ContactForces, ContactJacobian) {
+        let seed = |state: &BodyState, offset: usize| -> [Dual; 6] {
+            let values = state_array(state);
+            std::array::from_fn(|k| {
+                let column = if k < 3 {
+                    offset + k
+                } else {
+                    6 + offset + k - 3
+                };
+                Dual::variable(values[k], column)
+            })
+        };
+        let (bearing, pin, diagnostics) = self.evaluate(
+            workspace,
+            seed(at.bearing, 0),
+            seed(at.pin, 3),
+            at.onset_velocity,
+            None,
+        );
+        let mut jacobian = ContactJacobian::zeros();
+        for (row, value) in bearing.iter().chain(&pin).enumerate() {
+            for (column, partial) in value.partials.iter().enumerate() {
+                jacobian[(row, column)] = *partial;
+            }
+        }
+        let forces = ContactForces {
+            bearing: Vector3::from(bearing.map(|v| v.value)),
+            pin: Vector3::from(pin.map(|v| v.value)),
+            diagnostics,
+        };
+        (forces, jacobian)
+    }
+
+    /// The deepest overlap at the nodes (m; negative apart): the event function. Free, the
+    /// window's bound.
+    pub(super) fn deepest(&self, at: JointState) -> f64 {
+        let bearing = Body::new(state_array(at.bearing));
+        let pin = Body::new(state_array(at.pin));
+        let pose = self.pose(&bearing, &pin, at.pin.theta - at.bearing.theta);
+        // One node beyond the arc each side: the bound outside it is then negative.
+        let Some(window) = self.window(pose.eps, 1) else {
+            return self.outside_bound(pose.eps);
+        };
+        let shift = Shift::new(pose.turn, self.tables.cells);
+        let inverse_radius = 1.0 / self.tables.reference;
+        let n = self.tables.cells as i64;
+        (window.first..=window.last)
+            .map(|k| {
+                self.gap(k.rem_euclid(n) as usize, &pose, &shift, inverse_radius)
+                    .1
+            })
+            .fold(window.outside, f64::max)
+    }
+
+    /// The pose of the pin in the bearing's frame.
+    fn pose<T: Real>(&self, bearing: &Body<T>, pin: &Body<T>, turn: T) -> Pose<T> {
+        let arm_i = bearing.rotate(self.pair.bearing_centre());
+        let arm_j = pin.rotate(self.pair.pin_centre());
+        let e = offset(pin, &arm_j, bearing, &arm_i);
+        let e_rate = {
+            let p = pin.point_velocity(&arm_j);
+            let b = bearing.point_velocity(&arm_i);
+            [p[0] - b[0], p[1] - b[1]]
+        };
+        let (s, c) = bearing.theta_sin_cos;
+        let eps = [c * e[0] + s * e[1], c * e[1] - s * e[0]];
+        // ε = Aᵀe, so ε̇ = Aᵀė − ω_i ε⊥.
+        let eps_rate = [
+            c * e_rate[0] + s * e_rate[1] + bearing.omega * eps[1],
+            c * e_rate[1] - s * e_rate[0] - bearing.omega * eps[0],
+        ];
+        Pose {
+            eps,
+            eps_rate,
+            turn,
+            turn_rate: pin.omega - bearing.omega,
+        }
+    }
+
+    /// A bound on the overlap of every node at eccentricity `eps` (m).
+    fn outside_bound<T: Real>(&self, eps: [T; 2]) -> f64 {
+        let rho = eps[0].value().hypot(eps[1].value());
+        rho + self.slack(rho)
+    }
+
+    /// `R_j⁺ − R_i⁻ + max|r'| ρ/R` (m): a node at angle `ψ` from `ε` overlaps by at most
+    /// `ρ cos ψ` plus this.
+    fn slack(&self, rho: f64) -> f64 {
+        let t = self.tables;
+        t.pin_max - t.bearing_min + t.pin_slope_max * rho / t.reference
+    }
+
+    /// The nodes that can overlap and `beyond` more at each end, or `None` when none can.
+    fn window<T: Real>(&self, eps: [T; 2], beyond: i64) -> Option<Window> {
+        let (x, y) = (eps[0].value(), eps[1].value());
+        let rho = x.hypot(y);
+        let slack = self.slack(rho);
+        if rho + slack <= 0.0 {
+            return None;
+        }
+        let cells = self.tables.cells as i64;
+        let per_rad = self.tables.cells as f64 / std::f64::consts::TAU;
+        let direction = y.atan2(x);
+        let half = (-slack / rho).clamp(-1.0, 1.0).acos();
+        let first = ((direction - half) * per_rad - 0.5).ceil() as i64 - beyond;
+        let last = ((direction + half) * per_rad - 0.5).floor() as i64 + beyond;
+        if last - first + 1 >= cells {
+            // Every node (the bounds allow it): the whole circle from opposite `ε`, where the
+            // outlines are furthest apart, so that no segment joins its two ends.
+            let away = ((direction + std::f64::consts::PI) * per_rad - 0.5).round() as i64;
+            return Some(Window {
+                first: away,
+                last: away + cells - 1,
+                outside: f64::NEG_INFINITY,
+            });
+        }
+        Some(Window {
+            first,
+            last,
+            // The nodes outside lie more than `beyond` nodes past the arc `ρ cos ψ > −slack`.
+            outside: (rho
+                * (half + beyond as f64 / per_rad)
+                    .min(std::f64::consts::PI)
+                    .cos()
+                + slack)
+                .min(0.0),
+        })
+    }
+
+    /// Node `cell`'s overlap weighed by the pin's outline, `g̃_k = g_k (1 + a_k/(2R))` (m), in
+    /// the arithmetic of the pose, and its overlap `g_k` (m).
+    #[inline(always)]
+    fn gap<T: Real>(
+        &self,
+        cell: usize,
+        pose: &Pose<T>,
+        shift: &Shift,
+        inverse_radius: f64,
+    ) -> (T, f64) {
+        let t = self.tables;
+        let (cos, sin) = (t.cos[cell], t.sin[cell]);
+        let a = pose.eps[0] * cos + pose.eps[1] * sin;
+        let b = pose.eps[1] * cos - pose.eps[0] * sin;
+        let (value, slope, curvature) = t.pin_at(cell, shift);
+        // The pin's radius and slope at `θ_k − Δ`: their partials in Δ are minus the next
+        // derivative.
+        let radius = pose.turn.chain(value, -slope);
+        let slope = pose.turn.chain(slope, -curvature);
+        let g = a + radius - (slope + b * 0.5) * b * inverse_radius - t.bearing[cell];
+        (g * (a * (0.5 * inverse_radius) + 1.0), g.value())
+    }
+
+    /// Node `cell`'s normal `m̃_k = ∂g̃_k/∂ε`, `∂g̃_k/∂Δ`, its rate and its overlap `g_k`, given
+    /// its weighed overlap `g̃_k`.
+    #[inline]
+    fn node_force<T: Real>(
+        &self,
+        cell: usize,
+        pose: &Pose<T>,
+        weighed: T,
+        shift: &Shift,
+        inverse_radius: f64,
+    ) -> NodeForce<T> {
+        let t = self.tables;
+        let (cos, sin) = (t.cos[cell], t.sin[cell]);
+        let a = pose.eps[0] * cos + pose.eps[1] * sin;
+        let b = pose.eps[1] * cos - pose.eps[0] * sin;
+        let (_, slope, curvature) = t.pin_at(cell, shift);
+        let third = if T::PLAIN {
+            0.0
+        } else {
+            t.pin_third_at(cell, shift)
+        };
+        let slope = pose.turn.chain(slope, -curvature);
+        let curvature = pose.turn.chain(curvature, -third);
+        let lean = (slope + b) * inverse_radius;
+        // g̃ = g J, J = 1 + a/(2R): ∂g̃ = J ∂g + g n/(2R) ∂ε.
+        let weigh = a * (0.5 * inverse_radius) + 1.0;
+        let g = weighed / weigh;
+        let half_g = g * (0.5 * inverse_radius);
+        let m = [
+            (lean * sin + cos) * weigh + half_g * cos,
+            (-(lean * cos) + sin) * weigh + half_g * sin,
+        ];
+        let d_turn = (curvature * b * inverse_radius - slope) * weigh;
+        let rate = dot(&m, &pose.eps_rate) + d_turn * pose.turn_rate;
+        NodeForce { m, d_turn, rate, g }
+    }
+
+    /// The estimate of the terms node `cell`'s overlap neglects (m): the reading shift's
+    /// second order (`r'' b²/(2R²)`), the chord's next (`b⁴/(8R³)`), the shift's next
+    /// (`r' b³/(6R³)`), and what reading them at `R` instead of the pin's radius there costs.
+    fn neglected(&self, cell: usize, eps: [f64; 2], shift: &Shift, inverse_radius: f64) -> f64 {
+        let t = self.tables;
+        let b = (eps[1] * t.cos[cell] - eps[0] * t.sin[cell]) * inverse_radius;
+        let (value, slope, curvature) = t.pin_at(cell, shift);
+        let b2 = b * b;
+        t.reference
+            * (0.5 * curvature.abs() * inverse_radius * b2
+                + b2 * b2 / 8.0
+                + slope.abs() * inverse_radius * b2 * b.abs() / 6.0
+                + (slope.abs() * b.abs() + 0.5 * b2 * t.reference)
+                    * value.abs()
+                    * inverse_radius
+                    * inverse_radius)
+    }
+
+    /// The kernel: generalized forces on bearing and pin and the diagnostics; each loaded
+    /// node to `visit`.
+    fn evaluate<T: Real>(
+        &self,
+        workspace: &mut ThinGapWorkspace,
+        bearing_state: [T; 6],
+        pin_state: [T; 6],
+        onset_velocity: Option<f64>,
+        visit: Visit,
+    ) -> ([T; 3], [T; 3], ContactDiagnostics) {
+        let layer = self.model.layer();
+        let cells = self.tables.cells;
+        let bearing = Body::new(bearing_state);
+        let pin = Body::new(pin_state);
+        let pose = self.pose(&bearing, &pin, pin_state[2] - bearing_state[2]);
+        let arm_i = bearing.rotate(self.pair.bearing_centre());
+        let arm_j = pin.rotate(self.pair.pin_centre());
+        let e = offset(&pin, &arm_j, &bearing, &arm_i);
+        let e_value = [e[0].value(), e[1].value()];
+        let rho = e_value[0].hypot(e_value[1]);
+        let e_rate = {
+            let p = pin.point_velocity(&arm_j);
+            let b = bearing.point_velocity(&arm_i);
+            [p[0] - b[0], p[1] - b[1]]
+        };
+        let (phi_rate, centre_rate) = if rho > 0.0 {
+            (
+                cross(&e, &e_rate) / dot(&e, &e),
+                (e_value[0] * e_rate[0].value() + e_value[1] * e_rate[1].value()) / rho,
+            )
+        } else {
+            (T::constant(0.0), 0.0)
+        };
+        let onset = self.pair.normal_law().effective_onset(
+            onset_velocity
+                .unwrap_or(centre_rate)
+                .abs()
+                .max(layer.reference_speed),
+        );
+        let simpson = layer.quadrature == Quadrature::Simpson;
+        let pass = Pass {
+            weight: 0.5 * layer.line_modulus * self.tables.node_arc,
+            simpson,
+            onset,
+            phi_rate,
+            shift: Shift::new(pose.turn.value(), cells),
+            inverse_radius: 1.0 / self.tables.reference,
+        };
+        let zero = T::constant(0.0);
+        let mut sums = Sums {
+            normal: [zero; 2],
+            friction: [zero; 2],
+            turn: zero,
+            friction_moment: zero,
+        };
+        let mut books = Books {
+            grid: cells,
+            quadrature: layer.quadrature,
+            ..Books::default()
+        };
+        workspace.deposits.clear();
+        let mut sink = Sink {
+            visit,
+            deposits: &mut workspace.deposits,
+        };
+        let (mut neglected, mut overlapping) = (0.0, 0.0);
+        let window = self.window(pose.eps, if simpson { 2 } else { 1 });
+        if let Some(window) = window {
+            let n = cells as i64;
+            let gap_at = |k: i64| {
+                self.gap(
+                    k.rem_euclid(n) as usize,
+                    &pose,
+                    &pass.shift,
+                    pass.inverse_radius,
+                )
+            };
+            let (first, last) = (window.first, window.last);
+            // Overlaps of nodes k − 2 ..= k + 2.
+            let mut ring = [
+                gap_at(first - 2),
+                gap_at(first - 1),
+                gap_at(first),
+                gap_at(first + 1),
+                gap_at(first + 2),
+            ];
+            for k in first..=last {
+                if k > first {
+                    ring.rotate_left(1);
+                    ring[4] = gap_at(k + 2);
+                }
+                let cell = k.rem_euclid(n) as usize;
+                let g = ring[2].1;
+                let deepest = books.see_overlap(g);
+                let coarse = simpson && cell.is_multiple_of(2);
+                let near = [ring[1].0.value(), g, ring[3].0.value()];
+                let reaches = near.iter().any(|&v| v > 0.0)
+                    || (coarse && (ring[0].0.value() > 0.0 || ring[4].0.value() > 0.0));
+                if !reaches {
+                    books.see_zone(cell, g, 0.0);
+                    continue;
+                }
+                // The segment to the left (its energy) and this node's share of both.
+                let (q_left, _, left) = segment(ring[1].0, ring[2].0);
+                let (_, right, _) = segment(ring[2].0, ring[3].0);
+                let fine = left + right;
+                let (gradient, fine_energy) = if simpson {
+                    let mut gradient = fine * (4.0 / 3.0);
+                    let mut energy = q_left.value() * (4.0 / 3.0);
+                    if coarse {
+                        let (q_coarse, _, coarse_left) = segment(ring[0].0, ring[2].0);
+                        let (_, coarse_right, _) = segment(ring[2].0, ring[4].0);
+                        gradient = gradient - (coarse_left + coarse_right) * (2.0 / 3.0);
+                        if k - 2 >= first {
+                            energy -= q_coarse.value() * (2.0 / 3.0);
+                        }
+                    }
+                    (gradient, energy)
+                } else {
+                    (fine, q_left.value())
+                };
+                // The first node's left segments join nodes outside the window (overlaps ≤ 0).
+                if k > first {
+                    books.energy += pass.weight * fine_energy;
+                }
+                if g > 0.0 {
+                    neglected += self.neglected(
+                        cell,
+                        [pose.eps[0].value(), pose.eps[1].value()],
+                        &pass.shift,
+                        pass.inverse_radius,
+                    );
+                    overlapping += g;
+                }
+                let load_gradient = gradient * pass.weight;
+                let normal = self.carry(
+                    &pass,
+                    cell,
+                    &pose,
+                    ring[2].0,
+                    load_gradient,
+                    fine.value() * pass.weight,
+                    &mut sums,
+                    &mut books,
+                    &mut sink,
+                );
+                if deepest {
+                    books.deepest_rate = normal.1;
+                }
+                books.see_zone(cell, g, normal.0);
+            }
+        }
+        sink.deposit(&books);
+        let (s, c) = bearing.theta_sin_cos;
+        let turned = |v: [T; 2]| [c * v[0] - s * v[1], s * v[0] + c * v[1]];
+        let pushed = [
+            sums.normal[0] + sums.friction[0],
+            sums.normal[1] + sums.friction[1],
+        ];
+        let on_bearing = turned(pushed);
+        let pin_force = [-on_bearing[0], -on_bearing[1]];
+        let pin_out = [
+            pin_force[0],
+            pin_force[1],
+            cross(&arm_j, &pin_force) - sums.turn - sums.friction_moment
+                + cross(&pose.eps, &sums.friction),
+        ];
+        let bearing_out = [
+            on_bearing[0],
+            on_bearing[1],
+            cross(&arm_i, &on_bearing)
+                + cross(&pose.eps, &sums.normal)
+                + sums.turn
+                + sums.friction_moment,
+        ];
+        let outside = window.map_or_else(|| self.outside_bound(pose.eps), |w| w.outside);
+        if books.deepest.is_none_or(|d| d < outside) {
+            books.deepest = Some(outside);
+        }
+        let theta_i = bearing_state[2].value();
+        let resultant = |v: [f64; 2]| {
+            let (s, c) = (s.value(), c.value());
+            [c * v[0] - s * v[1], s * v[0] + c * v[1]]
+        };
+        books.normal_resultant = resultant(books.normal_resultant);
+        books.elastic_resultant = resultant(books.elastic_resultant);
+        let centre = {
+            let (x, y) = (bearing_state[0].value(), bearing_state[1].value());
+            [x + arm_i[0].value(), y + arm_i[1].value()]
+        };
+        let mut diagnostics = self.diagnostics(
+            &mut books,
+            rho,
+            e_value,
+            centre,
+            (theta_i, pin_state[2].value()),
+            phi_rate.value(),
+            centre_rate,
+        );
+        diagnostics.neglected_terms = if overlapping > 0.0 {
+            neglected / overlapping
+        } else {
+            0.0
+        };
+        (bearing_out, pin_out, diagnostics)
+    }
+
+    /// A node's share: its elastic load `G_k`, damping and friction on it, their sums, the
+    /// books and its wear load. Returns the node's normal load (N) and its rate `ġ_k` (m/s).
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    fn carry<T: Real>(
+        &self,
+        pass: &Pass<T>,
+        cell: usize,
+        pose: &Pose<T>,
+        weighed: T,
+        load_gradient: T,
+        deposit_gradient: f64,
+        sums: &mut Sums<T>,
+        books: &mut Books,
+        sink: &mut Sink<'_, '_>,
+    ) -> (f64, f64) {
+        let elastic = load_gradient.value();
+        if elastic == 0.0 {
+            return (0.0, 0.0);
+        }
+        let node = self.node_force(cell, pose, weighed, &pass.shift, pass.inverse_radius);
+        let g = node.g;
+        let rate = node.rate.value();
+        books.elastic_resultant[0] += elastic * node.m[0].value();
+        books.elastic_resultant[1] += elastic * node.m[1].value();
+        if elastic < 0.0 {
+            // A negative Simpson weight next to a zone edge: the energy's own gradient,
+            // elastic only (no damping, no friction, no wear).
+            sums.normal[0] = sums.normal[0] + load_gradient * node.m[0];
+            sums.normal[1] = sums.normal[1] + load_gradient * node.m[1];
+            sums.turn = sums.turn + load_gradient * node.d_turn;
+            books.pull += elastic * norm(&node.m).value();
+            return (0.0, rate);
+        }
+        let (factor, d_factor) = self
+            .pair
+            .normal_law()
+            .hysteresis(rate.clamp(-pass.onset, pass.onset), pass.onset);
+        // Beyond the impact's range the factor is held: no partial in the rate.
+        let d_factor = if rate.abs() > pass.onset {
+            0.0
+        } else {
+            d_factor
+        };
+        if factor <= 0.0 {
+            // Clamped: the layer does not pull; its elastic load is released as damping.
+            books.damping_power -= elastic * rate;
+            return (0.0, rate);
+        }
+        let load = load_gradient * node.rate.chain(factor, d_factor);
+        let m_norm = norm(&node.m);
+        let t_hat = [-node.m[1] / m_norm, node.m[0] / m_norm];
+        let normal = load * m_norm;
+        // The pin's point on the ray, from the bearing centre, and the relative velocity of the
+        // pin's material point there on the bearing's (bearing frame): ε̇ + Δ̇ (q − ε)⊥.
+        let t = self.tables;
+        let (cos, sin) = (t.cos[cell], t.sin[cell]);
+        let reach = g + (t.reference + t.bearing[cell]);
+        let q = [reach * cos, reach * sin];
+        let arm = [q[0] - pose.eps[0], q[1] - pose.eps[1]];
+        let relative = [
+            pose.eps_rate[0] - pose.turn_rate * arm[1],
+            pose.eps_rate[1] + pose.turn_rate * arm[0],
+        ];
+        let material = dot(&relative, &t_hat);
+        let paper = g.value().max(0.0) * pass.phi_rate.value();
+        let sliding = match self.pair.friction_sliding {
+            SlidingVelocity::Material => material,
+            SlidingVelocity::Paper if g.value() > 0.0 => g * pass.phi_rate,
+            SlidingVelocity::Paper => T::constant(0.0),
+        };
+        let friction = self
+            .pair
+            .friction_law()
+            .evaluate(sliding.value(), normal.value());
+        let friction_force = sliding.chain2(
+            normal,
+            friction.force,
+            friction.d_velocity,
+            friction.d_normal_force,
+        );
+        let along = [friction_force * t_hat[0], friction_force * t_hat[1]];
+        sums.normal[0] = sums.normal[0] + load * node.m[0];
+        sums.normal[1] = sums.normal[1] + load * node.m[1];
+        sums.friction[0] = sums.friction[0] + along[0];
+        sums.friction[1] = sums.friction[1] + along[1];
+        sums.turn = sums.turn + load * node.d_turn;
+        sums.friction_moment = sums.friction_moment + cross(&q, &along);
+
+        let (load_v, normal_v, material_v) = (load.value(), normal.value(), material.value());
+        books.damping_power += (load_v - elastic) * rate;
+        books.friction_power += friction.force * material_v;
+        books.friction_force += friction.force;
+        books.normal_resultant[0] += load_v * node.m[0].value();
+        books.normal_resultant[1] += load_v * node.m[1].value();
+        books.load += normal_v;
+        books.load_sliding += normal_v * material_v;
+        let Some(visit) = sink.visit.as_mut() else {
+            return (normal_v, rate);
+        };
+        let node_load = |normal_force| NodeLoad {
+            cell,
+            pin_angle: wrap_angle(
+                (cell as f64 + 0.5) * std::f64::consts::TAU / t.cells as f64 - pose.turn.value(),
+            ),
+            bearing_angle: (cell as f64 + 0.5) * std::f64::consts::TAU / t.cells as f64,
+            normal_force,
+            arc: t.node_arc,
+            material_sliding: material_v,
+            paper_sliding: paper,
+            stiffness: self.model.layer().line_modulus * t.node_arc * factor * m_norm.value(),
+        };
+        if pass.simpson {
+            // Held until the evaluation's totals are known (the foundation's quadrature docs).
+            let trapezoid = deposit_gradient * factor * m_norm.value();
+            if trapezoid > 0.0 {
+                books.trapezoid_load += trapezoid;
+                sink.deposits.push(node_load(trapezoid));
+            }
+        } else {
+            visit(&node_load(normal_v));
+        }
+        (normal_v, rate)
+    }
+
+    /// The diagnostics from the books, as the foundation reports them.
+    #[allow(clippy::too_many_arguments)]
+    fn diagnostics(
+        &self,
+        books: &mut Books,
+        rho: f64,
+        e: [f64; 2],
+        centre: [f64; 2],
+        (theta_bearing, theta_pin): (f64, f64),
+        phi_rate: f64,
+        centre_rate: f64,
+    ) -> ContactDiagnostics {
+        let loaded = books.load > 0.0;
+        let direction = if loaded { books.normal_resultant } else { e };
+        let contact_angle = if direction == [0.0, 0.0] {
+            0.0
+        } else {
+            direction[1].atan2(direction[0])
+        };
+        let bearing_angle = wrap_angle(contact_angle - theta_bearing);
+        let pin_angle = wrap_angle(contact_angle - theta_pin);
+        let bearing_sample = self.pair.bearing_profile().sample(bearing_angle);
+        let pin_sample = self.pair.pin_profile().sample(pin_angle);
+        let (sin, cos) = contact_angle.sin_cos();
+        let (penetration, normal_velocity) = match books.deepest {
+            Some(g) if g > 0.0 => (g, books.deepest_rate),
+            Some(g) => (g, centre_rate),
+            None => (rho + self.slack(rho), centre_rate),
+        };
+        ContactDiagnostics {
+            in_contact: penetration > 0.0,
+            penetration,
+            eccentricity: rho,
+            contact_angle,
+            bearing_angle,
+            pin_angle,
+            bearing_radius: bearing_sample.radius,
+            pin_radius: pin_sample.radius,
+            normal_velocity,
+            tangential_velocity: if loaded {
+                books.load_sliding / books.load
+            } else {
+                0.0
+            },
+            geometric_sliding_velocity: penetration.max(0.0) * phi_rate,
+            normal_force: books.normal_resultant[0].hypot(books.normal_resultant[1]),
+            elastic_force: books.elastic_resultant[0].hypot(books.elastic_resultant[1]),
+            friction_force: books.friction_force,
+            contact_point: [
+                centre[0] + bearing_sample.radius * cos,
+                centre[1] + bearing_sample.radius * sin,
+            ],
+            elastic_energy: books.energy,
+            damping_power: books.damping_power,
+            friction_power: books.friction_power,
+            bearing_slope: bearing_sample.slope,
+            pin_slope: pin_sample.slope,
+            bearing_curvature: bearing_sample.curvature,
+            pin_curvature: pin_sample.curvature,
+            contact_cells: books.cells,
+            contact_zones: books.zones,
+            narrowest_zone_cells: books.narrowest(),
+            resolution_error: books.resolution_error(),
+            neglected_terms: 0.0,
+        }
+    }
+}
+
+/// `|m|` of a normal `m = n − λ t` that leans by `λ = (r' + b)/R` off the unit:
+/// `√(1 + λ²)` by its series in `x = λ²` to `x³`. The lean is the pin's slope and the
+/// eccentricity over the radius, a few hundredths, so the next term, `5x⁴/128`, is below
+/// 1e-12 of `|m|`.
+#[inline]
+fn norm<T: Real>(m: &[T; 2]) -> T {
+    let excess = dot(m, m) - 1.0;
+    excess * (-(excess * (-(excess * 0.0625) + 0.125)) + 0.5) + 1.0
+}
+
+fn state_array(state: &BodyState) -> [f64; 6] {
+    [
+        state.x,
+        state.y,
+        state.theta,
+        state.vx,
+        state.vy,
+        state.omega,
+    ]
+}
