@@ -139,7 +139,7 @@ pub fn crossing_noise(
             let n0 = if index == 1 { n0.or(Some(0.0)) } else { n0 };
             let (n0, n1) = (n0?, noise?);
             let slope = (clearance - v0) / (cycles - c0);
-            if !(slope > 0.0 && slope.is_finite()) {
+            if !slope.is_finite() || slope <= 0.0 {
                 return None;
             }
             let t = (limit - v0) / (clearance - v0);

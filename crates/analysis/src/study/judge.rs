@@ -305,7 +305,7 @@ impl CycleMaxima {
             x: Vec::new(),
             y: Vec::new(),
         };
-        if !(period > 0.0) {
+        if !period.is_finite() || period <= 0.0 {
             return maxima;
         }
         for (k, t) in r.times.iter().enumerate() {
