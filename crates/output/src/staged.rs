@@ -141,11 +141,12 @@ impl StagedDir {
         let held = take_lock(&target, &lock)?;
         // Under the lock, so no other run starts writing in between.
         let checked = check_nesting(&target).and_then(|()| {
-            match target.exists() {
-                true => foreign_entry(&target, holds),
-                false => Ok(None),
-            }
-            .and_then(|foreign| match foreign {
+            let foreign = if target.exists() {
+                foreign_entry(&target, holds)
+            } else {
+                Ok(None)
+            };
+            foreign.and_then(|foreign| match foreign {
                 Some(foreign) => Err(folder_err(&format!(
                     "holds {foreign:?}, which wearsim does not write there; the output replaces \
                      the whole folder, so choose a new or empty folder"
