@@ -48,8 +48,8 @@ pub fn scene_check(name: &str, s: &ValidScene, check: &AssemblyCheck) {
         } else {
             format!(
                 "clearance {} mm, bearing R = {} mm, wear {}",
-                c.clearance * 1e3,
-                c.bearing_radius * 1e3,
+                millimetres(c.clearance, 0),
+                millimetres(c.bearing_radius, 0),
                 if c.wear.is_some() { "on" } else { "off" }
             )
         };
@@ -254,6 +254,20 @@ fn micrometres(metres: f64, noise: Option<f64>) -> String {
     }
 }
 
+/// `metres` in millimetres as a person reads it: at least `min_decimals` decimals, as many
+/// more as the value needs to read back within 1e-9 of itself (up to nine; `0.5000001`), so
+/// the round-off of the conversion (`0.5000001000000001`) is never printed.
+fn millimetres(metres: f64, min_decimals: usize) -> String {
+    let value = metres * 1e3;
+    (min_decimals..=9)
+        .map(|d| format!("{value:.d$}"))
+        .find(|t| {
+            t.parse::<f64>()
+                .is_ok_and(|v| (v - value).abs() <= 1e-9 * value.abs())
+        })
+        .unwrap_or_else(|| format!("{value:.4e}"))
+}
+
 /// When joint `name`'s largest local clearance reaches the maintenance limit, in a line.
 fn clearance_limit_line(
     name: &str,
@@ -261,14 +275,7 @@ fn clearance_limit_line(
     cycles_applied: f64,
 ) -> String {
     // Two decimals as in "1.00 mm", more when the limit needs them (0.501 mm).
-    let value = limit.limit_m * 1e3;
-    let mm = (2..=6)
-        .map(|d| format!("{value:.d$}"))
-        .find(|t| {
-            t.parse::<f64>()
-                .is_ok_and(|v| (v - value).abs() <= 1e-9 * value)
-        })
-        .unwrap_or_else(|| format!("{value:e}"));
+    let mm = millimetres(limit.limit_m, 2);
     match (limit.cycles, limit.cycles_noise) {
         (Some(c), Some(n)) if c > 0.0 => {
             format!("joint {name} reaches {mm} mm clearance after {c:.1e} ± {n:.1e} cycles")

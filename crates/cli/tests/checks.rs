@@ -234,3 +234,20 @@ fn undriven_mechanism_is_refused_naming_the_scene_joints_and_drivers() {
         "{e}"
     );
 }
+
+/// Millimetres in `check`'s lines read as given, without the conversion's round-off
+/// (`0.5000001000000001 mm`).
+#[test]
+fn check_prints_clearances_as_given() {
+    let dir = scratch("mm");
+    for (clearance, says) in [("0.0005000001", "0.5000001 mm"), ("0.0005", "0.5 mm")] {
+        let scene = lgres_with(
+            &dir,
+            &format!("[[clearance_joints]]\nname = \"A\"\nclearance = {clearance}\n"),
+        );
+        let o = check(&scene);
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert!(o.status.success(), "{}", stderr(&o));
+        assert!(out.contains(&format!("clearance {says}")), "{out}");
+    }
+}

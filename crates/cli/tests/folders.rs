@@ -279,3 +279,172 @@ fn special_wear_files_are_refused_and_leave_nothing_behind() {
         );
     }
 }
+
+/// Every command that writes an output folder, in its cheapest form (the arguments before
+/// `--out`); `sweep_file` is a sweep file for `sweep`.
+fn folder_writers(sweep_file: &Path) -> Vec<Vec<String>> {
+    let precision = quick_precision("");
+    [
+        &["run", "slider-crank", "--cycles", "1", "--no-animation"][..],
+        &[
+            "study",
+            "wear-stages",
+            "--stage-cycles",
+            "1e4",
+            "--cycles",
+            "1",
+            "--cycles-per-stage",
+            "1",
+        ][..],
+        &["sweep", sweep_file.to_str().unwrap()][..],
+        &precision[..precision.len() - 2],
+        &["stress", "--quick"][..],
+    ]
+    .iter()
+    .map(|args| args.iter().map(ToString::to_string).collect())
+    .collect()
+}
+
+/// A one-sample sweep file of the slider-crank in `dir`.
+fn tiny_sweep(dir: &Path) -> std::path::PathBuf {
+    common::write_file(
+        dir,
+        "tiny.toml",
+        "scene = \"slider-crank\"\nmetrics = [\"response.joints.rod-slider.max_penetration_m\"]\n\
+         [run]\ncycles = 1\n[[vary]]\npath = \"clearance_joints.rod-slider.clearance\"\n\
+         values = [4e-4]\n",
+    )
+}
+
+/// Output folders nested in either direction, under every command that writes one: while
+/// another live run holds a folder that contains `--out` (one or two levels up) or that lies
+/// inside it (one or two levels down), the command is refused at once naming that folder, and
+/// leaves no lock or staging of its own.
+#[test]
+fn folders_inside_or_around_a_held_folder_are_refused_under_every_command() {
+    let dir = scratch("nested");
+    let sweep_file = tiny_sweep(&dir);
+    for args in folder_writers(&sweep_file) {
+        for depth in ["inner", "a/inner"] {
+            let case = format!("{} {depth}", args[0]);
+            let outer = dir.join("outer");
+            let inner = outer.join(depth);
+            let command = |out: &Path| {
+                let mut all = args.clone();
+                all.extend(["--out".into(), out.to_str().unwrap().into()]);
+                Command::new(env!("CARGO_BIN_EXE_wearsim"))
+                    .args(&all)
+                    .output()
+                    .unwrap()
+            };
+            // Another run holds the outer folder: --out inside it is refused.
+            let o = LockHolder::live(&dir.join(".outer.lock")).refuses(|| command(&inner));
+            assert!(
+                stderr(&o).contains("which contains it"),
+                "{case}: {}",
+                stderr(&o)
+            );
+            assert!(!inner.exists(), "{case}");
+            let parent = inner.parent().unwrap();
+            assert!(listing(parent).is_empty() || parent == outer, "{case}");
+            std::fs::remove_file(dir.join(".outer.lock")).unwrap();
+            std::fs::remove_dir_all(&outer).unwrap();
+            // Another run holds a folder inside: --out around it is refused.
+            std::fs::create_dir_all(&inner).unwrap();
+            let lock = parent.join(".inner.lock");
+            let o = LockHolder::live(&lock).refuses(|| command(&outer));
+            assert!(stderr(&o).contains("inside it"), "{case}: {}", stderr(&o));
+            assert_eq!(listing(parent), [".inner.lock", "inner"], "{case}");
+            std::fs::remove_dir_all(&outer).unwrap();
+            assert_eq!(listing(&dir), ["tiny.toml"], "{case}: lock or staging left");
+        }
+    }
+}
+
+/// `--out` naming the current folder, or a folder that contains it, is refused (a run
+/// replaces its folder whole: the shell would be left in a deleted folder), by the commands
+/// whose folder is replaced; nothing is created.
+#[cfg(unix)]
+#[test]
+fn the_current_folder_or_one_around_it_is_refused_as_out() {
+    use std::os::unix::fs::MetadataExt;
+    let dir = scratch("cwd");
+    let here = dir.join("here");
+    std::fs::create_dir_all(&here).unwrap();
+    let inode = std::fs::metadata(&here).unwrap().ino();
+    let sweep_file = tiny_sweep(&dir);
+    for args in folder_writers(&sweep_file).into_iter().take(2) {
+        let (absolute, around) = (here.to_str().unwrap(), dir.to_str().unwrap());
+        for (out, says) in [
+            (".", "is the current folder or contains it"),
+            ("./", "is the current folder or contains it"),
+            (absolute, "is the current folder or contains it"),
+            (around, "is the current folder or contains it"),
+            ("..", "names no folder of its own"),
+            ("../here", "must not contain `..`"),
+        ] {
+            let o = Command::new(env!("CARGO_BIN_EXE_wearsim"))
+                .args(&args)
+                .args(["--out", out])
+                .current_dir(&here)
+                .output()
+                .unwrap();
+            let case = format!("{} --out {out}", args[0]);
+            assert_case_exit(&case, &o, 2, says);
+            assert_eq!(std::fs::metadata(&here).unwrap().ino(), inode, "{case}");
+            assert!(listing(&here).is_empty(), "{case}");
+            assert_eq!(listing(&dir), ["here", "tiny.toml"], "{case}");
+        }
+    }
+    // The root has no folder name; the message does not claim `.` is refused.
+    let o = wearsim(&["run", "slider-crank", "--out", "/"]);
+    assert_exit(&o, 2, "names no folder of its own");
+    assert!(!stderr(&o).contains("`.`"), "{}", stderr(&o));
+}
+
+/// A lock that cannot be written (a full disk; here a file size limit of 0, which fails the
+/// same write) is removed again, as every other failure removes it.
+#[cfg(unix)]
+#[test]
+fn a_lock_that_cannot_be_written_is_not_left_behind() {
+    let (dir, out) = scratch_out("full");
+    let o = Command::new("sh")
+        .args([
+            "-c",
+            "trap '' XFSZ; ulimit -f 0; exec \"$0\" run slider-crank --cycles 1 --no-animation \
+             --out \"$1\"",
+            env!("CARGO_BIN_EXE_wearsim"),
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_ne!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains(".out.lock"), "{}", stderr(&o));
+    assert!(listing(&dir).is_empty(), "left: {:?}", listing(&dir));
+}
+
+/// `--surfaces` for a scene none of whose joints wears is refused naming the flag (it was
+/// accepted and ignored), before anything is written.
+#[test]
+fn surfaces_for_a_scene_without_wear_are_refused() {
+    let dir = scratch("no-wear");
+    let surfaces = dir.join("worn");
+    std::fs::create_dir_all(&surfaces).unwrap();
+    for scene in ["slider-crank", "lgres-ideal"] {
+        let o = wearsim_out(
+            &[
+                "run",
+                scene,
+                "--cycles",
+                "1",
+                "--no-animation",
+                "--surfaces",
+                surfaces.to_str().unwrap(),
+            ],
+            &dir.join("out"),
+        );
+        assert_case_exit(scene, &o, 2, "--surfaces");
+        assert_case_exit(scene, &o, 2, "no clearance joint with wear");
+        assert_eq!(listing(&dir), ["worn"], "{scene}");
+    }
+}

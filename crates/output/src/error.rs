@@ -75,6 +75,26 @@ pub enum OutputError {
         /// Process holding the lock, once it has written it.
         pid: Option<u32>,
     },
+    /// Another run is writing a folder inside this output folder, or one that contains it:
+    /// whichever replaces its folder first would delete or hide the other's output.
+    #[error(
+        "output folder {path}: another wearsim run ({}) is writing {other}, {} (lock file \
+         {lock}); wait for it or choose another --out",
+        pid.map_or_else(|| "its process id not yet written".to_string(), |p| format!("process {p}")),
+        if *around { "which contains it" } else { "inside it" }
+    )]
+    NestedLocked {
+        /// The folder.
+        path: PathBuf,
+        /// The other run's folder.
+        other: PathBuf,
+        /// Whether `other` contains `path` (else `path` contains `other`).
+        around: bool,
+        /// The other run's lock file.
+        lock: PathBuf,
+        /// Process holding the lock, once it has written it.
+        pid: Option<u32>,
+    },
     /// A name would not be a plain file name (it could create folders or escape the output
     /// folder); validation normally rejects it first.
     #[error("output file name part {name:?} is not a plain file name")]

@@ -131,16 +131,33 @@ impl StagedDir {
             path: target.clone(),
             reason: reason.to_string(),
         };
-        if target.exists()
-            && let Some(foreign) = foreign_entry(&target, holds)?
-        {
-            return Err(folder_err(&format!(
-                "holds {foreign:?}, which wearsim does not write there; the output replaces \
-                 the whole folder, so choose a new or empty folder"
-            )));
+        if current_folder_within(&target) {
+            return Err(folder_err(
+                "is the current folder or contains it: the output replaces the whole folder, \
+                 which would leave the shell in a deleted one; choose a folder inside it",
+            ));
         }
         let lock = OutputFolder::lock_file(parent, &name);
         let held = take_lock(&target, &lock)?;
+        // Under the lock, so no other run starts writing in between.
+        let checked = check_nesting(&target).and_then(|()| {
+            let foreign = if target.exists() {
+                foreign_entry(&target, holds)
+            } else {
+                Ok(None)
+            };
+            foreign.and_then(|foreign| match foreign {
+                Some(foreign) => Err(folder_err(&format!(
+                    "holds {foreign:?}, which wearsim does not write there; the output replaces \
+                     the whole folder, so choose a new or empty folder"
+                ))),
+                None => Ok(()),
+            })
+        });
+        if let Err(e) = checked {
+            let _ = fs::remove_file(&lock);
+            return Err(e);
+        }
         remove_dead_staging(parent, &name);
         let staging = parent.join(format!(".{name}.staging-{}", std::process::id()));
         let created = fs::remove_dir_all(&staging)
@@ -260,6 +277,10 @@ impl FolderLock {
         } = OutputFolder::new(target)?;
         let lock = OutputFolder::lock_file(&parent, &name);
         let held = take_lock(&target, &lock)?;
+        if let Err(e) = check_nesting(&target) {
+            let _ = fs::remove_file(&lock);
+            return Err(e);
+        }
         active().active.push(Active {
             target,
             staging: None,
@@ -301,7 +322,9 @@ impl OutputFolder {
             reason: reason.to_string(),
         };
         let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
-            return Err(folder_err("needs a folder name (not `/`, `.` or `..`)"));
+            return Err(folder_err(
+                "names no folder of its own (the root, or a path ending in `..`)",
+            ));
         };
         let (parent, name) = (parent.to_path_buf(), name.to_string_lossy().into_owned());
         if target
@@ -500,15 +523,113 @@ fn take_lock(target: &Path, lock: &Path) -> Result<File, OutputError> {
         if !names_file(lock, &file) {
             continue;
         }
-        file.set_len(0)
+        // The lock is ours: a failure to write it (a full disk) removes the file, as every
+        // later failure does.
+        if let Err(e) = file
+            .set_len(0)
             .and_then(|()| write!(file, "{}", std::process::id()))
-            .map_err(io_err(lock))?;
+        {
+            let _ = fs::remove_file(lock);
+            return Err(io_err(lock)(e));
+        }
         return Ok(file);
     }
     Err(folder_err(format!(
         "cannot take the lock file {}: it is replaced again and again",
         lock.display()
     )))
+}
+
+/// Whether the current folder is `target` or lies inside it (`--out .`, `--out ..`).
+fn current_folder_within(target: &Path) -> bool {
+    match (
+        std::env::current_dir().and_then(fs::canonicalize),
+        fs::canonicalize(target),
+    ) {
+        (Ok(cwd), Ok(target)) => cwd.starts_with(target),
+        _ => false,
+    }
+}
+
+/// How deep [`check_nesting`] looks for other runs' lock files inside an output folder (a
+/// study's folder holds its scenes' folders one level down; deeper is far beyond any output).
+const NESTING_DEPTH: usize = 8;
+
+/// Most entries [`check_nesting`] reads inside an output folder: an output holds a few hundred
+/// files, a folder of far more is no output (a run refuses its foreign files next).
+const NESTING_ENTRIES: usize = 100_000;
+
+/// Refuses `target` while another live writer holds a folder that contains it or that lies
+/// inside it (the lock of `target` itself taken): one of them replaces its folder whole at the
+/// end, which would delete or hide the other's output. The other's lock files are found where
+/// it keeps them, beside its folder: beside every folder on `target`'s real path, and inside
+/// `target` (to [`NESTING_DEPTH`] levels, links not followed).
+fn check_nesting(target: &Path) -> Result<(), OutputError> {
+    let real = match (target.parent().map(fs::canonicalize), target.file_name()) {
+        (Some(Ok(parent)), Some(name)) => parent.join(name),
+        _ => target.to_path_buf(),
+    };
+    for folder in real.ancestors().skip(1) {
+        let (Some(parent), Some(name)) = (folder.parent(), folder.file_name()) else {
+            continue;
+        };
+        let lock = OutputFolder::lock_file(parent, &name.to_string_lossy());
+        if let Some(pid) = held_elsewhere(&lock) {
+            return Err(OutputError::NestedLocked {
+                path: target.to_path_buf(),
+                other: folder.to_path_buf(),
+                around: true,
+                lock,
+                pid,
+            });
+        }
+    }
+    let mut folders = vec![(real, 0)];
+    let mut budget = NESTING_ENTRIES;
+    while let Some((dir, depth)) = folders.pop() {
+        let Ok(entries) = fs::read_dir(&dir) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            budget = match budget.checked_sub(1) {
+                Some(b) => b,
+                None => return Ok(()),
+            };
+            let Ok(kind) = entry.file_type() else {
+                continue;
+            };
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if kind.is_dir() && depth < NESTING_DEPTH {
+                folders.push((entry.path(), depth + 1));
+            } else if kind.is_file()
+                && let Some(folder) = name.strip_prefix('.').and_then(|n| n.strip_suffix(".lock"))
+                && let Some(pid) = held_elsewhere(&entry.path())
+            {
+                return Err(OutputError::NestedLocked {
+                    path: target.to_path_buf(),
+                    other: dir.join(folder),
+                    around: false,
+                    lock: entry.path(),
+                    pid,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `Some(process id, once written)` when another open file holds the lock on `lock`; `None`
+/// when nothing does (or no such file). A free lock is taken for an instant and let go.
+fn held_elsewhere(lock: &Path) -> Option<Option<u32>> {
+    let file = File::open(lock).ok()?;
+    match file.try_lock_shared() {
+        Err(fs::TryLockError::WouldBlock) => Some(
+            fs::read_to_string(lock)
+                .ok()
+                .and_then(|s| s.trim().parse::<u32>().ok()),
+        ),
+        _ => None,
+    }
 }
 
 /// Whether `path` names the open `file` (not a file created at the path since).

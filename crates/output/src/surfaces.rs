@@ -87,6 +87,11 @@ pub fn load_last_stage(
         dir: dir.to_path_buf(),
         source,
     })?;
+    if !unworn.iter().any(Option::is_some) {
+        return Err(SurfacesError::NothingWears {
+            dir: dir.to_path_buf(),
+        });
+    }
     let names: Vec<String> = entries
         .filter_map(Result::ok)
         .filter_map(|e| e.file_name().into_string().ok())
@@ -110,15 +115,18 @@ pub fn load_last_stage(
         .collect()
 }
 
-/// `k` of a file named `wear_<joint>_stage<k>.csv`.
+/// `k` of a file named `wear_<joint>_stage<k>.csv` exactly as a run names it
+/// ([`JointFile::StageWear`]): `wear_A_stage+2.csv` or `wear_A_stage02.csv` is no stage file
+/// (read as stage 2, the run would then look for `wear_A_stage2.csv`).
 fn stage_of(file_name: &str, joint: &str) -> Option<u32> {
-    file_name
+    let k: u32 = file_name
         .strip_prefix("wear_")?
         .strip_prefix(joint)?
         .strip_prefix("_stage")?
         .strip_suffix(".csv")?
         .parse()
-        .ok()
+        .ok()?;
+    (JointFile::StageWear(k as usize).name(joint) == file_name).then_some(k)
 }
 
 /// Bytes a wear file may hold: a row of three full-precision numbers is under 80 bytes, and a

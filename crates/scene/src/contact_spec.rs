@@ -105,11 +105,20 @@ impl<'de> Deserialize<'de> for ContactSpec {
             .or_insert_with(|| Self::default().name().into())
             .clone();
         // The model is named beside serde's words, which say only what the table lacks or
-        // holds too many of ("unknown field `cells`, there are no fields").
-        toml::Value::Table(table)
-            .try_into::<Tagged>()
-            .map(Self::from)
-            .map_err(|e| serde::de::Error::custom(format!("{} (model = {model})", e.message())))
+        // holds too many of ("unknown field `cells`, there are no fields"); a choice given
+        // another type is named with what it takes (`super::type_errors`).
+        let tagged = toml::Value::Table(table.clone()).try_into::<Tagged>();
+        tagged.map(Self::from).map_err(|e| {
+            // A tag of another type is `model`'s; inside the tagged table serde keeps no path.
+            let field = if model.is_str() { "" } else { "model" };
+            let message = super::type_errors::readable_in::<Tagged>(e.message(), &table, field);
+            let field = if field.is_empty() {
+                String::new()
+            } else {
+                format!("{field}: ")
+            };
+            serde::de::Error::custom(format!("{field}{message} (model = {model})"))
+        })
     }
 }
 

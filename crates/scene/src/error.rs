@@ -83,14 +83,24 @@ pub enum SceneError {
     },
     /// The scene merged with its `extends` base has a value of the wrong type or a missing or
     /// unknown key; `path` is the field (in the merged scene).
-    #[error("in scene {origin} (merged with its `extends` base): {path}{}: {source}", line.map_or(String::new(), |l| format!(" (line {l})")))]
+    #[error(
+        "in scene {origin} (merged with its `extends` base): {path}{}: {source}",
+        match (line, file) {
+            (Some(l), Some(f)) => format!(" (line {l} of {f})"),
+            (Some(l), None) => format!(" (line {l})"),
+            _ => String::new(),
+        }
+    )]
     Merged {
         /// File path or scene name.
         origin: String,
         /// Field path, e.g. `bodies[2].mass`.
         path: String,
-        /// Line in the extending file, when the field is given there.
+        /// Line of the field in the file that gives it last (the extending file's unless
+        /// `file` names a base).
         line: Option<usize>,
+        /// The base file (or built-in scene) of `line`, when not the extending file.
+        file: Option<String>,
         /// Cause (boxed: keeps the error type small).
         source: Box<toml::de::Error>,
     },

@@ -59,16 +59,25 @@ fn parse(
         // Deserialize from the text itself so type errors keep their line and column.
         return toml::from_str(text).map_err(toml_err(origin));
     }
-    let merged = resolve_extends(table, origin, dir, builtins, 0)?;
+    let mut bases = Vec::new();
+    let merged = resolve_extends(table, origin, dir, builtins, 0, &mut bases)?;
     // The merged table has no line numbers: keep the field path of a type error, and find
-    // its line in the extending file when the field is written there.
+    // its line in the file that gives the field last: the extending file, else its base,
+    // and so on down the chain.
     serde_path_to_error::deserialize(toml::Value::Table(merged.clone())).map_err(|e| {
         let path = e.path().to_string();
+        let at = std::iter::once((origin.to_string(), text.to_string()))
+            .chain(bases)
+            .find_map(|(file, text)| line_of(&text, &merged, &path).map(|line| (file, line)));
+        let (file, line) = at.map_or((None, None), |(file, line)| {
+            ((file != origin).then_some(file), Some(line))
+        });
         SceneError::Merged {
             origin: origin.to_string(),
-            line: line_of(text, &merged, &path),
+            line,
+            file,
+            source: Box::new(super::type_errors::readable(e.into_inner(), &merged, &path)),
             path,
-            source: Box::new(e.into_inner()),
         }
     })
 }
@@ -127,12 +136,14 @@ fn line_of(text: &str, merged: &toml::Table, path: &str) -> Option<usize> {
 }
 
 /// `table` with its `extends` chain merged in, as raw TOML (deserialized once, at the end).
+/// Each base's origin and text is pushed onto `bases`, nearest first.
 fn resolve_extends(
     mut table: toml::Table,
     origin: &str,
     dir: Option<&Path>,
     builtins: &[Builtin],
     depth: usize,
+    bases: &mut Vec<(String, String)>,
 ) -> Result<toml::Table, SceneError> {
     let Some(target) = table.remove("extends") else {
         return Ok(table);
@@ -155,7 +166,15 @@ fn resolve_extends(
         return Err(fail("no built-in scene or file of this name"));
     };
     let base: toml::Table = toml::from_str(&text).map_err(toml_err(&base_origin))?;
-    let mut base = resolve_extends(base, &base_origin, base_dir.as_deref(), builtins, depth + 1)?;
+    bases.push((base_origin.clone(), text));
+    let mut base = resolve_extends(
+        base,
+        &base_origin,
+        base_dir.as_deref(),
+        builtins,
+        depth + 1,
+        bases,
+    )?;
     merge(&mut base, table, "", origin)?;
     Ok(base)
 }
@@ -292,7 +311,7 @@ pub fn merged_table(
     builtins: &[Builtin],
 ) -> Result<toml::Table, SceneError> {
     let table: toml::Table = toml::from_str(text).map_err(toml_err(origin))?;
-    resolve_extends(table, origin, dir, builtins, 0)
+    resolve_extends(table, origin, dir, builtins, 0, &mut Vec::new())
 }
 
 /// A scene file's [`merged_table`] (file `extends` relative to its folder) and its file stem,
@@ -316,12 +335,13 @@ pub(crate) fn file_stem_name(path: &Path) -> String {
 /// Deserialize and validate a scene table (e.g. from [`merged_table`], edited); a type error
 /// or unknown key names its field path.
 pub fn from_table(table: toml::Table, origin: &str) -> Result<ValidScene, SceneError> {
-    let scene: Scene =
-        serde_path_to_error::deserialize(toml::Value::Table(table)).map_err(|e| {
+    let scene: Scene = serde_path_to_error::deserialize(toml::Value::Table(table.clone()))
+        .map_err(|e| {
+            let path = e.path().to_string();
             SceneError::Field {
                 origin: origin.to_string(),
-                path: e.path().to_string(),
-                source: Box::new(e.into_inner()),
+                source: Box::new(super::type_errors::readable(e.into_inner(), &table, &path)),
+                path,
             }
         })?;
     ValidScene::new(scene, origin)

@@ -89,6 +89,7 @@ pub mod file_names;
 pub mod limits;
 mod named;
 mod run_settings;
+mod type_errors;
 mod types;
 mod valid;
 mod validate;

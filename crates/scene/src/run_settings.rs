@@ -63,7 +63,8 @@ pub struct RunSettings {
     /// ([`wear::Extrapolation::Controlled`]): a predictor–corrector in cycles whose step
     /// follows an error estimate with the runs' sampling noise taken out, and which keeps the
     /// stage's own sampling noise near the tolerance. `max_clearance_change` then bounds the
-    /// first sub-step's predictor and is the smallest the estimate cuts one to; no predictor
+    /// first sub-step's predictor and is the smallest the estimate or the noise bound cuts one
+    /// to (a tolerance tighter than the noise allows runs at that floor); no predictor
     /// changes a local clearance by more than
     /// [`wear::Extrapolation::DEFAULT_CONTROLLED_MAX_FRACTION`] (or
     /// `max_clearance_change`, if larger); the shape bounds do not apply. The noise is measured

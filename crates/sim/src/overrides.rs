@@ -87,6 +87,29 @@ impl RunOverrides {
         ("wear_tolerance", "run.wear_tolerance"),
     ];
 
+    /// The scene fields every run with these overrides replaces, as in [`Self::SCENE_FIELDS`]:
+    /// those given, and `run.trajectories` whenever [`Self::run_options`] sets the trajectories
+    /// (also when not given, with `cycles_per_stage` not given either). A scene value there
+    /// never runs, so a sweep must not vary it. `cycles_per_stage` is not among them: the
+    /// scene's `K` still sets what a stage stands for (`K × amplification`).
+    pub fn replaced_fields(&self) -> Vec<(&'static str, &'static str)> {
+        let replaced = [
+            self.cycles.is_some(),
+            self.stages.is_some(),
+            self.rtol.is_some(),
+            self.max_steps.is_some(),
+            self.max_wall_time.is_some(),
+            false,
+            self.run_options().trajectories.is_some(),
+            self.wear_tolerance.is_some(),
+        ];
+        Self::SCENE_FIELDS
+            .into_iter()
+            .zip(replaced)
+            .filter_map(|(field, replaced)| replaced.then_some(field))
+            .collect()
+    }
+
     /// `scene` with the overridden fields set, checked again if that changed it; `origin` names
     /// the scene and where the overrides came from (e.g. "lgres with command-line overrides").
     pub fn apply(&self, scene: ValidScene, origin: &str) -> Result<ValidScene, SceneError> {

@@ -35,6 +35,15 @@ pub enum SurfacesError {
         /// Cause.
         source: std::io::Error,
     },
+    /// The scene has no clearance joint that wears: no surface in the folder would be used.
+    #[error(
+        "--surfaces {dir}: the scene has no clearance joint with wear, so no surface there \
+         would be used (give a scene whose joints wear, or leave out --surfaces)"
+    )]
+    NothingWears {
+        /// The folder.
+        dir: PathBuf,
+    },
     /// No wear file for a joint that wears.
     #[error(
         "--surfaces {dir}: no wear_{joint}_stage<k>.csv for clearance joint {joint:?} (a run of \

@@ -28,7 +28,11 @@
 //! varies fastest). An integer field of the scene (`run.cycles`, `clearance_joints.A.wear.cells`)
 //! takes whole numbers in its type's range only: another grid value, or a distribution on it,
 //! makes the sweep file bad input; nothing is rounded. A sample whose metric is NaN or infinite
-//! is a failed row, and `--resume` runs again a row holding one. A random sample's values depend on the seed and the sample's index only
+//! is a failed row, and `--resume` runs again a row holding one. A varied path that the run
+//! settings set in every sample (a field the `[run]` table gives; `run.trajectories` unless it
+//! gives `cycles_per_stage`) is refused, so a row's inputs are what its run took; each row
+//! records the base scene and `[run]` settings it ran with ([`Sweep::settings_id`]), and a
+//! resume refuses rows of other settings. A random sample's values depend on the seed and the sample's index only
 //! (a ChaCha stream per sample), so any engine, thread or worker count gives the same rows.
 //! [`Sweep::run_sample`] runs one sample (what a Dask task calls); [`run_local`] runs all on
 //! local threads and writes `samples.csv` after every finished sample (atomically), so an

@@ -214,15 +214,24 @@ fn check_run_table(
         Ok(scene) => match sim::scene_as_run(scene_name, &scene, &overrides.run_options()) {
             Ok(_) => return Ok(()),
             Err(RunError::Scene(e)) => e,
-            Err(RunError::Trajectories { trajectories, .. }) => {
+            Err(RunError::Trajectories {
+                trajectories,
+                cycles_per_stage,
+            }) => {
+                // K as the samples run it: the table's, else the run's default (not the
+                // scene's, which sets only what a stage stands for).
+                let k_from = if overrides.cycles_per_stage.is_some() {
+                    "this table's run.cycles_per_stage"
+                } else {
+                    "the run's default; set run.cycles_per_stage in this table"
+                };
                 return Err(SweepError::Field {
                     field: "run.trajectories".into(),
                     value: trajectories.to_string(),
-                    reason: RunError::Trajectories {
-                        trajectories,
-                        cycles_per_stage: scene.run.cycles_per_stage,
-                    }
-                    .to_string(),
+                    reason: format!(
+                        "must divide the simulated cycles per wear stage K = {cycles_per_stage} \
+                         ({k_from}): each trajectory simulates whole drive cycles"
+                    ),
                 });
             }
             Err(other) => {
@@ -252,6 +261,40 @@ fn check_run_table(
         }
     }
     Err(refused.into())
+}
+
+/// Refuses an input whose path a run setting replaces in every sample
+/// ([`RunOverrides::replaced_fields`]): the row would record the varied value beside results of
+/// another one.
+fn check_not_replaced(inputs: &[Input], overrides: &RunOverrides) -> Result<(), SweepError> {
+    let replaced = overrides.replaced_fields();
+    for (k, input) in inputs.iter().enumerate() {
+        for p in &input.paths {
+            let at = path::segments(p);
+            let Some((field, scene_path)) = replaced
+                .iter()
+                .find(|(_, scene_path)| at == path::segments(scene_path))
+            else {
+                continue;
+            };
+            let by = if *field == "trajectories" && overrides.trajectories.is_none() {
+                "the run's default trajectories (set run.cycles_per_stage in the [run] table to \
+                 run the scene's)"
+                    .to_string()
+            } else {
+                format!("the [run] table's {field}")
+            };
+            return Err(SweepError::Field {
+                field: format!("vary[{k}].path"),
+                value: format!("{p:?}"),
+                reason: format!(
+                    "{scene_path} is set by {by} in every sample, so the varied value would not \
+                     run: vary it or set it, not both"
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Top-level keys of `summary.json`: a metric must start with one.
@@ -333,6 +376,13 @@ impl Sweep {
             });
         }
         for (k, m) in file.metrics.iter().enumerate() {
+            if m.chars().any(char::is_control) {
+                return Err(SweepError::Field {
+                    field: format!("metrics[{k}]"),
+                    value: format!("{m:?}"),
+                    reason: "must not contain control characters (it names a column)".into(),
+                });
+            }
             let first = path::segments(m).and_then(|s| s.into_iter().next());
             if !first.is_some_and(|f| SUMMARY_KEYS.contains(&f.as_str())) {
                 return Err(SweepError::Field {
@@ -357,6 +407,7 @@ impl Sweep {
                 });
             }
         }
+        check_not_replaced(&inputs, &overrides)?;
         let mut wholes = HashMap::new();
         for (k, input) in inputs.iter().enumerate() {
             for p in &input.paths {
@@ -400,6 +451,25 @@ impl Sweep {
             }
         }
         Ok(sweep)
+    }
+
+    /// What every sample runs with besides its inputs, as a fingerprint (16 hex digits): the
+    /// base scene (merged with its `extends`) and the `[run]` settings. Each row of the rows
+    /// file records it, so a resume whose base scene or `[run]` table changed is refused
+    /// instead of keeping rows that ran with other settings ([`table::read_rows`]).
+    ///
+    /// [`table::read_rows`]: crate::table::read_rows
+    pub fn settings_id(&self) -> String {
+        // FNV-1a: stable across builds and platforms (std's hasher is not).
+        let text = format!(
+            "{}\n[run]\n{:?}",
+            toml::to_string(&self.base).unwrap_or_default(),
+            self.overrides
+        );
+        let hash = text.bytes().fold(0xcbf2_9ce4_8422_2325_u64, |h, b| {
+            (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+        });
+        format!("{hash:016x}")
     }
 
     /// Number of samples.

@@ -5,7 +5,8 @@ use serde::{Deserialize, Serialize};
 use crate::error::SweepError;
 
 /// Columns every rows file has besides the inputs and metrics.
-pub const FIXED_COLUMNS: [&str; 4] = ["sample", "status", "error", "wall_time_s"];
+/// (`settings`: the [`crate::Sweep::settings_id`] the row ran with.)
+pub const FIXED_COLUMNS: [&str; 5] = ["sample", "status", "error", "settings", "wall_time_s"];
 
 /// Whether a sample ran.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -154,6 +154,14 @@ impl VaryFile {
         if name.is_empty() || name.contains(['\n', '\r']) {
             return Err(bad(f("name"), &name, "must be a non-empty single line"));
         }
+        if name.chars().any(char::is_control) {
+            return Err(bad(
+                f("name"),
+                &name,
+                "must not contain control characters (it names a column of samples.csv and the \
+                 page)",
+            ));
+        }
         let given: Vec<&str> = [
             ("low", self.low),
             ("high", self.high),

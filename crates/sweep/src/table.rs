@@ -1,6 +1,6 @@
 //! The rows of a sweep and their CSV file: `sample`, one column per input, one per metric,
-//! `status`, `error`, `wall_time_s`. Numbers are written in the shorter of plain and
-//! scientific notation, both exact (they read back to the same bits); an empty cell is a
+//! `status`, `error`, `settings` (what the row ran with besides its inputs), `wall_time_s`.
+//! Numbers are written in the shorter of plain and scientific notation, both exact (they read back to the same bits); an empty cell is a
 //! metric the sample has no value for.
 
 use std::path::{Path, PathBuf};
@@ -34,6 +34,7 @@ pub fn write_rows(sweep: &Sweep, rows: &[Row], path: &Path) -> Result<PathBuf, O
         path: path.to_path_buf(),
         source,
     };
+    let settings = sweep.settings_id();
     let mut w = csv::Writer::from_writer(AtomicFile::create(path)?);
     w.write_record(header(sweep)).map_err(csv_err)?;
     for r in rows {
@@ -52,6 +53,7 @@ pub fn write_rows(sweep: &Sweep, rows: &[Row], path: &Path) -> Result<PathBuf, O
             }
             None => r.error.clone(),
         });
+        cells.push(settings.clone());
         cells.push(format!("{:.3}", r.wall_time_s));
         w.write_record(&cells).map_err(csv_err)?;
     }
@@ -63,8 +65,8 @@ pub fn write_rows(sweep: &Sweep, rows: &[Row], path: &Path) -> Result<PathBuf, O
 }
 
 /// Read the rows of `sweep` back from `path` (for `--resume`): the header must be this
-/// sweep's, each row's inputs those of its sample (the same file and seed), and no sample
-/// may have two rows. `path` must be a regular file (or a link to one) of at most
+/// sweep's, each row's inputs those of its sample (the same file and seed) and its settings
+/// this sweep's (the same base scene and `[run]` table), and no sample may have two rows. `path` must be a regular file (or a link to one) of at most
 /// [`MAX_ROWS_FILE_BYTES`]: a FIFO would block the read, a device or a sparse giant would
 /// fill the memory.
 pub fn read_rows(sweep: &Sweep, path: &Path) -> Result<Vec<Row>, SweepError> {
@@ -162,8 +164,20 @@ pub fn read_rows(sweep: &Sweep, path: &Path) -> Result<Vec<Row>, SweepError> {
                 )));
             }
         };
+        let settings = ni + nm + 3;
+        if at(settings) != sweep.settings_id() {
+            return Err(fail(format!(
+                "row {}: sample {sample} ran with other settings ({} {:?}, this sweep's {:?}): \
+                 the base scene or the [run] table changed since; run without --resume or into \
+                 another folder",
+                line + 1,
+                expected[settings],
+                at(settings),
+                sweep.settings_id()
+            )));
+        }
         // A duration: NaN or infinity would not survive a row's trip as JSON (`null`).
-        let wall = ni + nm + 3;
+        let wall = ni + nm + 4;
         let wall_time_s = num(wall)?;
         if !(wall_time_s.is_finite() && wall_time_s >= 0.0) {
             return Err(fail(format!(

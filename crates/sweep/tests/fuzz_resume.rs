@@ -70,11 +70,38 @@ fn written_table(dir: &Path) -> Table {
     Table { sweep, text }
 }
 
-/// The shipped sweep and the rows a real run of it wrote.
+/// The shipped sweep and the rows a real run of it wrote, given this sweep's `settings`
+/// column (the shipped file was written before rows recorded it, and with an earlier base
+/// scene, so as shipped it is refused: [`shipped_rows_of_other_settings_are_refused`]).
 fn shipped_table() -> Table {
     let sweep = Sweep::from_path(&repo().join("docs/sweep/wear-ab.toml")).unwrap();
     let text = std::fs::read_to_string(repo().join("docs/sweep/wear-ab/samples.csv")).unwrap();
+    let settings = sweep.settings_id();
+    let text = text
+        .lines()
+        .enumerate()
+        .map(|(k, line)| {
+            let (before, wall) = line.rsplit_once(',').unwrap();
+            let cell = if k == 0 { "settings" } else { &settings };
+            format!("{before},{cell},{wall}\n")
+        })
+        .collect();
     Table { sweep, text }
+}
+
+/// The shipped rows as they are (no `settings` column, an earlier base scene) are not resumed.
+#[test]
+fn shipped_rows_of_other_settings_are_refused() {
+    let dir = scratch("shipped");
+    let sweep = Sweep::from_path(&repo().join("docs/sweep/wear-ab.toml")).unwrap();
+    std::fs::copy(
+        repo().join("docs/sweep/wear-ab/samples.csv"),
+        sweep::rows_path(&dir),
+    )
+    .unwrap();
+    let e = sweep::pending(&sweep, &dir, true).unwrap_err();
+    assert!(e.to_string().contains("columns"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Cell values a mutant may hold.
@@ -310,8 +337,9 @@ fn check_resumed(s: &Sweep, todo: &[usize], kept: &[Row]) -> Result<(), TestCase
 }
 
 /// What a refusal to resume says, and the kind it is counted as (the first that matches).
-const REFUSAL_KINDS: [(&str, &str); 9] = [
+const REFUSAL_KINDS: [(&str, &str); 10] = [
     ("columns", "header is not this sweep's"),
+    ("other settings", "settings changed"),
     ("is not a number", "a cell is not a number"),
     ("not a duration", "wall time not a duration"),
     ("is beyond the sweep", "sample beyond the sweep"),

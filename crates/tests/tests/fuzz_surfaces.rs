@@ -172,3 +172,61 @@ fn check_accepted(joint: &Option<wear::WornJoint>, bytes: &[u8], kind: &str) {
         }
     }
 }
+
+/// Names that only look like a stage's wear file, by kind (a sign, leading zeros, another case,
+/// a suffix, spaces, other digits): none is read as a stage. Beside `wear_A_stage1.csv` and
+/// `wear_B_stage1.csv`, stage 1 loads; a run named them as stage 2 and then failed reading
+/// `wear_A_stage2.csv`, a file that does not exist. A scene with no joint that wears refuses
+/// the folder instead of ignoring it.
+#[test]
+fn only_the_names_a_run_writes_are_stage_files() {
+    let dir = std::env::temp_dir().join(format!("wornjoint-names-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp folder");
+    let scene = lgres::scenes::builtin("lgres").expect("built-in");
+    let unworn = unworn_joints(&scene).expect("joints");
+    let good = good_text();
+    for joint in ["A", "B"] {
+        std::fs::write(dir.join(format!("wear_{joint}_stage1.csv")), &good).expect("writes");
+    }
+    let stage1 = output::surfaces::load_last_stage(&dir, &scene, &unworn).expect("stage 1");
+    for stray in [
+        "+2",
+        "02",
+        "002",
+        "+02",
+        " 2",
+        "2 ",
+        "٢",
+        "2.0",
+        "2e0",
+        "0x2",
+        "-2",
+        "4294967298",
+    ] {
+        let name = format!("wear_A_stage{stray}.csv");
+        std::fs::write(dir.join(&name), "not a wear file").expect("writes");
+        let loaded = output::surfaces::load_last_stage(&dir, &scene, &unworn)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        for (a, b) in loaded.iter().zip(&stage1) {
+            let (a, b) = (a.as_ref().expect("wears"), b.as_ref().expect("wears"));
+            assert_eq!(a.bearing().depth(), b.bearing().depth(), "{name}");
+            assert_eq!(a.pin().depth(), b.pin().depth(), "{name}");
+        }
+        std::fs::remove_file(dir.join(&name)).expect("removes");
+    }
+    // The name a run writes is read: stage 2 here (a file of no wear grid, refused by name).
+    std::fs::write(dir.join("wear_A_stage2.csv"), "not a wear file").expect("writes");
+    let e = output::surfaces::load_last_stage(&dir, &scene, &unworn).expect_err("stage 2 read");
+    assert!(e.to_string().contains("wear_A_stage2.csv"), "{e}");
+    for name in ["slider-crank", "lgres-ideal"] {
+        let scene = lgres::scenes::builtin(name).expect("built-in");
+        let unworn = unworn_joints(&scene).expect("joints");
+        let e = output::surfaces::load_last_stage(&dir, &scene, &unworn).expect_err(name);
+        assert!(
+            e.to_string().contains("no clearance joint with wear"),
+            "{name}: {e}"
+        );
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -85,7 +85,14 @@ where
             control.tolerance,
             plan.amplification,
         );
-        let mut step = proposed.unwrap_or(floor).max(floor).min(cap).min(limit);
+        // The noise bound holds the floor too: below it the steps would not end (the noise of
+        // a tight tolerance asks for ρ/(2·tolerance²) sub-steps, 1e4 at 1e-3), and at the
+        // floor the sub-steps are the fixed bound's, whose noise the stage then carries.
+        let mut step = proposed
+            .unwrap_or(floor)
+            .max(floor)
+            .min(cap)
+            .min(limit.max(floor));
         if step * (1.0 + 1e-9) >= remaining {
             step = remaining;
         }

@@ -1,5 +1,6 @@
-//! Errors of the wear crate. Each names the offending parameter and its value; numbers are
-//! written with `{:?}`, the shortest form that reads back (`1e300`, not 301 digits).
+//! Errors of the wear crate. Each names the offending parameter and its value; numbers given
+//! are written with `{:?}`, the shortest form that reads back (`1e300`, not 301 digits), and
+//! numbers computed to five significant digits.
 
 /// Invalid wear parameter, grid or wear record.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -81,7 +82,7 @@ pub enum WearError {
     /// Adaptive extrapolation hit its sub-step limit before spending the stage's amplification.
     #[error(
         "stage {}: adaptive extrapolation used max_substeps = {limit} sub-steps and still has \
-         amplification {remaining:?} left (run.max_substeps)",
+         amplification {remaining:.4e} left (run.max_substeps)",
         stage + 1
     )]
     SubstepLimit {

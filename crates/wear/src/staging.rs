@@ -72,7 +72,9 @@ pub enum Extrapolation {
     /// fewer samples). The bounds on the clearance change apply to the predictor (the rate at
     /// the start; the applied mean rate can move a clearance slightly further): no predictor
     /// changes a local clearance by more than `max_fraction`, the first by at most
-    /// `min_fraction`, and the estimate cuts no sub-step below that bound: noise the halves do
+    /// `min_fraction`, and neither the estimate nor the noise bound cuts a sub-step below that
+    /// bound (the noise bound alone asks for `ρ/(2·tolerance²)` sub-steps, 1e4 at a tolerance
+    /// of 1e-3, which no stage finishes): noise the halves do
     /// not remove (all of it without halves) does not fall with the step and would otherwise
     /// shrink it without end; at the floor the sub-steps are [`Adaptive`](Self::Adaptive)'s at
     /// `min_fraction`. Fails with [`WearError::SubstepLimit`] after `max_runs` runs of the K

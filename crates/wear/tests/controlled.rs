@@ -58,11 +58,16 @@ fn error_against_exact(joint: &WornJoint, n: f64) -> f64 {
 }
 
 fn controlled(tolerance: f64) -> StagePlan {
+    controlled_above(tolerance, 0.05)
+}
+
+/// [`controlled`] with the floor `min_fraction` (no sub-step is cut below its step).
+fn controlled_above(tolerance: f64, min_fraction: f64) -> StagePlan {
     StagePlan::paper(1)
         .with_amplification(STAGE)
         .with_extrapolation(Extrapolation::Controlled {
             tolerance,
-            min_fraction: 0.05,
+            min_fraction,
             max_fraction: 0.5,
             max_runs: 10_000,
         })
@@ -205,7 +210,8 @@ fn halves_keep_sampling_noise_out_of_the_error_estimate() {
     // Each half of a run carries 30 % noise per cell (the rate 21 %).
     let (loose, loose_runs, loose_error) = noisy(&controlled(0.05), 0.3, true);
     let (blind, blind_runs, blind_error) = noisy(&controlled(0.05), 0.3, false);
-    let (tight, tight_runs, tight_error) = noisy(&controlled(0.02), 0.3, true);
+    // (The noise bound cuts no step below the floor: 0.02 needs steps below the 5 % one.)
+    let (tight, tight_runs, tight_error) = noisy(&controlled_above(0.02, 0.01), 0.3, true);
     for (name, report, runs, error) in [
         ("0.05 with halves", &loose, loose_runs, loose_error),
         ("0.05 without halves", &blind, blind_runs, blind_error),
@@ -228,4 +234,35 @@ fn halves_keep_sampling_noise_out_of_the_error_estimate() {
     // buys a smaller error with more runs (noise falls as 1/√runs).
     assert!(loose_error < 0.05 && tight_error < 0.02 * 1.5);
     assert!(tight_error < loose_error && tight_runs > 2 * loose_runs);
+}
+
+#[test]
+fn a_tolerance_tighter_than_the_noise_holds_the_floor() {
+    // At 1e-3 the noise bound alone asks for ρ/(2·tol²) ≈ 2e4 sub-steps (ρ ≈ 0.045 here):
+    // it stopped at the 1e4-run limit. It holds the floor, min_fraction's fixed step, as the
+    // error estimate does: the stage then takes about the fixed bound's sub-steps.
+    let (_, fixed_runs, _) = noiseless(&adaptive(0.05));
+    for tolerance in [1e-3, 1e-4] {
+        let (report, runs, error) = noisy(&controlled(tolerance), 0.3, true);
+        println!(
+            "{tolerance:e}: {} sub-steps, {runs} runs, rms error {error:.4}; fixed 0.05: \
+             {fixed_runs} runs",
+            report.substeps.len()
+        );
+        assert!(
+            runs <= 2 * fixed_runs + 2,
+            "{runs} runs against {fixed_runs}"
+        );
+    }
+}
+
+#[test]
+fn the_substep_limit_names_the_amplification_left_as_a_person_reads_it() {
+    let e = wear::WearError::SubstepLimit {
+        stage: 0,
+        limit: 400,
+        remaining: 49.979_294_314_194_85,
+    };
+    let said = e.to_string();
+    assert!(said.contains("amplification 4.9979e1 left"), "{said}");
 }
