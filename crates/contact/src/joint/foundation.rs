@@ -88,7 +88,7 @@ pub use layer::{DEFAULT_FOUNDATION_CELLS, DEFAULT_REFERENCE_OVERLAP, Foundation,
 pub use memory::FoundationWorkspace;
 pub use window::NodeWindow;
 
-use books::Books;
+use books::{Books, LayerPose};
 use geometry::{Body, Node, angle_near, cross, dot, offset};
 use stream::{NodeQueue, Output, Pending, apply, segment};
 
@@ -331,19 +331,22 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Kernel<
         if books.deepest.is_none_or(|d| d < candidates.outside_bound) {
             books.deepest = Some(candidates.outside_bound);
         }
-        out.diagnostics = self.foundation_diagnostics(
-            &mut books,
-            rho,
-            e_value,
-            [
-                bearing_state[0].value(),
-                bearing_state[1].value(),
-                theta_bearing.value(),
-            ],
-            [bearing_centre_arm[0].value(), bearing_centre_arm[1].value()],
-            theta_pin,
-            phi_rate.value(),
-            centre_rate,
+        let rho_free = rho + self.window.pin_max.min(1e300) - self.window.bearing_min;
+        out.diagnostics = books.diagnostics(
+            &self.pair.bearing_profile,
+            &self.pair.pin_profile,
+            LayerPose {
+                rho,
+                e: e_value,
+                centre: [
+                    bearing_state[0].value() + bearing_centre_arm[0].value(),
+                    bearing_state[1].value() + bearing_centre_arm[1].value(),
+                ],
+                angles: (theta_bearing.value(), theta_pin),
+                phi_rate: phi_rate.value(),
+                centre_rate,
+                free_gap: rho_free,
+            },
         );
         out
     }
@@ -673,84 +676,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Kernel<
         }
         while let Some(done) = queue.pop() {
             self.emit(pass, &done, books, out, sink);
-        }
-    }
-
-    #[allow(clippy::too_many_arguments)]
-    fn foundation_diagnostics(
-        &self,
-        books: &mut Books,
-        rho: f64,
-        e: [f64; 2],
-        bearing_pose: [f64; 3],
-        bearing_centre_arm: [f64; 2],
-        theta_pin: f64,
-        phi_rate: f64,
-        centre_rate: f64,
-    ) -> ContactDiagnostics {
-        let loaded = books.load > 0.0;
-        // The direction of the resultant normal force on the bearing when loaded, else the
-        // line of centres.
-        let direction = if loaded { books.normal_resultant } else { e };
-        let contact_angle = if direction == [0.0, 0.0] {
-            0.0
-        } else {
-            direction[1].atan2(direction[0])
-        };
-        let bearing_angle = wrap_angle(contact_angle - bearing_pose[2]);
-        let pin_angle = wrap_angle(contact_angle - theta_pin);
-        let bearing_sample = self.pair.bearing_profile.sample(bearing_angle);
-        let pin_sample = self.pair.pin_profile.sample(pin_angle);
-        let (sin, cos) = contact_angle.sin_cos();
-        let centre = [
-            bearing_pose[0] + bearing_centre_arm[0],
-            bearing_pose[1] + bearing_centre_arm[1],
-        ];
-        // The deepest overlap and its rate; free, a negative distance between the outlines (or
-        // their bounds) and the rate of the centres' distance.
-        let (penetration, normal_velocity) = match books.deepest {
-            Some(g) if g > 0.0 => (g, books.deepest_rate),
-            Some(g) => (g, centre_rate),
-            None => (
-                rho + self.window.pin_max.min(1e300) - self.window.bearing_min,
-                centre_rate,
-            ),
-        };
-        ContactDiagnostics {
-            in_contact: penetration > 0.0,
-            penetration,
-            eccentricity: rho,
-            contact_angle,
-            bearing_angle,
-            pin_angle,
-            bearing_radius: bearing_sample.radius,
-            pin_radius: pin_sample.radius,
-            normal_velocity,
-            tangential_velocity: if loaded {
-                books.load_sliding / books.load
-            } else {
-                0.0
-            },
-            geometric_sliding_velocity: penetration.max(0.0) * phi_rate,
-            normal_force: books.normal_resultant[0].hypot(books.normal_resultant[1]),
-            elastic_force: books.elastic_resultant[0].hypot(books.elastic_resultant[1]),
-            friction_force: books.friction_force,
-            contact_point: [
-                centre[0] + bearing_sample.radius * cos,
-                centre[1] + bearing_sample.radius * sin,
-            ],
-            elastic_energy: books.energy,
-            damping_power: books.damping_power,
-            friction_power: books.friction_power,
-            bearing_slope: bearing_sample.slope,
-            pin_slope: pin_sample.slope,
-            bearing_curvature: bearing_sample.curvature,
-            pin_curvature: pin_sample.curvature,
-            contact_cells: books.cells,
-            contact_zones: books.zones,
-            narrowest_zone_cells: books.narrowest(),
-            resolution_error: books.resolution_error(),
-            neglected_terms: 0.0,
         }
     }
 }

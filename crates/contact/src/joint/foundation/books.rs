@@ -2,6 +2,8 @@
 //! deepest overlap and the contact zones, whose widths give the quadrature's resolution.
 
 use super::layer::Quadrature;
+use crate::diagnostics::ContactDiagnostics;
+use crate::surface::{SurfaceProfile, wrap_angle};
 
 /// Running sums for the diagnostics (plain values).
 #[derive(Default)]
@@ -113,5 +115,96 @@ impl Books {
             .map(|(width, _)| *width)
             .min()
             .unwrap_or(0)
+    }
+}
+
+/// Where a layer model's evaluation stood, for [`Books::diagnostics`]: the plain values of the
+/// pose the books were summed at.
+pub(in crate::joint) struct LayerPose {
+    /// `|e|`, the eccentricity's length (m).
+    pub rho: f64,
+    /// The eccentricity, pin centre minus bearing centre (m).
+    pub e: [f64; 2],
+    /// The bearing centre in the world (m).
+    pub centre: [f64; 2],
+    /// The bearing's and the pin's angles (rad).
+    pub angles: (f64, f64),
+    /// The paper's sliding rate `φ̇` (rad/s).
+    pub phi_rate: f64,
+    /// The rate of the centres' distance (m/s).
+    pub centre_rate: f64,
+    /// The model's bound on the outlines' gap when no node was computed (m, negative: free).
+    pub free_gap: f64,
+}
+
+impl Books {
+    /// The diagnostics the layer models (the foundation, the thin gap) report from their books:
+    /// the contact direction is the resultant normal force on the bearing when loaded, else the
+    /// line of centres; the deepest overlap and its rate, or, free, a negative distance between
+    /// the outlines (or the model's bound on it) and the rate of the centres' distance.
+    pub(in crate::joint) fn diagnostics<B: SurfaceProfile, P: SurfaceProfile>(
+        &mut self,
+        bearing: &B,
+        pin: &P,
+        pose: LayerPose,
+    ) -> ContactDiagnostics {
+        let loaded = self.load > 0.0;
+        let direction = if loaded {
+            self.normal_resultant
+        } else {
+            pose.e
+        };
+        let contact_angle = if direction == [0.0, 0.0] {
+            0.0
+        } else {
+            direction[1].atan2(direction[0])
+        };
+        let (theta_bearing, theta_pin) = pose.angles;
+        let bearing_angle = wrap_angle(contact_angle - theta_bearing);
+        let pin_angle = wrap_angle(contact_angle - theta_pin);
+        let bearing_sample = bearing.sample(bearing_angle);
+        let pin_sample = pin.sample(pin_angle);
+        let (sin, cos) = contact_angle.sin_cos();
+        let (penetration, normal_velocity) = match self.deepest {
+            Some(g) if g > 0.0 => (g, self.deepest_rate),
+            Some(g) => (g, pose.centre_rate),
+            None => (pose.free_gap, pose.centre_rate),
+        };
+        ContactDiagnostics {
+            in_contact: penetration > 0.0,
+            penetration,
+            eccentricity: pose.rho,
+            contact_angle,
+            bearing_angle,
+            pin_angle,
+            bearing_radius: bearing_sample.radius,
+            pin_radius: pin_sample.radius,
+            normal_velocity,
+            tangential_velocity: if loaded {
+                self.load_sliding / self.load
+            } else {
+                0.0
+            },
+            geometric_sliding_velocity: penetration.max(0.0) * pose.phi_rate,
+            normal_force: self.normal_resultant[0].hypot(self.normal_resultant[1]),
+            elastic_force: self.elastic_resultant[0].hypot(self.elastic_resultant[1]),
+            friction_force: self.friction_force,
+            contact_point: [
+                pose.centre[0] + bearing_sample.radius * cos,
+                pose.centre[1] + bearing_sample.radius * sin,
+            ],
+            elastic_energy: self.energy,
+            damping_power: self.damping_power,
+            friction_power: self.friction_power,
+            bearing_slope: bearing_sample.slope,
+            pin_slope: pin_sample.slope,
+            bearing_curvature: bearing_sample.curvature,
+            pin_curvature: pin_sample.curvature,
+            contact_cells: self.cells,
+            contact_zones: self.zones,
+            narrowest_zone_cells: self.narrowest(),
+            resolution_error: self.resolution_error(),
+            neglected_terms: 0.0,
+        }
     }
 }

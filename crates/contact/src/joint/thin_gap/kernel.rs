@@ -9,7 +9,7 @@ use super::tables::{Shift, ThinGapTables};
 use crate::diagnostics::ContactDiagnostics;
 use crate::friction::FrictionLaw;
 use crate::joint::dual::{Dual, Real};
-use crate::joint::foundation::books::Books;
+use crate::joint::foundation::books::{Books, LayerPose};
 use crate::joint::foundation::geometry::{Body, cross, dot, offset};
 use crate::joint::foundation::stream::segment;
 use crate::joint::foundation::{Quadrature, Sink};
@@ -516,14 +516,18 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             let (x, y) = (bearing_state[0].value(), bearing_state[1].value());
             [x + arm_i[0].value(), y + arm_i[1].value()]
         };
-        let mut diagnostics = self.diagnostics(
-            &mut books,
-            rho,
-            e_value,
-            centre,
-            (theta_i, pin_state[2].value()),
-            phi_rate.value(),
-            centre_rate,
+        let mut diagnostics = books.diagnostics(
+            self.pair.bearing_profile(),
+            self.pair.pin_profile(),
+            LayerPose {
+                rho,
+                e: e_value,
+                centre,
+                angles: (theta_i, pin_state[2].value()),
+                phi_rate: phi_rate.value(),
+                centre_rate,
+                free_gap: rho + self.slack(rho),
+            },
         );
         diagnostics.neglected_terms = if overlapping > 0.0 {
             neglected / overlapping
@@ -656,73 +660,6 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             visit(&node_load(normal_v));
         }
         (normal_v, rate)
-    }
-
-    /// The diagnostics from the books, as the foundation reports them.
-    #[allow(clippy::too_many_arguments)]
-    fn diagnostics(
-        &self,
-        books: &mut Books,
-        rho: f64,
-        e: [f64; 2],
-        centre: [f64; 2],
-        (theta_bearing, theta_pin): (f64, f64),
-        phi_rate: f64,
-        centre_rate: f64,
-    ) -> ContactDiagnostics {
-        let loaded = books.load > 0.0;
-        let direction = if loaded { books.normal_resultant } else { e };
-        let contact_angle = if direction == [0.0, 0.0] {
-            0.0
-        } else {
-            direction[1].atan2(direction[0])
-        };
-        let bearing_angle = wrap_angle(contact_angle - theta_bearing);
-        let pin_angle = wrap_angle(contact_angle - theta_pin);
-        let bearing_sample = self.pair.bearing_profile().sample(bearing_angle);
-        let pin_sample = self.pair.pin_profile().sample(pin_angle);
-        let (sin, cos) = contact_angle.sin_cos();
-        let (penetration, normal_velocity) = match books.deepest {
-            Some(g) if g > 0.0 => (g, books.deepest_rate),
-            Some(g) => (g, centre_rate),
-            None => (rho + self.slack(rho), centre_rate),
-        };
-        ContactDiagnostics {
-            in_contact: penetration > 0.0,
-            penetration,
-            eccentricity: rho,
-            contact_angle,
-            bearing_angle,
-            pin_angle,
-            bearing_radius: bearing_sample.radius,
-            pin_radius: pin_sample.radius,
-            normal_velocity,
-            tangential_velocity: if loaded {
-                books.load_sliding / books.load
-            } else {
-                0.0
-            },
-            geometric_sliding_velocity: penetration.max(0.0) * phi_rate,
-            normal_force: books.normal_resultant[0].hypot(books.normal_resultant[1]),
-            elastic_force: books.elastic_resultant[0].hypot(books.elastic_resultant[1]),
-            friction_force: books.friction_force,
-            contact_point: [
-                centre[0] + bearing_sample.radius * cos,
-                centre[1] + bearing_sample.radius * sin,
-            ],
-            elastic_energy: books.energy,
-            damping_power: books.damping_power,
-            friction_power: books.friction_power,
-            bearing_slope: bearing_sample.slope,
-            pin_slope: pin_sample.slope,
-            bearing_curvature: bearing_sample.curvature,
-            pin_curvature: pin_sample.curvature,
-            contact_cells: books.cells,
-            contact_zones: books.zones,
-            narrowest_zone_cells: books.narrowest(),
-            resolution_error: books.resolution_error(),
-            neglected_terms: 0.0,
-        }
     }
 }
 
