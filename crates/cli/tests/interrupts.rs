@@ -82,9 +82,11 @@ fn fuzz_interrupts(dir: &Path, out: &Path, args: &[&str], whole: &dyn Fn(&Path))
     );
 }
 
+// One test per command, so the harness runs them side by side.
+
 #[test]
-fn interrupted_commands_leave_nothing_behind_at_any_moment() {
-    let (dir, out) = scratch_out("interrupts");
+fn an_interrupted_run_leaves_nothing_behind_at_any_moment() {
+    let (dir, out) = scratch_out("interrupts-run");
     let run_whole = |out: &Path| {
         let names = listing(out);
         for f in ["summary.json", "response.csv", "contact.csv", "scene.toml"] {
@@ -99,7 +101,11 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         &["run", "slider-crank", "--cycles", "1"],
         &run_whole,
     );
+}
 
+#[test]
+fn an_interrupted_precision_sweep_leaves_nothing_behind_at_any_moment() {
+    let (dir, out) = scratch_out("interrupts-precision");
     let precision_whole = |out: &Path| {
         let names = listing(out);
         assert!(names.iter().any(|n| n.ends_with(".csv")), "{names:?}");
@@ -117,13 +123,19 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
             "1e-4",
             "--repeats",
             "1",
+            // Short: the two rtol = 1e-12 references take most of its time.
             "--duration",
-            "0.02",
+            "0.002",
             "--start-up",
-            "0.01",
+            "0.001",
         ],
         &precision_whole,
     );
+}
+
+#[test]
+fn an_interrupted_study_leaves_nothing_behind_at_any_moment() {
+    let (dir, out) = scratch_out("interrupts-study");
 
     // A quick study (a stage stands for 1e4 cycles) with two scene runs at once, so the
     // signal also lands while both write their folders and while the report is drawn.
@@ -155,9 +167,14 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         ],
         &study_whole,
     );
+}
 
-    // `sweep` and `stress` write into their folder in place (under a lock): whatever the moment,
-    // no lock or temporary file stays, and every file there is whole.
+// `sweep` and `stress` write into their folder in place (under a lock): whatever the moment, no
+// lock or temporary file stays, and every file there is whole.
+
+#[test]
+fn an_interrupted_sweep_leaves_nothing_behind_at_any_moment() {
+    let (dir, out) = scratch_out("interrupts-sweep");
     let sweep_file = dir.join("s.toml");
     std::fs::write(
         &sweep_file,
@@ -199,7 +216,11 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
         &["sweep", sweep_file.to_str().unwrap(), "--jobs", "2"],
         &sweep_whole,
     );
+}
 
+#[test]
+fn an_interrupted_stress_battery_leaves_nothing_behind_at_any_moment() {
+    let (dir, out) = scratch_out("interrupts-stress");
     let stress_whole = |out: &Path| {
         let names = listing(out);
         assert!(names.iter().all(|n| !n.starts_with('.')), "{names:?}");
@@ -210,7 +231,7 @@ fn interrupted_commands_leave_nothing_behind_at_any_moment() {
     fuzz_interrupts(&dir, &out, &["stress", "--quick"], &stress_whole);
 }
 
-/// Issue 35, item 3: a sweep re-run into a finished sweep's folder and interrupted leaves no
+/// A sweep re-run into a finished sweep's folder and interrupted leaves no
 /// page or figure of the earlier rows beside its own, and says what the folder holds.
 #[test]
 fn an_interrupted_sweep_rerun_leaves_no_page_of_other_rows() {
