@@ -15,8 +15,8 @@ use multibody::{
 };
 use rayon::prelude::*;
 use wear::{
-    Extrapolation, JointNoise, NOISE_GROUPS, NoiseBatches, Replicas, RunContext, StagePlan,
-    StageReport, StageWear, StagingError, WearError, WearSample, WornJoint,
+    Extrapolation, JointNoise, JointResults, NOISE_GROUPS, NoiseBatches, Replicas, RunContext,
+    StagePlan, StageReport, StageWear, StagingError, WearError, WearSample, WornJoint,
 };
 
 use crate::WornClearanceForce;
@@ -265,6 +265,10 @@ pub fn run_ensemble_stages<R: StageRuns>(
         stage_replicas: Vec::with_capacity(plan.stages),
     };
     let mut noise = Some(NoiseBatches::new(joints, NOISE_GROUPS));
+    // Per joint, its results at every point of the life curve so far (the levelling's input).
+    let mut history: Vec<Vec<JointResults>> =
+        joints.iter().map(|j| vec![JointResults::of(j)]).collect();
+    let mut lengths = Vec::new();
     // Runs of an error-controlled stage simulate predicted surfaces, not the life's points.
     let controlled = matches!(plan.extrapolation, Extrapolation::Controlled { .. });
     for stage in 0..plan.stages {
@@ -299,7 +303,11 @@ pub fn run_ensemble_stages<R: StageRuns>(
             &report,
             (!controlled).then_some(&entries[..]),
             joints,
-            &mut out.life_noise,
+            LifeCurves {
+                noise: &mut out.life_noise,
+                history: &mut history,
+                lengths: &mut lengths,
+            },
         );
         out.stage_replicas.push(replicas);
         out.reports.push(report);
@@ -308,34 +316,56 @@ pub fn run_ensemble_stages<R: StageRuns>(
     Ok(out)
 }
 
+/// Per wearing joint, its life curve's noise and results, point by point.
+struct LifeCurves<'a> {
+    noise: &'a mut [Vec<Option<JointNoise>>],
+    history: &'a mut [Vec<JointResults>],
+    /// The length (amplification) of every sub-step so far.
+    lengths: &'a mut Vec<f64>,
+}
+
+impl LifeCurves<'_> {
+    /// Appends the point whose surfaces are `surfaces`, reached by a sub-step of length
+    /// `length`: their results, and the jackknife noise of `noise`'s batches levelled by the
+    /// curves so far ([`JointNoise::levelled`]).
+    fn push(&mut self, noise: &Option<NoiseBatches>, surfaces: &[WornJoint], length: f64) {
+        self.lengths.push(length);
+        let replicas = noise.as_ref().map(NoiseBatches::replicas);
+        for (j, joint) in surfaces.iter().enumerate() {
+            let (Some(curve), Some(history)) = (self.noise.get_mut(j), self.history.get_mut(j))
+            else {
+                continue;
+            };
+            history.push(JointResults::of(joint));
+            let jackknife = replicas
+                .as_ref()
+                .and_then(|r| r.get(j))
+                .and_then(|r| r.joint_noise(joint));
+            curve.push(jackknife.map(|n| n.levelled(history, self.lengths)));
+        }
+    }
+
+    /// Appends a point without noise (inside an error-controlled stage, whose runs simulate
+    /// predicted surfaces; the results' curves skip it).
+    fn push_none(&mut self) {
+        for curve in self.noise.iter_mut() {
+            curve.push(None);
+        }
+    }
+}
+
 /// Adds a stage's runs to the noise batches (`None` once a run kept no halves) and appends
-/// the noise of each sub-step's point to `life_noise`: measured on the surfaces the next run
-/// started from (`entries`; the stage's end on `joints`), or, without entries (an
-/// error-controlled stage), at the stage's end only. Returns the stage end's replicas.
+/// each sub-step's point to the life curves: measured on the surfaces the next run started
+/// from (`entries`; the stage's end on `joints`), or, without entries (an error-controlled
+/// stage), at the stage's end only. Returns the stage end's replicas.
 fn stage_noise(
     noise: &mut Option<NoiseBatches>,
     halves: &[Vec<[StageWear; 2]>],
     report: &StageReport,
     entries: Option<&[Vec<WornJoint>]>,
     joints: &[WornJoint],
-    life_noise: &mut [Vec<Option<JointNoise>>],
+    mut curves: LifeCurves<'_>,
 ) -> Vec<Replicas> {
-    let point = |noise: &Option<NoiseBatches>, surfaces: &[WornJoint]| -> Vec<Option<JointNoise>> {
-        match noise {
-            Some(batches) => batches
-                .replicas()
-                .iter()
-                .zip(surfaces)
-                .map(|(r, j)| r.joint_noise(j))
-                .collect(),
-            None => vec![None; surfaces.len()],
-        }
-    };
-    let push = |life_noise: &mut [Vec<Option<JointNoise>>], values: Vec<Option<JointNoise>>| {
-        for (curve, value) in life_noise.iter_mut().zip(values) {
-            curve.push(value);
-        }
-    };
     for (run, &weight) in report.run_weights.iter().enumerate() {
         if let Some(batches) = noise.as_mut() {
             match halves.get(run) {
@@ -348,14 +378,15 @@ fn stage_noise(
             && run < report.substeps.len()
         {
             let surfaces = entries.get(run + 1).map_or(joints, |e| &e[..]);
-            push(life_noise, point(noise, surfaces));
+            curves.push(noise, surfaces, report.substeps[run].amplification);
         }
     }
     if entries.is_none() && !report.substeps.is_empty() {
         for _ in 1..report.substeps.len() {
-            push(life_noise, vec![None; joints.len()]);
+            curves.push_none();
         }
-        push(life_noise, point(noise, joints));
+        let stage_length = report.substeps.iter().map(|s| s.amplification).sum();
+        curves.push(noise, joints, stage_length);
     }
     match noise {
         Some(batches) => batches.replicas(),

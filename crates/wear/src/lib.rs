@@ -24,7 +24,8 @@
 //!   error estimate discounts the sampling noise the runner's [`WearSample`] halves measure);
 //!   the caller's integrator is a closure.
 //! - [`NoiseBatches`]: the sampling noise of the staged wear, a jackknife over the runs'
-//!   independent halves ([`Replicas`] of the surfaces, one batch left out each).
+//!   independent halves ([`Replicas`] of the surfaces, one batch left out each), scaled by
+//!   what of it the worn geometry's levelling leaves ([`levelling`], read from the life curve).
 //!
 //! ```
 //! use contact::{ContactDiagnostics, SurfaceProfile};
@@ -79,7 +80,10 @@ pub use accumulate::StageWear;
 pub use error::WearError;
 pub use implicit::ContactZone;
 pub use joint::{ContactArc, DEFAULT_CELLS, ShapeBound, WearParams, WornJoint};
-pub use noise::{JointNoise, NOISE_GROUPS, NOISE_WARM_UP, NoiseBatches, Replicas, jackknife_error};
+pub use noise::{
+    JointNoise, JointResults, LEVELLING_MIN_STEPS, Levelling, NOISE_GROUPS, NOISE_WARM_UP,
+    NoiseBatches, Replicas, jackknife_error, levelling,
+};
 pub use profile::{AngularRange, Peak, Side, WornProfile};
 pub use run::{run_stage, run_stages};
 pub use staging::{

@@ -11,9 +11,13 @@
 //! is its jackknife standard error. The replicas are linear in the wear, so they cost a few
 //! extra depth grids.
 //!
-//! What it does not see: a replica follows the path the surfaces actually took (the samples
-//! share the geometry they were simulated on), so the feedback of the noise on later wear
-//! rates is not in it; and the peak of a noisy profile is biased upwards by about its noise.
+//! A replica follows the path the surfaces actually took (the samples share the geometry they
+//! were simulated on), so the feedback of the noise on later wear rates is not in it: the worn
+//! geometry levels out what one sample deepened (a deeper dent carries less load). What of a
+//! sub-step's noise survives to the end is read from the life curve itself ([`levelling`]):
+//! a fluctuation that survives a fraction `s` of itself per sub-step leaves the increments of
+//! the curve correlated by `−(1 − s)/2`. [`JointNoise::levelled`] scales the jackknife by the
+//! surviving share. The peak of a noisy profile is biased upwards by about its noise.
 
 use crate::accumulate::StageWear;
 use crate::joint::WornJoint;
@@ -165,32 +169,68 @@ impl Replicas {
         jackknife_error(&self.values(bearing, pin, measure))
     }
 
-    /// The noise of `joint`'s results on its surfaces as they stand: peak depths, worn volume
-    /// and largest local clearance. `None` with fewer than two replicas.
+    /// The jackknife noise of `joint`'s results on its surfaces as they stand: peak depths,
+    /// worn volume and largest local clearance ([`JointResults`]), before levelling
+    /// ([`JointNoise::levelled`]). `None` with fewer than two replicas.
     pub fn joint_noise(&self, joint: &WornJoint) -> Option<JointNoise> {
         if self.count() < 2 {
             return None;
         }
         let (bearing, pin) = (joint.bearing().depth(), joint.pin().depth());
-        let peak = |h: &[f64]| h.iter().copied().fold(0.0, f64::max);
-        let c0 = joint.nominal_clearance();
-        let width = joint.hinge_width();
-        let (r_b, r_p) = (
-            joint.bearing().nominal_radius(),
-            joint.pin().nominal_radius(),
-        );
+        let replicas: Vec<JointResults> = self
+            .surfaces(bearing, pin)
+            .iter()
+            .map(|[b, p]| JointResults::measure(joint, b, p))
+            .collect();
+        let field = |pick: fn(&JointResults) -> f64| {
+            jackknife_error(&replicas.iter().map(pick).collect::<Vec<_>>())
+        };
         Some(JointNoise {
-            bearing_peak_depth: self.noise(bearing, pin, |b, _| peak(b))?,
-            pin_peak_depth: self.noise(bearing, pin, |_, p| peak(p))?,
-            worn_volume: self.noise(bearing, pin, |b, p| {
-                layer_volume(b, r_b, width) + layer_volume(p, r_p, width)
-            })?,
-            max_local_clearance: self.noise(bearing, pin, |b, p| c0 + 0.5 * (peak(b) + peak(p)))?,
+            bearing_peak_depth: field(|r| r.bearing_peak_depth)?,
+            pin_peak_depth: field(|r| r.pin_peak_depth)?,
+            worn_volume: field(|r| r.worn_volume)?,
+            max_local_clearance: field(|r| r.max_local_clearance)?,
         })
     }
 }
 
-/// The sampling noise (jackknife standard error) of a joint's results at one point of a run.
+/// A joint's results at one point of a run, the quantities whose noise [`JointNoise`] holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointResults {
+    /// The bearing's peak depth, m.
+    pub bearing_peak_depth: f64,
+    /// The pin's peak depth, m.
+    pub pin_peak_depth: f64,
+    /// The worn volume of bearing and pin, m³.
+    pub worn_volume: f64,
+    /// The largest local clearance, `c₀ + (peak_bearing + peak_pin)/2`, m.
+    pub max_local_clearance: f64,
+}
+
+impl JointResults {
+    /// `joint`'s results on its own surfaces.
+    pub fn of(joint: &WornJoint) -> Self {
+        Self::measure(joint, joint.bearing().depth(), joint.pin().depth())
+    }
+
+    /// `joint`'s results had its surfaces the depths `bearing`, `pin`.
+    fn measure(joint: &WornJoint, bearing: &[f64], pin: &[f64]) -> Self {
+        let peak = |h: &[f64]| h.iter().copied().fold(0.0, f64::max);
+        let width = joint.hinge_width();
+        let (bearing_peak_depth, pin_peak_depth) = (peak(bearing), peak(pin));
+        Self {
+            bearing_peak_depth,
+            pin_peak_depth,
+            worn_volume: layer_volume(bearing, joint.bearing().nominal_radius(), width)
+                + layer_volume(pin, joint.pin().nominal_radius(), width),
+            max_local_clearance: joint.nominal_clearance()
+                + 0.5 * (bearing_peak_depth + pin_peak_depth),
+        }
+    }
+}
+
+/// The sampling noise of a joint's results at one point of a run: the jackknife's standard
+/// error ([`Replicas::joint_noise`]), or that levelled ([`JointNoise::levelled`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointNoise {
     /// Of the bearing's peak depth, m.
@@ -201,6 +241,120 @@ pub struct JointNoise {
     pub worn_volume: f64,
     /// Of the largest local clearance, m.
     pub max_local_clearance: f64,
+}
+
+impl JointNoise {
+    /// The noise that survives the worn geometry's levelling: each field's jackknife noise
+    /// times the [`levelling`] share read from that result's life curve so far, `history` (its
+    /// values at the stage's start and after every sub-step, this point last) and the
+    /// sub-steps' lengths (amplifications) `lengths`.
+    pub fn levelled(self, history: &[JointResults], lengths: &[f64]) -> Self {
+        let share = |pick: fn(&JointResults) -> f64| {
+            levelling(&history.iter().map(pick).collect::<Vec<_>>(), lengths).share
+        };
+        Self {
+            bearing_peak_depth: self.bearing_peak_depth * share(|r| r.bearing_peak_depth),
+            pin_peak_depth: self.pin_peak_depth * share(|r| r.pin_peak_depth),
+            worn_volume: self.worn_volume * share(|r| r.worn_volume),
+            max_local_clearance: self.max_local_clearance * share(|r| r.max_local_clearance),
+        }
+    }
+}
+
+/// How much of the sampling noise of a result survives the levelling of the worn geometry
+/// ([`levelling`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Levelling {
+    /// The fraction of a sub-step's fluctuation still there one sub-step later, in `[0, 1]`
+    /// (1: none levelled, the fluctuations add up).
+    pub survival: f64,
+    /// The surviving share of the jackknife's noise, `√(Σ_{k<N} s^{2k} / N)`, in `(0, 1]`.
+    pub share: f64,
+}
+
+/// Increments a life curve needs before its levelling is read: with fewer, the share is 1.
+pub const LEVELLING_MIN_STEPS: usize = NOISE_WARM_UP;
+
+/// The levelling of a result whose values after consecutive sub-steps are `curve` (the first
+/// its value before them), the sub-steps' lengths (amplifications) `lengths`.
+///
+/// The jackknife counts every sub-step's sampling fluctuation `ε` as staying in the surfaces,
+/// `σ² = N σ_ε²` after `N` sub-steps. If the geometry instead keeps a fraction `s` of a
+/// fluctuation per sub-step (a first-order autoregression about the trend), the end carries
+/// `σ_ε² Σ_{k<N} s^{2k}`, and the curve's increments are correlated at lag one by
+/// `r₁ = −(1 − s)/2`. So `s = 1 + 2 r₁`, from the increments per unit length (so that a change
+/// of sub-step length is not a trend) less their mean, with `r₁` taken
+/// one standard error `1/√N` above its estimate and clamped to `[0, 1]`: without that margin a
+/// curve whose fluctuations all stay (`s = 1`, the jackknife's case) reads `s < 1` half the time
+/// and its noise would be understated (by 2.7× in the median over 143 sub-steps); with it,
+/// synthetic curves give the ends' scatter at `s = 0` and `s = 1` and overstate it in between
+/// (`wear/tests/noise.rs`). A trending curve (positively correlated increments) keeps the
+/// jackknife's noise. Fewer than [`LEVELLING_MIN_STEPS`] increments, or a curve that does not
+/// move, or lengths that are not one positive number per sub-step: share 1.
+pub fn levelling(curve: &[f64], lengths: &[f64]) -> Levelling {
+    let none = Levelling {
+        survival: 1.0,
+        share: 1.0,
+    };
+    let steps = curve.len().saturating_sub(1);
+    if steps < LEVELLING_MIN_STEPS
+        || lengths.len() != steps
+        || curve.iter().any(|v| !v.is_finite())
+        || lengths.iter().any(|l| !(l.is_finite() && *l > 0.0))
+    {
+        return none;
+    }
+    let increments: Vec<f64> = curve
+        .windows(2)
+        .zip(lengths)
+        .map(|(w, l)| (w[1] - w[0]) / l)
+        .collect();
+    let mean = increments.iter().sum::<f64>() / steps as f64;
+    let centred: Vec<f64> = increments.iter().map(|d| d - mean).collect();
+    let variance: f64 = centred.iter().map(|d| d * d).sum();
+    if variance <= 0.0 {
+        return none;
+    }
+    let lag_one: f64 = centred.windows(2).map(|w| w[0] * w[1]).sum::<f64>() / variance;
+    let upper = lag_one + 1.0 / (steps as f64).sqrt();
+    let survival = (1.0 + 2.0 * upper).clamp(0.0, 1.0);
+    let (mut sum, mut term) = (0.0, 1.0);
+    for _ in 0..steps {
+        sum += term;
+        term *= survival * survival;
+    }
+    Levelling {
+        survival,
+        share: (sum / steps as f64).sqrt(),
+    }
+}
+
+/// A surface's noise at the stage's end as a function of the rest's sub-step growth
+/// ([`noise_fraction`]).
+struct EndNoise {
+    /// The squared noise per unit of growth of one sub-step, `κ²`.
+    kappa2: f64,
+    /// The squared levelled noise now.
+    now2: f64,
+    /// The squared survival per sub-step, `s²`.
+    survival2: f64,
+    /// The growth the rest of the stage adds, m.
+    rest: f64,
+}
+
+impl EndNoise {
+    /// The squared noise at the end after the rest in sub-steps of growth `growth`.
+    fn variance(&self, growth: f64) -> f64 {
+        let steps = self.rest / growth;
+        let kept = self.survival2.powf(steps);
+        // Σ_{k<m} s^{2k} for real m: (1 − s^{2m})/(1 − s²), m as s → 1.
+        let added = if self.survival2 < 1.0 - 1e-12 {
+            (1.0 - kept) / (1.0 - self.survival2)
+        } else {
+            steps
+        };
+        kept * self.now2 + self.kappa2 * growth * growth * added
+    }
 }
 
 /// The delete-one jackknife's standard error of the estimate whose leave-one-out values are
@@ -226,11 +380,14 @@ pub const NOISE_WARM_UP: usize = 8;
 /// measured) and [`NOISE_MAX_FRACTION`](crate::staging::NOISE_MAX_FRACTION).
 ///
 /// Per surface, with `D` its peak depth (`D₀` at the stage's start, `Δᵢ` its growth in the
-/// sub-steps so far) and `σ` the noise of `D` now: each sub-step's growth carries a relative
-/// noise `ρ = σ/√(ΣΔᵢ²)`; the rest of the stage, `D_rem` at the stage's rate so far, in
-/// sub-steps of growth `Δ` adds `ρ²·D_rem·Δ` to `σ²`, so the end's noise stays within
-/// `target·D_end` for `Δ ≤ (target²·D_end² − σ²)/(ρ²·D_rem)`; the fraction scales with `Δ`
-/// from the last sub-step's. The smallest over the surfaces.
+/// sub-steps so far), `σ` the jackknife noise of `D` now and `s` the curve's [`levelling`]:
+/// each sub-step's growth carries a noise `κ Δ` with `κ = σ/√(ΣΔᵢ²)`, of which a fraction `s`
+/// survives each later sub-step. The rest of the stage, `D_rem` at the stage's rate so far, in
+/// `m = D_rem/Δ` sub-steps of growth `Δ`, leaves at the end
+/// `V = s^{2m} σ_ℓ² + κ² Δ² Σ_{k<m} s^{2k}` (`σ_ℓ` the levelled noise now; with `s = 1`,
+/// `σ² + κ² D_rem Δ`), which grows with `Δ`; the largest `Δ` with `V ≤ (target·D_end)²` is
+/// found by bisection, the fraction scaling with `Δ` from the last sub-step's. The smallest
+/// over the surfaces.
 pub(crate) fn noise_fraction(
     target: f64,
     batches: &NoiseBatches,
@@ -263,15 +420,12 @@ pub(crate) fn noise_fraction(
                 })
             };
             let d0 = start.get(j).map_or(0.0, |s| s[side]);
-            let mut before = d0;
-            let mut squares = 0.0;
-            for s in substeps {
-                let d = depth_at(s);
-                squares += (d - before).powi(2);
-                before = d;
-            }
-            let now = before;
-            let last_growth = now - substeps.iter().rev().nth(1).map_or(d0, depth_at);
+            let curve: Vec<f64> = std::iter::once(d0)
+                .chain(substeps.iter().map(depth_at))
+                .collect();
+            let squares: f64 = curve.windows(2).map(|w| (w[1] - w[0]).powi(2)).sum();
+            let now = curve[curve.len() - 1];
+            let last_growth = now - curve[curve.len() - 2];
             let Some(sigma) =
                 replicas.noise(bearing, pin, |b, p| peak(if side == 0 { b } else { p }))
             else {
@@ -281,13 +435,34 @@ pub(crate) fn noise_fraction(
             if squares <= 0.0 || rest <= 0.0 || last_growth <= 0.0 || sigma <= 0.0 {
                 continue;
             }
-            let rho2 = sigma * sigma / squares;
-            let end = now + rest;
-            let allowed = (target * target * end * end - sigma * sigma) / (rho2 * rest);
-            if allowed <= 0.0 {
+            let lengths: Vec<f64> = substeps.iter().map(|s| s.amplification).collect();
+            let levelling = levelling(&curve, &lengths);
+            let ending = EndNoise {
+                kappa2: sigma * sigma / squares,
+                now2: (sigma * levelling.share).powi(2),
+                survival2: levelling.survival * levelling.survival,
+                rest,
+            };
+            let limit = (target * (now + rest)).powi(2);
+            let growth_at = |f: f64| last_growth * f / last.max_change_fraction;
+            if ending.variance(growth_at(floor)) > limit {
                 return floor;
             }
-            fraction = fraction.min(last.max_change_fraction * allowed / last_growth);
+            let allowed = if ending.variance(growth_at(fraction)) <= limit {
+                fraction
+            } else {
+                let (mut low, mut high) = (floor, fraction);
+                for _ in 0..40 {
+                    let mid = 0.5 * (low + high);
+                    if ending.variance(growth_at(mid)) <= limit {
+                        low = mid;
+                    } else {
+                        high = mid;
+                    }
+                }
+                low
+            };
+            fraction = fraction.min(allowed);
         }
     }
     fraction.clamp(floor, ceiling)
