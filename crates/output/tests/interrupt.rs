@@ -5,8 +5,8 @@
 //! abandonment is process-wide.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Duration;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
 
 use output::files::{AtomicFile, StagedDir, abandon_staged};
 
@@ -18,9 +18,11 @@ fn writers_cannot_recreate_an_abandoned_staging_folder() {
     let staged = StagedDir::begin(&parent.join("out")).expect("stages");
     let staging = staged.path().to_path_buf();
     let stop = Arc::new(AtomicBool::new(false));
+    let committed = Arc::new(AtomicUsize::new(0));
     let writers: Vec<_> = (0..2)
         .map(|w| {
-            let (staging, stop) = (staging.clone(), Arc::clone(&stop));
+            let (staging, stop, committed) =
+                (staging.clone(), Arc::clone(&stop), Arc::clone(&committed));
             std::thread::spawn(move || {
                 let mut written = 0;
                 for i in 0.. {
@@ -34,6 +36,7 @@ fn writers_cannot_recreate_an_abandoned_staging_folder() {
                         let _ = file.write_all(b"{}");
                         if file.commit().is_ok() {
                             written += 1;
+                            committed.fetch_add(1, Ordering::SeqCst);
                         }
                     }
                 }
@@ -41,7 +44,13 @@ fn writers_cannot_recreate_an_abandoned_staging_folder() {
             })
         })
         .collect();
-    std::thread::sleep(Duration::from_millis(100));
+    // The interrupt lands while the writers are writing: after their first files (however
+    // busy the machine), not at a fixed time.
+    let started = Instant::now();
+    while committed.load(Ordering::SeqCst) < 4 && started.elapsed() < Duration::from_secs(30) {
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    std::thread::sleep(Duration::from_millis(20));
     abandon_staged();
     std::thread::sleep(Duration::from_millis(100));
     stop.store(true, Ordering::SeqCst);
