@@ -204,11 +204,12 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         rho + self.slack(rho)
     }
 
-    /// `R_j⁺ − R_i⁻ + max|r'| ρ/R` (m): a node at angle `ψ` from `ε` overlaps by at most
-    /// `ρ cos ψ` plus this.
+    /// `R_j⁺ − R_i⁻ + max|r'| ρ/r⁻` (m, `r⁻` the pin's smallest radius): a node at angle `ψ`
+    /// from `ε` overlaps by at most `ρ cos ψ` plus this.
     fn slack(&self, rho: f64) -> f64 {
         let t = self.tables;
-        t.pin_max - t.bearing_min + t.pin_slope_max * rho / t.reference
+        let largest_inverse = inverse_radius_at(t.pin_min, 1.0 / t.reference);
+        t.pin_max - t.bearing_min + t.pin_slope_max * rho * largest_inverse
     }
 
     /// The nodes that can overlap and `beyond` more at each end, or `None` when none can.
@@ -248,8 +249,8 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         })
     }
 
-    /// Node `cell`'s overlap weighed by the pin's outline, `g̃_k = g_k (1 + a_k/(2R))` (m), in
-    /// the arithmetic of the pose, and its overlap `g_k` (m).
+    /// Node `cell`'s overlap weighed by the pin's outline, `g̃_k = g_k (1 + a_k/(2r_k))` (m),
+    /// in the arithmetic of the pose, and its overlap `g_k` (m).
     #[inline(always)]
     fn gap<T: Real>(
         &self,
@@ -267,8 +268,9 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         // derivative.
         let radius = pose.turn.chain(value, -slope);
         let slope = pose.turn.chain(slope, -curvature);
-        let g = a + radius - (slope + b * 0.5) * b * inverse_radius - t.bearing[cell];
-        (g * (a * (0.5 * inverse_radius) + 1.0), g.value())
+        let inverse = inverse_radius_at(radius, inverse_radius);
+        let g = a + radius - (slope + b * 0.5) * b * inverse - t.bearing[cell];
+        (g * (a * (inverse * 0.5) + 1.0), g.value())
     }
 
     /// Node `cell`'s normal `m̃_k = ∂g̃_k/∂ε`, `∂g̃_k/∂Δ`, its rate and its overlap `g_k`, given
@@ -286,44 +288,53 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let (cos, sin) = (t.cos[cell], t.sin[cell]);
         let a = pose.eps[0] * cos + pose.eps[1] * sin;
         let b = pose.eps[1] * cos - pose.eps[0] * sin;
-        let (_, slope, curvature) = t.pin_at(cell, shift);
+        let (value, slope, curvature) = t.pin_at(cell, shift);
         let third = if T::PLAIN {
             0.0
         } else {
             t.pin_third_at(cell, shift)
         };
+        let radius = pose.turn.chain(value, -slope);
         let slope = pose.turn.chain(slope, -curvature);
         let curvature = pose.turn.chain(curvature, -third);
-        let lean = (slope + b) * inverse_radius;
-        // g̃ = g J, J = 1 + a/(2R): ∂g̃ = J ∂g + g n/(2R) ∂ε.
-        let weigh = a * (0.5 * inverse_radius) + 1.0;
+        // `ι = 1/r_k` and `∂ι/∂Δ = r'_k/R²` (the radius's partial in Δ is `−r'_k`).
+        let inverse = inverse_radius_at(radius, inverse_radius);
+        let d_inverse = slope * (inverse_radius * inverse_radius);
+        let lean = (slope + b) * inverse;
+        // g̃ = g J, J = 1 + a ι/2: ∂g̃ = J ∂g + g ∂J, ∂J/∂ε = ι n/2, ∂J/∂Δ = a (∂ι/∂Δ)/2.
+        let weigh = a * (inverse * 0.5) + 1.0;
         let g = weighed / weigh;
-        let half_g = g * (0.5 * inverse_radius);
+        let half_g = g * (inverse * 0.5);
         let m = [
             (lean * sin + cos) * weigh + half_g * cos,
             (-(lean * cos) + sin) * weigh + half_g * sin,
         ];
-        let d_turn = (curvature * b * inverse_radius - slope) * weigh;
+        // ∂g/∂Δ = −r' + r'' b ι − (r' + b/2) b ∂ι/∂Δ.
+        let d_gap = curvature * b * inverse - slope - (slope + b * 0.5) * b * d_inverse;
+        let d_turn = d_gap * weigh + g * a * (d_inverse * 0.5);
         let rate = dot(&m, &pose.eps_rate) + d_turn * pose.turn_rate;
         NodeForce { m, d_turn, rate, g }
     }
 
-    /// The estimate of the terms node `cell`'s overlap neglects (m): the reading shift's
-    /// second order (`r'' b²/(2R²)`), the chord's next (`b⁴/(8R³)`), the shift's next
-    /// (`r' b³/(6R³)`), and what reading them at `R` instead of the pin's radius there costs.
+    /// The estimate of what node `cell`'s overlap neglects (m), each term by its magnitude
+    /// (docs/model.md §10.8 derives them): of second order in `b/R` the pin's curvature times
+    /// the reading shift squared, `r'' b²/(2R²)`, and the shift's own second order,
+    /// `r'² b²/R³`; of third the shift's `2 r' b³/(3R³)` and the pin's third derivative's
+    /// `r''' b³/(6R³)`; the chord's next, `b⁴/(8R³)`; and `1/r_k` read to first order in
+    /// `v_k/R`, `(|r' b|/R + b²/(2R)) (v_k/R)²`.
     fn neglected(&self, cell: usize, eps: [f64; 2], shift: &Shift, inverse_radius: f64) -> f64 {
         let t = self.tables;
         let b = (eps[1] * t.cos[cell] - eps[0] * t.sin[cell]) * inverse_radius;
         let (value, slope, curvature) = t.pin_at(cell, shift);
+        let third = t.pin_third_at(cell, shift);
+        let (slope, b) = (slope.abs() * inverse_radius, b.abs());
         let b2 = b * b;
+        let deviation = value * inverse_radius;
         t.reference
-            * (0.5 * curvature.abs() * inverse_radius * b2
+            * (b2 * (0.5 * curvature.abs() * inverse_radius + slope * slope)
+                + b2 * b * (2.0 / 3.0 * slope + third.abs() * inverse_radius / 6.0)
                 + b2 * b2 / 8.0
-                + slope.abs() * inverse_radius * b2 * b.abs() / 6.0
-                + (slope.abs() * b.abs() + 0.5 * b2 * t.reference)
-                    * value.abs()
-                    * inverse_radius
-                    * inverse_radius)
+                + (slope * b + 0.5 * b2) * deviation * deviation)
     }
 
     /// The kernel: generalized forces on bearing and pin and the diagnostics; each loaded
@@ -663,7 +674,16 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     }
 }
 
-/// `|m|` of a normal `m = n − λ t` that leans by `λ = (r' + b)/R` off the unit:
+/// `1/r_k` of the pin's radius `r_k = R + v_k` where a node reads it (`deviation` = `v_k` ≤ 0),
+/// to first order in `v_k/R`: `(1 − v_k/R)/R`, no division per node. Its relative error is
+/// `(v_k/R)²`, 2e-5 on the LGRES's worn pins (0.24 mm of wear on a 50 mm radius), on terms that
+/// are themselves of second order in `b/R`.
+#[inline(always)]
+fn inverse_radius_at<T: Real>(deviation: T, inverse_radius: f64) -> T {
+    deviation * (-inverse_radius * inverse_radius) + inverse_radius
+}
+
+/// `|m|` of a normal `m = n − λ t` that leans by `λ = (r' + b)/r` off the unit:
 /// `√(1 + λ²)` by its series in `x = λ²` to `x³`. The lean is the pin's slope and the
 /// eccentricity over the radius, a few hundredths, so the next term, `5x⁴/128`, is below
 /// 1e-12 of `|m|`.

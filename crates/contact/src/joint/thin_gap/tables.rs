@@ -32,6 +32,8 @@ pub struct ThinGapTables {
     /// interpolated radius less `R` (m, ≥ 0 up to rounding): bounds for the window.
     pub(super) bearing_min: f64,
     pub(super) pin_max: f64,
+    /// The pin's smallest interpolated radius less `R` (m, ≤ 0): bounds `1/r` for the window.
+    pub(super) pin_min: f64,
     /// Largest `|R_j'|` of the interpolated pin (m/rad): bounds the reading shift's term.
     pub(super) pin_slope_max: f64,
 }
@@ -60,6 +62,7 @@ impl ThinGapTables {
         // The B-spline stays within its control points' range, and its derivative within
         // their largest difference per knot spacing.
         let pin_max = control.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let pin_min = control.iter().copied().fold(f64::INFINITY, f64::min);
         let steepest = (0..cells)
             .map(|j| (control[(j + 1) % cells] - control[j]).abs())
             .fold(0.0, f64::max);
@@ -76,6 +79,7 @@ impl ThinGapTables {
             reference,
             node_arc: reference * step,
             pin_max,
+            pin_min,
             pin_slope_max: steepest / step,
         }
     }
