@@ -13,15 +13,17 @@ use crate::surface::SurfaceProfile;
 pub struct ThinGapTables {
     /// Nodes over 360°.
     pub(super) cells: usize,
-    /// `cos θ_k`, `sin θ_k` of node `k`'s direction `θ_k = (k + ½) 2π/N` in the bearing's frame.
+    /// `cos θ_k`, `sin θ_k` of node `k`'s direction `θ_k = (k + ½) 2π/N` in the bearing's
+    /// frame, at index `k` and again at `k + N` ([`padded_nodes`] entries): a window that
+    /// wraps past node `N − 1` reads on without an index modulo.
     pub(super) cos: Vec<f64>,
     pub(super) sin: Vec<f64>,
-    /// The bearing's radius at its nodes less [`Self::reference`] (m).
+    /// The bearing's radius at its nodes less [`Self::reference`] (m), padded as `cos`.
     pub(super) bearing: Vec<f64>,
     /// The pin's radius less [`Self::reference`] as a periodic cubic B-spline whose value at
     /// its knots (the pin-frame angles `(j + ½) 2π/N`) is the pin's radius there: control
-    /// point `j` at index `j + 1`, with one control point repeated before and two after so
-    /// that a node's four points are consecutive (`N + 3` entries).
+    /// point `j` at every index `i ≡ j + 1 (mod N)`, over `3N + 7` entries, so that the four
+    /// points of any padded node index and shift ([`Shift::offset`]) are consecutive.
     pub(super) pin: Vec<f64>,
     /// The pin's largest radius `R` (m): the radius the second-order terms divide by and the
     /// radius the arcs are measured on.
@@ -54,11 +56,12 @@ impl ThinGapTables {
             .fold(f64::NEG_INFINITY, f64::max);
         let deviations: Vec<f64> = pin_samples.iter().map(|r| r - reference).collect();
         let control = interpolating_control_points(&deviations);
-        let mut padded = Vec::with_capacity(cells + 3);
-        padded.push(control[cells - 1]);
-        padded.extend_from_slice(&control);
-        padded.push(control[0]);
-        padded.push(control[1 % cells]);
+        let padded_pin = (0..padded_nodes(cells) + cells + 3)
+            .map(|i| control[(i + cells - 1) % cells])
+            .collect();
+        let padded = |per_node: &dyn Fn(usize) -> f64| -> Vec<f64> {
+            (0..padded_nodes(cells)).map(|i| per_node(i % cells)).collect()
+        };
         // The B-spline stays within its control points' range, and its derivative within
         // their largest difference per knot spacing.
         let pin_max = control.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -71,11 +74,11 @@ impl ThinGapTables {
             .collect();
         Self {
             cells,
-            cos: (0..cells).map(|k| angle(k).cos()).collect(),
-            sin: (0..cells).map(|k| angle(k).sin()).collect(),
+            cos: padded(&|k| angle(k).cos()),
+            sin: padded(&|k| angle(k).sin()),
             bearing_min: bearing.iter().copied().fold(f64::INFINITY, f64::min),
-            bearing,
-            pin: padded,
+            bearing: padded(&|k| bearing[k]),
+            pin: padded_pin,
             reference,
             node_arc: reference * step,
             pin_max,
@@ -85,11 +88,11 @@ impl ThinGapTables {
     }
 
     /// The pin's radius less `R`, its slope and its curvature at the pin-frame angle of node
-    /// `k` turned back by the shift (m, m/rad, m/rad²): the four control points from the
-    /// shift's base on, with its weights.
+    /// `k` (a padded index, below [`padded_nodes`]) turned back by the shift (m, m/rad,
+    /// m/rad²): the four control points from the shift's base on, with its weights.
     #[inline(always)]
     pub(super) fn pin_at(&self, k: usize, shift: &Shift) -> (f64, f64, f64) {
-        let base = (k + shift.offset) % self.cells;
+        let base = k + shift.offset;
         let c = &self.pin[base..base + 4];
         let value = shift.value[0] * c[0]
             + shift.value[1] * c[1]
@@ -110,10 +113,16 @@ impl ThinGapTables {
     /// partial of the curvature (piecewise constant on a cubic).
     #[inline]
     pub(super) fn pin_third_at(&self, k: usize, shift: &Shift) -> f64 {
-        let base = (k + shift.offset) % self.cells;
+        let base = k + shift.offset;
         let c = &self.pin[base..base + 4];
         shift.third * (-c[0] + 3.0 * c[1] - 3.0 * c[2] + c[3])
     }
+}
+
+/// Entries of the padded per-node tables for `cells` nodes: a window of up to every node and
+/// two beyond each end, starting anywhere in `0..N`, indexes below `2N + 4`.
+pub(super) const fn padded_nodes(cells: usize) -> usize {
+    2 * cells + 4
 }
 
 /// The pin read at its rotation `Δ = θ_j − θ_i` relative to the bearing: node `k` (direction
@@ -123,7 +132,7 @@ impl ThinGapTables {
 /// node; only the base index moves with `k`.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Shift {
-    /// Node `k`'s first control point is at padded index `(k + offset) mod N`.
+    /// Node `k`'s first control point is at padded index `k + offset` (`offset < N`).
     pub(super) offset: usize,
     pub(super) value: [f64; 4],
     /// The weights' derivatives in the pin-frame angle (1/rad).
