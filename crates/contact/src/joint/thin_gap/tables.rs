@@ -60,7 +60,9 @@ impl ThinGapTables {
             .map(|i| control[(i + cells - 1) % cells])
             .collect();
         let padded = |per_node: &dyn Fn(usize) -> f64| -> Vec<f64> {
-            (0..padded_nodes(cells)).map(|i| per_node(i % cells)).collect()
+            (0..padded_nodes(cells))
+                .map(|i| per_node(i % cells))
+                .collect()
         };
         // The B-spline stays within its control points' range, and its derivative within
         // their largest difference per knot spacing.
