@@ -214,12 +214,12 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         rho + self.slack(rho)
     }
 
-    /// `R_j⁺ − R_i⁻ + max|r'| ρ/r⁻` (m, `r⁻` the pin's smallest radius): a node at angle `ψ`
-    /// from `ε` overlaps by at most `ρ cos ψ` plus this.
+    /// `R_j⁺ − R_i⁻ + max|r'| ρ/r⁻ + max(r'', 0) ρ²/(2r⁻²)` (m, `r⁻` the pin's smallest
+    /// radius): a node at angle `ψ` from `ε` overlaps by at most `ρ cos ψ` plus this.
     fn slack(&self, rho: f64) -> f64 {
         let t = self.tables;
-        let largest_inverse = inverse_radius_at(t.pin_min, 1.0 / t.reference);
-        t.pin_max - t.bearing_min + t.pin_slope_max * rho * largest_inverse
+        let shift = rho * inverse_radius_at(t.pin_min, 1.0 / t.reference);
+        t.pin_max - t.bearing_min + t.pin_slope_max * shift + 0.5 * t.bend_max * shift * shift
     }
 
     /// The nodes that can overlap and `beyond` more at each end, or `None` when none can.
@@ -274,12 +274,16 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let a = pose.eps[0] * cos + pose.eps[1] * sin;
         let b = pose.eps[1] * cos - pose.eps[0] * sin;
         let (value, slope, curvature) = t.pin_at(node, shift);
-        // The pin's radius and slope at `θ_k − Δ`: their partials in Δ are minus the next
-        // derivative.
+        let (bend, bend_slope, _) = t.bend_at(node, shift);
+        // The pin's radius, slope and curvature at `θ_k − Δ`: their partials in Δ are minus
+        // the next derivative.
         let radius = pose.turn.chain(value, -slope);
         let slope = pose.turn.chain(slope, -curvature);
+        let bend = pose.turn.chain(bend, -bend_slope);
         let inverse = inverse_radius_at(radius, inverse_radius);
-        let g = a + radius - (slope + b * 0.5) * b * inverse - t.bearing[node];
+        // The reading shift `b/r`.
+        let reading = b * inverse;
+        let g = a + radius - (slope + b * 0.5 - bend * reading * 0.5) * reading - t.bearing[node];
         (g * (a * (inverse * 0.5) + 1.0), g.value())
     }
 
@@ -300,13 +304,17 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let a = pose.eps[0] * cos + pose.eps[1] * sin;
         let b = pose.eps[1] * cos - pose.eps[0] * sin;
         let (value, slope, curvature) = t.pin_at(node, shift);
-        // The Jacobian's partial of the curvature, and a term of the estimate.
-        let third = t.pin_third_at(node, shift);
+        let (bend, bend_slope, bend_curvature) = t.bend_at(node, shift);
+        let third = if T::PLAIN {
+            0.0
+        } else {
+            t.pin_third_at(node, shift)
+        };
         let neglected = if weighed.value() > 0.0 {
             t.reference
                 * neglected(
                     b.value() * inverse_radius,
-                    [value, slope, curvature, third],
+                    [value, slope, curvature, bend, bend_slope],
                     inverse_radius,
                 )
         } else {
@@ -315,10 +323,13 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let radius = pose.turn.chain(value, -slope);
         let slope = pose.turn.chain(slope, -curvature);
         let curvature = pose.turn.chain(curvature, -third);
+        let bend = pose.turn.chain(bend, -bend_slope);
+        let bend_slope = pose.turn.chain(bend_slope, -bend_curvature);
         // `ι = 1/r_k` and `∂ι/∂Δ = r'_k/R²` (the radius's partial in Δ is `−r'_k`).
         let inverse = inverse_radius_at(radius, inverse_radius);
         let d_inverse = slope * (inverse_radius * inverse_radius);
-        let lean = (slope + b) * inverse;
+        let reading = b * inverse;
+        let lean = (slope + b - bend * reading) * inverse;
         // g̃ = g J, J = 1 + a ι/2: ∂g̃ = J ∂g + g ∂J, ∂J/∂ε = ι n/2, ∂J/∂Δ = a (∂ι/∂Δ)/2.
         let weigh = a * (inverse * 0.5) + 1.0;
         let g = weighed / weigh;
@@ -327,8 +338,12 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             (lean * sin + cos) * weigh + half_g * cos,
             (-(lean * cos) + sin) * weigh + half_g * sin,
         ];
-        // ∂g/∂Δ = −r' + r'' b ι − (r' + b/2) b ∂ι/∂Δ.
-        let d_gap = curvature * b * inverse - slope - (slope + b * 0.5) * b * d_inverse;
+        // With `q = b ι` and `κ` the curvature spline's:
+        // ∂g/∂Δ = −r' + r'' q − (r' + b/2 − κ q) b ∂ι/∂Δ − κ' q²/2.
+        let d_gap = curvature * reading
+            - slope
+            - (slope + b * 0.5 - bend * reading) * b * d_inverse
+            - bend_slope * reading * reading * 0.5;
         let d_turn = d_gap * weigh + g * a * (d_inverse * 0.5);
         let rate = dot(&m, &pose.eps_rate) + d_turn * pose.turn_rate;
         NodeForce {
@@ -668,21 +683,22 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
 }
 
 /// The estimate of what a node's overlap neglects, over `R` (each term by its magnitude;
-/// docs/model.md §10.8 derives them), from `b/R` and the pin's `[v, r', r'', r''']` where the
-/// node reads it: of second order in `b/R` the pin's curvature times the reading shift
-/// squared, `r'' b²/(2R²)`, and the shift's own second order, `r'² b²/R³`; of third the
-/// shift's `2 r' b³/(3R³)` and the pin's third derivative's `r''' b³/(6R³)`; the chord's next,
-/// `b⁴/(8R³)`; and `1/r_k` read to first order in `v/R`, `(|r' b|/R + b²/(2R)) (v/R)²`.
+/// docs/model.md §10.8 derives them), from `b/R` and the pin's `[v, r', r'', κ, κ']` where
+/// the node reads it (`r''` the radius spline's curvature, `κ` the curvature spline's): of
+/// second order in `b/R` the curvature splines' difference, `|r'' − κ| b²/(2R²)`, and the
+/// reading shift's own second order, `r'² b²/R³`; of third the shift's `2 r' b³/(3R³)` and
+/// the third derivative's `κ' b³/(6R³)`; the chord's next, `b⁴/(8R³)`; and `1/r_k` read to
+/// first order in `v/R`, `(|r' b|/R + b²/(2R) + |κ| b²/R²) (v/R)²`.
 #[inline]
-fn neglected(b: f64, pin: [f64; 4], inverse_radius: f64) -> f64 {
-    let [value, slope, curvature, third] = pin;
+fn neglected(b: f64, pin: [f64; 5], inverse_radius: f64) -> f64 {
+    let [value, slope, curvature, bend, bend_slope] = pin;
     let (slope, b) = (slope.abs() * inverse_radius, b.abs());
     let b2 = b * b;
     let deviation = value * inverse_radius;
-    b2 * (0.5 * curvature.abs() * inverse_radius + slope * slope)
-        + b2 * b * (2.0 / 3.0 * slope + third.abs() * inverse_radius / 6.0)
+    b2 * (0.5 * (curvature - bend).abs() * inverse_radius + slope * slope)
+        + b2 * b * (2.0 / 3.0 * slope + bend_slope.abs() * inverse_radius / 6.0)
         + b2 * b2 / 8.0
-        + (slope * b + 0.5 * b2) * deviation * deviation
+        + (slope * b + b2 * (0.5 + bend.abs() * inverse_radius)) * deviation * deviation
 }
 
 /// `1/r_k` of the pin's radius `r_k = R + v_k` where a node reads it (`deviation` = `v_k` ≤ 0),

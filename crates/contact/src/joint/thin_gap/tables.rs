@@ -25,6 +25,11 @@ pub struct ThinGapTables {
     /// point `j` at every index `i ≡ j + 1 (mod N)`, over `3N + 7` entries, so that the four
     /// points of any padded node index and shift ([`Shift::offset`]) are consecutive.
     pub(super) pin: Vec<f64>,
+    /// The pin's curvature (m/rad²) as a periodic cubic B-spline of its own, padded as `pin`:
+    /// it takes the curvature of the radius's spline at the knots and is read by the same
+    /// shift. Its slope, the curvature term's partial in the turn, is C¹ where the radius
+    /// spline's third derivative is piecewise constant.
+    pub(super) bend: Vec<f64>,
     /// The pin's largest radius `R` (m): the radius the second-order terms divide by and the
     /// radius the arcs are measured on.
     pub(super) reference: f64,
@@ -38,6 +43,8 @@ pub struct ThinGapTables {
     pub(super) pin_min: f64,
     /// Largest `|R_j'|` of the interpolated pin (m/rad): bounds the reading shift's term.
     pub(super) pin_slope_max: f64,
+    /// Largest curvature of [`Self::bend`], at least 0 (m/rad²): bounds the curvature term.
+    pub(super) bend_max: f64,
 }
 
 impl ThinGapTables {
@@ -56,9 +63,19 @@ impl ThinGapTables {
             .fold(f64::NEG_INFINITY, f64::max);
         let deviations: Vec<f64> = pin_samples.iter().map(|r| r - reference).collect();
         let control = interpolating_control_points(&deviations);
-        let padded_pin = (0..padded_nodes(cells) + cells + 3)
-            .map(|i| control[(i + cells - 1) % cells])
+        // The radius spline's curvature at knot `j`: `(c_{j−1} − 2c_j + c_{j+1})/h²`.
+        let knot_curvature: Vec<f64> = (0..cells)
+            .map(|j| {
+                (control[(j + cells - 1) % cells] - 2.0 * control[j] + control[(j + 1) % cells])
+                    / (step * step)
+            })
             .collect();
+        let bend = interpolating_control_points(&knot_curvature);
+        let padded_spline = |control: &[f64]| -> Vec<f64> {
+            (0..padded_nodes(cells) + cells + 3)
+                .map(|i| control[(i + cells - 1) % cells])
+                .collect()
+        };
         let padded = |per_node: &dyn Fn(usize) -> f64| -> Vec<f64> {
             (0..padded_nodes(cells))
                 .map(|i| per_node(i % cells))
@@ -80,7 +97,9 @@ impl ThinGapTables {
             sin: padded(&|k| angle(k).sin()),
             bearing_min: bearing.iter().copied().fold(f64::INFINITY, f64::min),
             bearing: padded(&|k| bearing[k]),
-            pin: padded_pin,
+            pin: padded_spline(&control),
+            bend: padded_spline(&bend),
+            bend_max: bend.iter().copied().fold(0.0, f64::max),
             reference,
             node_arc: reference * step,
             pin_max,
@@ -94,21 +113,14 @@ impl ThinGapTables {
     /// m/rad²): the four control points from the shift's base on, with its weights.
     #[inline(always)]
     pub(super) fn pin_at(&self, k: usize, shift: &Shift) -> (f64, f64, f64) {
-        let base = k + shift.offset;
-        let c = &self.pin[base..base + 4];
-        let value = shift.value[0] * c[0]
-            + shift.value[1] * c[1]
-            + shift.value[2] * c[2]
-            + shift.value[3] * c[3];
-        let slope = shift.slope[0] * c[0]
-            + shift.slope[1] * c[1]
-            + shift.slope[2] * c[2]
-            + shift.slope[3] * c[3];
-        let curvature = shift.curvature[0] * c[0]
-            + shift.curvature[1] * c[1]
-            + shift.curvature[2] * c[2]
-            + shift.curvature[3] * c[3];
-        (value, slope, curvature)
+        read(&self.pin, k, shift)
+    }
+
+    /// The pin's curvature from [`Self::bend`] at node `k` under the shift, and its first
+    /// and second derivatives (m/rad², m/rad³, m/rad⁴).
+    #[inline(always)]
+    pub(super) fn bend_at(&self, k: usize, shift: &Shift) -> (f64, f64, f64) {
+        read(&self.bend, k, shift)
     }
 
     /// The pin's third derivative at node `k` under the shift (m/rad³): the Jacobian's
@@ -119,6 +131,26 @@ impl ThinGapTables {
         let c = &self.pin[base..base + 4];
         shift.third * (-c[0] + 3.0 * c[1] - 3.0 * c[2] + c[3])
     }
+}
+
+/// A padded spline `table` at node `k` under the shift: its value and first two derivatives.
+#[inline(always)]
+fn read(table: &[f64], k: usize, shift: &Shift) -> (f64, f64, f64) {
+    let base = k + shift.offset;
+    let c = &table[base..base + 4];
+    let value = shift.value[0] * c[0]
+        + shift.value[1] * c[1]
+        + shift.value[2] * c[2]
+        + shift.value[3] * c[3];
+    let slope = shift.slope[0] * c[0]
+        + shift.slope[1] * c[1]
+        + shift.slope[2] * c[2]
+        + shift.slope[3] * c[3];
+    let curvature = shift.curvature[0] * c[0]
+        + shift.curvature[1] * c[1]
+        + shift.curvature[2] * c[2]
+        + shift.curvature[3] * c[3];
+    (value, slope, curvature)
 }
 
 /// Entries of the padded per-node tables for `cells` nodes: a window of up to every node and
@@ -233,6 +265,7 @@ mod tests {
     fn the_shifted_spline_reads_the_pin_at_any_turn() {
         let tables = ThinGapTables::new(&crate::CircularProfile::new(0.051), &Wavy, 400);
         let h = TAU / 400.0;
+        let mut worst_third: f64 = 0.0;
         for turn in [0.0, 0.3, -1.7, 2.0 * h, 12.345] {
             let shift = Shift::new(turn, 400);
             for k in [0, 1, 57, 399] {
@@ -242,8 +275,15 @@ mod tests {
                 assert!((radius - exact.radius).abs() < 5e-11, "{turn} {k}");
                 assert!((slope - exact.slope).abs() < 2e-8, "{turn} {k}");
                 assert!((curvature - exact.curvature).abs() < 2e-6, "{turn} {k}");
+                let (bend, bend_slope, _) = tables.bend_at(k, &shift);
+                assert!((bend - exact.curvature).abs() < 2e-6, "{turn} {k}");
+                let angle = (k as f64 + 0.5) * h - turn;
+                let third = 27.0 * 2e-5 * (3.0 * angle).sin() - 343.0 * 1e-5 * (7.0 * angle).cos();
+                worst_third = worst_third.max((bend_slope - third).abs());
             }
         }
+        eprintln!("the curvature spline's slope against the third derivative: {worst_third:.1e}");
+        assert!(worst_third < 1e-4, "{worst_third:e}");
         let (value, _, _) = tables.pin_at(5, &Shift::new(0.0, 400));
         assert!((value + tables.reference - Wavy.sample(5.5 * h).radius).abs() < 1e-16);
     }
