@@ -50,8 +50,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let active = scene.clearance_joints.iter().filter(|c| !c.ideal);
     for (spec, surfaces) in active.zip(&worn) {
         let Some(surfaces) = surfaces else { continue };
-        let ContactModelKind::Foundation(foundation) = spec.contact_model()? else {
-            continue;
+        // The scene's layer, on either model that has one.
+        let foundation = match spec.contact_model()? {
+            ContactModelKind::Foundation(layer) => layer,
+            ContactModelKind::ThinGap(thin) => thin.layer(),
+            _ => continue,
         };
         let own = surfaces.pin().cells();
         let contact = |cells: usize,

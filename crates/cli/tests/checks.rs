@@ -155,7 +155,7 @@ fn bad_layer_fields_are_refused_by_check_and_run_naming_the_field() {
         (
             "{ layer = \"banana\" }",
             "",
-            "unknown variant `banana`, expected `paper` or `pin-in-hole` (model = \"foundation\")",
+            "unknown variant `banana`, expected `paper` or `pin-in-hole` (model = \"thin-gap\")",
         ),
     ] {
         let scene = lgres_with(

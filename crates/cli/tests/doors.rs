@@ -310,11 +310,11 @@ fn extends_switches_a_joints_contact_model() {
     assert!(o.status.success(), "{}", stderr(&o));
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("line-of-centres"), "{text}");
-    // Naming the model the base already has (by default) keeps the base's fields.
+    // Naming the model the base already has keeps the base's fields.
     let scene = lgres_with(
         &dir,
         "[[clearance_joints]]\nname = \"B\"\n\
-         contact = { model = \"foundation\", reference_speed = 0.1 }\n",
+         contact = { model = \"thin-gap\", reference_speed = 0.1 }\n",
     );
     let merged = scene::load_path(&scene, lgres::scenes::BUILTINS).unwrap();
     let b = merged
@@ -322,8 +322,8 @@ fn extends_switches_a_joints_contact_model() {
         .iter()
         .find(|j| j.name == "B")
         .unwrap();
-    let scene::ContactSpec::Foundation(contact) = b.contact else {
-        panic!("not the foundation: {:?}", b.contact)
+    let scene::ContactSpec::ThinGap(scene::ThinGapSpec(contact)) = b.contact else {
+        panic!("not the thin gap: {:?}", b.contact)
     };
     assert_eq!(contact.cells, Some(500));
     assert_eq!(contact.reference_speed, Some(0.1));

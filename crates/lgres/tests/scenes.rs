@@ -334,7 +334,12 @@ fn slider_crank_counts() {
 #[test]
 fn contact_model_fields_are_validated_naming_the_field() {
     // Joint A's contact table replaced.
-    let with = |contact: &str| edited("contact = { cells = 500 }", &format!("contact = {contact}"));
+    let with = |contact: &str| {
+        edited(
+            "contact = { model = \"thin-gap\", cells = 500 }",
+            &format!("contact = {contact}"),
+        )
+    };
     let one = |contact: &str| refused(&with(contact));
     assert_eq!(
         one("{ layer_modulus = -5e14 }"),
@@ -413,7 +418,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
     // An unknown model is a type error naming the field.
     let err = load(&with("{ model = \"winkler\" }")).unwrap_err();
     assert!(err.to_string().contains("model"), "{err}");
-    // A valid layer loads and round-trips; the default scene uses the foundation.
+    // A valid layer loads and round-trips; the default scene uses the thin gap.
     let s = load(&with("{ layer_modulus = 8e11, width = 0.1 }")).unwrap();
     assert_eq!(
         foundation(&s.clearance_joints[0].contact).layer_modulus,
@@ -424,10 +429,12 @@ fn contact_model_fields_are_validated_naming_the_field() {
         again.clearance_joints[0].contact,
         s.clearance_joints[0].contact
     );
-    assert!(matches!(
-        scenes::builtin("lgres").unwrap().clearance_joints[0].contact_model(),
-        Ok(contact::ContactModelKind::Foundation(_))
-    ));
+    for joint in &scenes::builtin("lgres").unwrap().clearance_joints {
+        assert!(matches!(
+            joint.contact_model(),
+            Ok(contact::ContactModelKind::ThinGap(_))
+        ));
+    }
     // The wear smoothing is an angle within [0, 30]°.
     let text = edited(
         "transient_window = 0.1",
@@ -490,7 +497,8 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
         "{msg:?}"
     );
     // (Linearly implicit sub-steps need a node per wear cell: A and B on 1000.)
-    let one_per_cell = |text: String| text.replace("contact = { cells = 500 }", "");
+    let one_per_cell =
+        |text: String| text.replace("contact = { model = \"thin-gap\", cells = 500 }", "");
     let text = one_per_cell(with(
         "wear_tolerance = 0.05\nwear_stepping = \"linearly-implicit\"",
     ));

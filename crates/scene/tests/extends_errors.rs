@@ -132,12 +132,8 @@ fn type_errors_through_extends_chains_name_the_field_the_file_and_the_line() {
     let table: toml::Table = toml::from_str(&root.to_toml()).unwrap();
     let mut leaves = Vec::new();
     walk(&table, &[], &mut leaves);
-    // The foundation's own choices, left to their defaults in the LGRES (not serialized).
-    for (field, value) in [
-        ("quadrature", "simpson"),
-        ("layer", "paper"),
-        ("model", "foundation"),
-    ] {
+    // The layer's own choices, left to their defaults in the LGRES (not serialized).
+    for (field, value) in [("quadrature", "simpson"), ("layer", "paper")] {
         let joint = Seg::Named("clearance_joints".into(), "A".into(), 0);
         leaves.push((
             vec![joint, Seg::Key("contact".into()), Seg::Key(field.into())],

@@ -13,16 +13,23 @@ use crate::surface::SurfaceProfile;
 pub struct ThinGapTables {
     /// Nodes over 360°.
     pub(super) cells: usize,
-    /// `cos θ_k`, `sin θ_k` of node `k`'s direction `θ_k = (k + ½) 2π/N` in the bearing's frame.
+    /// `cos θ_k`, `sin θ_k` of node `k`'s direction `θ_k = (k + ½) 2π/N` in the bearing's
+    /// frame, at index `k` and again at `k + N` ([`padded_nodes`] entries): a window that
+    /// wraps past node `N − 1` reads on without an index modulo.
     pub(super) cos: Vec<f64>,
     pub(super) sin: Vec<f64>,
-    /// The bearing's radius at its nodes less [`Self::reference`] (m).
+    /// The bearing's radius at its nodes less [`Self::reference`] (m), padded as `cos`.
     pub(super) bearing: Vec<f64>,
     /// The pin's radius less [`Self::reference`] as a periodic cubic B-spline whose value at
     /// its knots (the pin-frame angles `(j + ½) 2π/N`) is the pin's radius there: control
-    /// point `j` at index `j + 1`, with one control point repeated before and two after so
-    /// that a node's four points are consecutive (`N + 3` entries).
+    /// point `j` at every index `i ≡ j + 1 (mod N)`, over `3N + 7` entries, so that the four
+    /// points of any padded node index and shift ([`Shift::offset`]) are consecutive.
     pub(super) pin: Vec<f64>,
+    /// The pin's curvature (m/rad²) as a periodic cubic B-spline of its own, padded as `pin`:
+    /// it takes the curvature of the radius's spline at the knots and is read by the same
+    /// shift. Its slope, the curvature term's partial in the turn, is C¹ where the radius
+    /// spline's third derivative is piecewise constant.
+    pub(super) bend: Vec<f64>,
     /// The pin's largest radius `R` (m): the radius the second-order terms divide by and the
     /// radius the arcs are measured on.
     pub(super) reference: f64,
@@ -32,8 +39,12 @@ pub struct ThinGapTables {
     /// interpolated radius less `R` (m, ≥ 0 up to rounding): bounds for the window.
     pub(super) bearing_min: f64,
     pub(super) pin_max: f64,
+    /// The pin's smallest interpolated radius less `R` (m, ≤ 0): bounds `1/r` for the window.
+    pub(super) pin_min: f64,
     /// Largest `|R_j'|` of the interpolated pin (m/rad): bounds the reading shift's term.
     pub(super) pin_slope_max: f64,
+    /// Largest curvature of [`Self::bend`], at least 0 (m/rad²): bounds the curvature term.
+    pub(super) bend_max: f64,
 }
 
 impl ThinGapTables {
@@ -52,14 +63,28 @@ impl ThinGapTables {
             .fold(f64::NEG_INFINITY, f64::max);
         let deviations: Vec<f64> = pin_samples.iter().map(|r| r - reference).collect();
         let control = interpolating_control_points(&deviations);
-        let mut padded = Vec::with_capacity(cells + 3);
-        padded.push(control[cells - 1]);
-        padded.extend_from_slice(&control);
-        padded.push(control[0]);
-        padded.push(control[1 % cells]);
+        // The radius spline's curvature at knot `j`: `(c_{j−1} − 2c_j + c_{j+1})/h²`.
+        let knot_curvature: Vec<f64> = (0..cells)
+            .map(|j| {
+                (control[(j + cells - 1) % cells] - 2.0 * control[j] + control[(j + 1) % cells])
+                    / (step * step)
+            })
+            .collect();
+        let bend = interpolating_control_points(&knot_curvature);
+        let padded_spline = |control: &[f64]| -> Vec<f64> {
+            (0..padded_nodes(cells) + cells + 3)
+                .map(|i| control[(i + cells - 1) % cells])
+                .collect()
+        };
+        let padded = |per_node: &dyn Fn(usize) -> f64| -> Vec<f64> {
+            (0..padded_nodes(cells))
+                .map(|i| per_node(i % cells))
+                .collect()
+        };
         // The B-spline stays within its control points' range, and its derivative within
         // their largest difference per knot spacing.
         let pin_max = control.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let pin_min = control.iter().copied().fold(f64::INFINITY, f64::min);
         let steepest = (0..cells)
             .map(|j| (control[(j + 1) % cells] - control[j]).abs())
             .fold(0.0, f64::max);
@@ -68,48 +93,70 @@ impl ThinGapTables {
             .collect();
         Self {
             cells,
-            cos: (0..cells).map(|k| angle(k).cos()).collect(),
-            sin: (0..cells).map(|k| angle(k).sin()).collect(),
+            cos: padded(&|k| angle(k).cos()),
+            sin: padded(&|k| angle(k).sin()),
             bearing_min: bearing.iter().copied().fold(f64::INFINITY, f64::min),
-            bearing,
-            pin: padded,
+            bearing: padded(&|k| bearing[k]),
+            pin: padded_spline(&control),
+            bend: padded_spline(&bend),
+            bend_max: bend.iter().copied().fold(0.0, f64::max),
             reference,
             node_arc: reference * step,
             pin_max,
+            pin_min,
             pin_slope_max: steepest / step,
         }
     }
 
     /// The pin's radius less `R`, its slope and its curvature at the pin-frame angle of node
-    /// `k` turned back by the shift (m, m/rad, m/rad²): the four control points from the
-    /// shift's base on, with its weights.
+    /// `k` (a padded index, below [`padded_nodes`]) turned back by the shift (m, m/rad,
+    /// m/rad²): the four control points from the shift's base on, with its weights.
     #[inline(always)]
     pub(super) fn pin_at(&self, k: usize, shift: &Shift) -> (f64, f64, f64) {
-        let base = (k + shift.offset) % self.cells;
-        let c = &self.pin[base..base + 4];
-        let value = shift.value[0] * c[0]
-            + shift.value[1] * c[1]
-            + shift.value[2] * c[2]
-            + shift.value[3] * c[3];
-        let slope = shift.slope[0] * c[0]
-            + shift.slope[1] * c[1]
-            + shift.slope[2] * c[2]
-            + shift.slope[3] * c[3];
-        let curvature = shift.curvature[0] * c[0]
-            + shift.curvature[1] * c[1]
-            + shift.curvature[2] * c[2]
-            + shift.curvature[3] * c[3];
-        (value, slope, curvature)
+        read(&self.pin, k, shift)
+    }
+
+    /// The pin's curvature from [`Self::bend`] at node `k` under the shift, and its first
+    /// and second derivatives (m/rad², m/rad³, m/rad⁴).
+    #[inline(always)]
+    pub(super) fn bend_at(&self, k: usize, shift: &Shift) -> (f64, f64, f64) {
+        read(&self.bend, k, shift)
     }
 
     /// The pin's third derivative at node `k` under the shift (m/rad³): the Jacobian's
     /// partial of the curvature (piecewise constant on a cubic).
     #[inline]
     pub(super) fn pin_third_at(&self, k: usize, shift: &Shift) -> f64 {
-        let base = (k + shift.offset) % self.cells;
+        let base = k + shift.offset;
         let c = &self.pin[base..base + 4];
         shift.third * (-c[0] + 3.0 * c[1] - 3.0 * c[2] + c[3])
     }
+}
+
+/// A padded spline `table` at node `k` under the shift: its value and first two derivatives.
+#[inline(always)]
+fn read(table: &[f64], k: usize, shift: &Shift) -> (f64, f64, f64) {
+    let base = k + shift.offset;
+    let c = &table[base..base + 4];
+    let value = shift.value[0] * c[0]
+        + shift.value[1] * c[1]
+        + shift.value[2] * c[2]
+        + shift.value[3] * c[3];
+    let slope = shift.slope[0] * c[0]
+        + shift.slope[1] * c[1]
+        + shift.slope[2] * c[2]
+        + shift.slope[3] * c[3];
+    let curvature = shift.curvature[0] * c[0]
+        + shift.curvature[1] * c[1]
+        + shift.curvature[2] * c[2]
+        + shift.curvature[3] * c[3];
+    (value, slope, curvature)
+}
+
+/// Entries of the padded per-node tables for `cells` nodes: a window of up to every node and
+/// two beyond each end, starting anywhere in `0..N`, indexes below `2N + 4`.
+pub(super) const fn padded_nodes(cells: usize) -> usize {
+    2 * cells + 4
 }
 
 /// The pin read at its rotation `Δ = θ_j − θ_i` relative to the bearing: node `k` (direction
@@ -119,7 +166,7 @@ impl ThinGapTables {
 /// node; only the base index moves with `k`.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Shift {
-    /// Node `k`'s first control point is at padded index `(k + offset) mod N`.
+    /// Node `k`'s first control point is at padded index `k + offset` (`offset < N`).
     pub(super) offset: usize,
     pub(super) value: [f64; 4],
     /// The weights' derivatives in the pin-frame angle (1/rad).
@@ -218,6 +265,7 @@ mod tests {
     fn the_shifted_spline_reads_the_pin_at_any_turn() {
         let tables = ThinGapTables::new(&crate::CircularProfile::new(0.051), &Wavy, 400);
         let h = TAU / 400.0;
+        let mut worst_third: f64 = 0.0;
         for turn in [0.0, 0.3, -1.7, 2.0 * h, 12.345] {
             let shift = Shift::new(turn, 400);
             for k in [0, 1, 57, 399] {
@@ -227,8 +275,15 @@ mod tests {
                 assert!((radius - exact.radius).abs() < 5e-11, "{turn} {k}");
                 assert!((slope - exact.slope).abs() < 2e-8, "{turn} {k}");
                 assert!((curvature - exact.curvature).abs() < 2e-6, "{turn} {k}");
+                let (bend, bend_slope, _) = tables.bend_at(k, &shift);
+                assert!((bend - exact.curvature).abs() < 2e-6, "{turn} {k}");
+                let angle = (k as f64 + 0.5) * h - turn;
+                let third = 27.0 * 2e-5 * (3.0 * angle).sin() - 343.0 * 1e-5 * (7.0 * angle).cos();
+                worst_third = worst_third.max((bend_slope - third).abs());
             }
         }
+        eprintln!("the curvature spline's slope against the third derivative: {worst_third:.1e}");
+        assert!(worst_third < 1e-4, "{worst_third:e}");
         let (value, _, _) = tables.pin_at(5, &Shift::new(0.0, 400));
         assert!((value + tables.reference - Wavy.sample(5.5 * h).radius).abs() < 1e-16);
     }
