@@ -2,11 +2,15 @@
 //! coordinates of a joint, so one kernel gives the forces (with `f64`) and their exact
 //! 6×12 Jacobian (with [`Dual`]) from the same lines of code.
 //!
-//! Only what the foundation kernel needs is here: the four operations, `sqrt`, `sin_cos`,
-//! `atan2`, and [`Real::chain`] to apply a function whose value and derivative the caller
-//! already knows (a surface profile's radius and slope, a contact law and its partials).
+//! Only what the foundation and thin-gap kernels need is here: the four operations, `sqrt`,
+//! `sin_cos`, `atan2`, [`Real::chain`] to apply a function whose value and derivative the
+//! caller already knows (a surface profile's radius and slope, a contact law and its
+//! partials), a body's coordinates as the variables ([`body_variables`]) and the Jacobian
+//! gathered from the forces' partials ([`jacobian`]).
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
+
+use crate::joint::types::{BodyState, ContactJacobian};
 
 /// Number of independent variables: `[x_i, y_i, θ_i, x_j, y_j, θ_j]` then their rates.
 pub(crate) const VARIABLES: usize = 12;
@@ -255,4 +259,31 @@ mod tests {
             );
         }
     }
+}
+
+/// A body's coordinates as the independent variables of a joint's Jacobian: the bearing's
+/// (`offset` 0) and the pin's (`offset` 3) positions are columns `offset..offset + 3`, their
+/// rates six columns further on.
+pub(crate) fn body_variables(state: &BodyState, offset: usize) -> [Dual; 6] {
+    let values = state.coordinates();
+    std::array::from_fn(|k| {
+        let column = if k < 3 {
+            offset + k
+        } else {
+            6 + offset + k - 3
+        };
+        Dual::variable(values[k], column)
+    })
+}
+
+/// The Jacobian whose rows are the partials of the bearing's and then the pin's generalized
+/// forces.
+pub(crate) fn jacobian(bearing: &[Dual; 3], pin: &[Dual; 3]) -> ContactJacobian {
+    let mut jacobian = ContactJacobian::zeros();
+    for (row, value) in bearing.iter().chain(pin).enumerate() {
+        for (column, partial) in value.partials.iter().enumerate() {
+            jacobian[(row, column)] = *partial;
+        }
+    }
+    jacobian
 }

@@ -45,6 +45,11 @@ impl BodyState {
         }
     }
 
+    /// `[x, y, θ, ẋ, ẏ, θ̇]`: the order of a body's columns in [`ContactJacobian`].
+    pub(crate) fn coordinates(&self) -> [f64; 6] {
+        [self.x, self.y, self.theta, self.vx, self.vy, self.omega]
+    }
+
     /// A body at rest at `(x, y, θ)`.
     pub fn at_rest(x: f64, y: f64, theta: f64) -> Self {
         Self::new([x, y, theta], [0.0; 3])

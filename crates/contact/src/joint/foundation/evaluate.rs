@@ -9,7 +9,7 @@ use super::layer::Foundation;
 use super::memory::{FoundationWorkspace, Pose, Remembered, Skip};
 use super::window::NodeWindow;
 use crate::friction::FrictionLaw;
-use crate::joint::dual::Dual;
+use crate::joint::dual::{body_variables, jacobian};
 use crate::joint::model::{ContactKernel, ContactModel, ModelState, ValidityMeasure, Visit};
 use crate::joint::pair::ContactPair;
 use crate::joint::types::{BodyState, ContactForces, ContactJacobian, JointState};
@@ -28,8 +28,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Kernel<
         let out = self.foundation_eval(
             foundation,
             workspace,
-            state_array(at.bearing),
-            state_array(at.pin),
+            at.bearing.coordinates(),
+            at.pin.coordinates(),
             at.onset_velocity,
             visit,
         );
@@ -47,32 +47,15 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Kernel<
         workspace: &mut FoundationWorkspace,
         at: JointState,
     ) -> (ContactForces, ContactJacobian) {
-        let seed = |state: &BodyState, offset: usize| -> [Dual; 6] {
-            let values = state_array(state);
-            // Positions are columns 0–2 (bearing) and 3–5 (pin), velocities 6–8 and 9–11.
-            std::array::from_fn(|k| {
-                let column = if k < 3 {
-                    offset + k
-                } else {
-                    6 + offset + k - 3
-                };
-                Dual::variable(values[k], column)
-            })
-        };
         let out = self.foundation_eval(
             foundation,
             workspace,
-            seed(at.bearing, 0),
-            seed(at.pin, 3),
+            body_variables(at.bearing, 0),
+            body_variables(at.pin, 3),
             at.onset_velocity,
             None,
         );
-        let mut jacobian = ContactJacobian::zeros();
-        for (row, value) in out.bearing.iter().chain(&out.pin).enumerate() {
-            for (column, partial) in value.partials.iter().enumerate() {
-                jacobian[(row, column)] = *partial;
-            }
-        }
+        let jacobian = jacobian(&out.bearing, &out.pin);
         let forces = ContactForces {
             bearing: Vector3::new(
                 out.bearing[0].value,
@@ -94,8 +77,8 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Kernel<
         bearing_body: &BodyState,
         pin_body: &BodyState,
     ) -> f64 {
-        let bearing = Body::new(state_array(bearing_body));
-        let pin = Body::new(state_array(pin_body));
+        let bearing = Body::new(bearing_body.coordinates());
+        let pin = Body::new(pin_body.coordinates());
         let bearing_centre_arm =
             bearing.rotate([self.pair.bearing_centre.x, self.pair.bearing_centre.y]);
         let pin_centre_arm = pin.rotate([self.pair.pin_centre.x, self.pair.pin_centre.y]);
@@ -197,17 +180,6 @@ impl ContactModel for Foundation {
             ValidityMeasure::ResolutionError,
         ]
     }
-}
-
-fn state_array(state: &BodyState) -> [f64; 6] {
-    [
-        state.x,
-        state.y,
-        state.theta,
-        state.vx,
-        state.vy,
-        state.omega,
-    ]
 }
 
 impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> ContactKernel<B, P, N, F>

@@ -8,14 +8,14 @@ use super::layer::{ThinGap, ThinGapWorkspace};
 use super::tables::{Shift, ThinGapTables};
 use crate::diagnostics::ContactDiagnostics;
 use crate::friction::FrictionLaw;
-use crate::joint::dual::{Dual, Real};
+use crate::joint::dual::{Real, body_variables, jacobian};
 use crate::joint::foundation::books::{Books, LayerPose};
 use crate::joint::foundation::geometry::{Body, cross, dot, offset};
 use crate::joint::foundation::stream::segment;
 use crate::joint::foundation::{Quadrature, Sink};
 use crate::joint::model::{NodeLoad, Visit};
 use crate::joint::pair::ContactPair;
-use crate::joint::types::{BodyState, ContactForces, ContactJacobian, JointState, SlidingVelocity};
+use crate::joint::types::{ContactForces, ContactJacobian, JointState, SlidingVelocity};
 use crate::normal::NormalLaw;
 use crate::surface::{SurfaceProfile, wrap_angle};
 
@@ -116,8 +116,8 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     ) -> ContactForces {
         let out = self.evaluate(
             workspace,
-            state_array(at.bearing),
-            state_array(at.pin),
+            at.bearing.coordinates(),
+            at.pin.coordinates(),
             at.onset_velocity,
             visit,
         );
@@ -133,30 +133,14 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         workspace: &mut ThinGapWorkspace,
         at: JointState,
     ) -> (ContactForces, ContactJacobian) {
-        let seed = |state: &BodyState, offset: usize| -> [Dual; 6] {
-            let values = state_array(state);
-            std::array::from_fn(|k| {
-                let column = if k < 3 {
-                    offset + k
-                } else {
-                    6 + offset + k - 3
-                };
-                Dual::variable(values[k], column)
-            })
-        };
         let (bearing, pin, diagnostics) = self.evaluate(
             workspace,
-            seed(at.bearing, 0),
-            seed(at.pin, 3),
+            body_variables(at.bearing, 0),
+            body_variables(at.pin, 3),
             at.onset_velocity,
             None,
         );
-        let mut jacobian = ContactJacobian::zeros();
-        for (row, value) in bearing.iter().chain(&pin).enumerate() {
-            for (column, partial) in value.partials.iter().enumerate() {
-                jacobian[(row, column)] = *partial;
-            }
-        }
+        let jacobian = jacobian(&bearing, &pin);
         let forces = ContactForces {
             bearing: Vector3::from(bearing.map(|v| v.value)),
             pin: Vector3::from(pin.map(|v| v.value)),
@@ -168,8 +152,8 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
     /// The deepest overlap at the nodes (m; negative apart): the event function. Free, the
     /// window's bound.
     pub(super) fn deepest(&self, at: JointState) -> f64 {
-        let bearing = Body::new(state_array(at.bearing));
-        let pin = Body::new(state_array(at.pin));
+        let bearing = Body::new(at.bearing.coordinates());
+        let pin = Body::new(at.pin.coordinates());
         let pose = self.pose(&bearing, &pin, at.pin.theta - at.bearing.theta);
         // One node beyond the arc each side: the bound outside it is then negative.
         let Some(window) = self.window(pose.eps, 1) else {
@@ -718,15 +702,4 @@ fn inverse_radius_at<T: Real>(deviation: T, inverse_radius: f64) -> T {
 fn norm<T: Real>(m: &[T; 2]) -> T {
     let excess = dot(m, m) - 1.0;
     excess * (-(excess * (-(excess * 0.0625) + 0.125)) + 0.5) + 1.0
-}
-
-fn state_array(state: &BodyState) -> [f64; 6] {
-    [
-        state.x,
-        state.y,
-        state.theta,
-        state.vx,
-        state.vy,
-        state.omega,
-    ]
 }
