@@ -226,6 +226,33 @@ impl Real for Dual {
     }
 }
 
+/// A body's coordinates as the independent variables of a joint's Jacobian: the bearing's
+/// (`offset` 0) and the pin's (`offset` 3) positions are columns `offset..offset + 3`, their
+/// rates six columns further on.
+pub(crate) fn body_variables(state: &BodyState, offset: usize) -> [Dual; 6] {
+    let values = state.coordinates();
+    std::array::from_fn(|k| {
+        let column = if k < 3 {
+            offset + k
+        } else {
+            6 + offset + k - 3
+        };
+        Dual::variable(values[k], column)
+    })
+}
+
+/// The Jacobian whose rows are the partials of the bearing's and then the pin's generalized
+/// forces.
+pub(crate) fn jacobian(bearing: &[Dual; 3], pin: &[Dual; 3]) -> ContactJacobian {
+    let mut jacobian = ContactJacobian::zeros();
+    for (row, value) in bearing.iter().chain(pin).enumerate() {
+        for (column, partial) in value.partials.iter().enumerate() {
+            jacobian[(row, column)] = *partial;
+        }
+    }
+    jacobian
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -259,31 +286,4 @@ mod tests {
             );
         }
     }
-}
-
-/// A body's coordinates as the independent variables of a joint's Jacobian: the bearing's
-/// (`offset` 0) and the pin's (`offset` 3) positions are columns `offset..offset + 3`, their
-/// rates six columns further on.
-pub(crate) fn body_variables(state: &BodyState, offset: usize) -> [Dual; 6] {
-    let values = state.coordinates();
-    std::array::from_fn(|k| {
-        let column = if k < 3 {
-            offset + k
-        } else {
-            6 + offset + k - 3
-        };
-        Dual::variable(values[k], column)
-    })
-}
-
-/// The Jacobian whose rows are the partials of the bearing's and then the pin's generalized
-/// forces.
-pub(crate) fn jacobian(bearing: &[Dual; 3], pin: &[Dual; 3]) -> ContactJacobian {
-    let mut jacobian = ContactJacobian::zeros();
-    for (row, value) in bearing.iter().chain(pin).enumerate() {
-        for (column, partial) in value.partials.iter().enumerate() {
-            jacobian[(row, column)] = *partial;
-        }
-    }
-    jacobian
 }
