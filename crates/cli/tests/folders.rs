@@ -7,8 +7,8 @@ use std::process::Command;
 
 mod common;
 use common::{
-    assert_case_exit, assert_exit, listing, quick_precision, run_into, scratch, scratch_out,
-    stderr, wearsim, wearsim_out, write_scene,
+    QUICK_STUDY, assert_case_exit, assert_exit, listing, quick_precision, run_into, scratch,
+    scratch_out, stderr, wearsim, wearsim_out, write_scene,
 };
 mod lock_holder;
 use lock_holder::LockHolder;
@@ -286,16 +286,7 @@ fn folder_writers(sweep_file: &Path) -> Vec<Vec<String>> {
     let precision = quick_precision("");
     [
         &["run", "slider-crank", "--cycles", "1", "--no-animation"][..],
-        &[
-            "study",
-            "wear-stages",
-            "--stage-cycles",
-            "1e4",
-            "--cycles",
-            "1",
-            "--cycles-per-stage",
-            "1",
-        ][..],
+        &QUICK_STUDY[..],
         &["sweep", sweep_file.to_str().unwrap()][..],
         &precision[..precision.len() - 2],
         &["stress", "--quick"][..],

@@ -14,7 +14,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 mod common;
-use common::{listing, scratch_out};
+use common::{QUICK_STUDY, listing, scratch_out};
 
 /// Runs `wearsim args` and sends SIGINT after `delay` (unless it ended before); returns its
 /// exit code and how long it ran.
@@ -153,18 +153,7 @@ fn an_interrupted_study_leaves_nothing_behind_at_any_moment() {
     fuzz_interrupts(
         &dir,
         &out,
-        &[
-            "study",
-            "wear-stages",
-            "--stage-cycles",
-            "1e4",
-            "--cycles",
-            "1",
-            "--cycles-per-stage",
-            "1",
-            "--jobs",
-            "2",
-        ],
+        &[&QUICK_STUDY[..], &["--jobs", "2"]].concat(),
         &study_whole,
     );
 }

@@ -24,6 +24,17 @@ fn thin_gap(cells: usize) -> ThinGap {
     )
 }
 
+/// The bearing of the test's worn joints: a wide groove 0.25 mm deep at 250°.
+fn worn_bearing() -> Groove {
+    Groove {
+        base: common::BEARING_RADIUS,
+        sign: 1.0,
+        depth: 2.5e-4,
+        centre: 250f64.to_radians(),
+        sigma: 0.35,
+    }
+}
+
 /// A joint worn as the LGRES's joints are: a 0.25 mm groove in the bearing at 250° (a
 /// 0.5 mm wear depth) and a 0.1 mm flat on the pin at 70°, off-centroid centres, on the thin
 /// gap of `cells` nodes. ([`worn`]'s 1.2 mm groove and 0.8 mm flat are beyond the thin gap:
@@ -33,13 +44,7 @@ fn worn_thin<N: NormalLaw, F: FrictionLaw>(
     friction: F,
     cells: usize,
 ) -> ClearanceJoint<Groove, Groove, N, F> {
-    let bearing = Groove {
-        base: common::BEARING_RADIUS,
-        sign: 1.0,
-        depth: 2.5e-4,
-        centre: 250f64.to_radians(),
-        sigma: 0.35,
-    };
+    let bearing = worn_bearing();
     let pin = Groove {
         base: common::BEARING_RADIUS - common::CLEARANCE,
         sign: -1.0,
@@ -97,13 +102,7 @@ fn the_measure_bounds_the_overlaps_error() {
         centre: 70f64.to_radians(),
         sigma: 0.05,
     };
-    let bearing = Groove {
-        base: common::BEARING_RADIUS,
-        sign: 1.0,
-        depth: 2.5e-4,
-        centre: 250f64.to_radians(),
-        sigma: 0.35,
-    };
+    let bearing = worn_bearing();
     let narrow = common::off_centre_joint(bearing, narrow_pin, hertz(), Frictionless)
         .with_model(thin_gap(1000));
     let deep = worn(hertz(), Frictionless).with_model(thin_gap(1000));

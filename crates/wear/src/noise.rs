@@ -406,6 +406,7 @@ pub(crate) fn noise_fraction(
         return floor;
     }
     let peak = |h: &[f64]| h.iter().copied().fold(0.0, f64::max);
+    let lengths: Vec<f64> = substeps.iter().map(|s| s.amplification).collect();
     let mut fraction = ceiling;
     for (j, (joint, replicas)) in joints.iter().zip(batches.replicas()).enumerate() {
         let (bearing, pin) = (joint.bearing().depth(), joint.pin().depth());
@@ -435,7 +436,6 @@ pub(crate) fn noise_fraction(
             if squares <= 0.0 || rest <= 0.0 || last_growth <= 0.0 || sigma <= 0.0 {
                 continue;
             }
-            let lengths: Vec<f64> = substeps.iter().map(|s| s.amplification).collect();
             let levelling = levelling(&curve, &lengths);
             let ending = EndNoise {
                 kappa2: sigma * sigma / squares,

@@ -94,6 +94,19 @@ pub fn quick_precision(out: &str) -> [&str; 12] {
     ]
 }
 
+/// The quickest `study` (its wear stages stand for 1e4 cycles, one cycle a run): its arguments
+/// before `--out`.
+pub const QUICK_STUDY: [&str; 8] = [
+    "study",
+    "wear-stages",
+    "--stage-cycles",
+    "1e4",
+    "--cycles",
+    "1",
+    "--cycles-per-stage",
+    "1",
+];
+
 /// Names in `dir` (hidden ones included), sorted.
 pub fn listing(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
