@@ -67,6 +67,10 @@ pub struct ContactSeries {
     pub ex_bearing: Vec<f64>,
     /// See `ex_bearing`.
     pub ey_bearing: Vec<f64>,
+    /// Energy the joint's contact law dissipated since the start (damping and friction over
+    /// the accepted steps so far), J: its differences over the cycles are the samples the
+    /// noise of the dissipation per cycle comes from.
+    pub dissipated: Vec<f64>,
     /// Whether the worn geometry stayed inside the contact model's validity (measured at the
     /// output frames; `None` until the run is over).
     pub validity: Option<Validity>,

@@ -79,6 +79,9 @@ impl Observer for Recorder<'_> {
             series.normal_force.push(d.normal_force);
             series.elastic_force.push(d.elastic_force);
             series.friction_force.push(d.friction_force);
+            series
+                .dissipated
+                .push(probe.map_or(0.0, |p| p.damping_dissipation() + p.friction_dissipation()));
             series.penetration.push(d.penetration);
             series.eccentricity.push(d.eccentricity);
             let (s, c) = d.contact_angle.sin_cos();

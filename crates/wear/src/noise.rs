@@ -169,6 +169,51 @@ impl Replicas {
         jackknife_error(&self.values(bearing, pin, measure))
     }
 
+    /// Surfaces that each differ from `bearing`, `pin` by about one sampling noise (times
+    /// `scale`, e.g. a [`Levelling::share`]): the replicas' deviations from their mean times
+    /// `√(n − 1)`. A replica moves the depths by only `1/√(n − 1)` of their noise, too little to
+    /// change a measure that moves in jumps (a count); over these surfaces such a measure takes
+    /// the values its noise makes plausible ([`discrete_noise`]). For a measure linear in the
+    /// depths, their root-mean-square deviation is exactly the jackknife's standard error.
+    pub fn plausible_surfaces(
+        &self,
+        bearing: &[f64],
+        pin: &[f64],
+        scale: f64,
+    ) -> Vec<[Vec<f64>; 2]> {
+        let n = self.count();
+        if n < 2 {
+            return Vec::new();
+        }
+        let mean = |side: usize, len: usize| -> Vec<f64> {
+            let mut m = vec![0.0; len];
+            for p in &self.perturbations {
+                for (m, d) in m.iter_mut().zip(&p[side]) {
+                    *m += d / n as f64;
+                }
+            }
+            m
+        };
+        let means = [mean(0, bearing.len()), mean(1, pin.len())];
+        let factor = scale * ((n - 1) as f64).sqrt();
+        let plausible = |base: &[f64], delta: &[f64], mean: &[f64]| -> Vec<f64> {
+            base.iter()
+                .zip(delta)
+                .zip(mean)
+                .map(|((h, d), m)| h + factor * (d - m))
+                .collect()
+        };
+        self.perturbations
+            .iter()
+            .map(|[b, p]| {
+                [
+                    plausible(bearing, b, &means[0]),
+                    plausible(pin, p, &means[1]),
+                ]
+            })
+            .collect()
+    }
+
     /// The jackknife noise of `joint`'s results on its surfaces as they stand: peak depths,
     /// worn volume and largest local clearance ([`JointResults`]), before levelling
     /// ([`JointNoise::levelled`]). `None` with fewer than two replicas.
@@ -368,6 +413,21 @@ pub fn jackknife_error(values: &[f64]) -> Option<f64> {
     let mean = values.iter().sum::<f64>() / n as f64;
     let squares: f64 = values.iter().map(|v| (v - mean).powi(2)).sum();
     Some(((n - 1) as f64 / n as f64 * squares).sqrt())
+}
+
+/// The noise of a measure that moves in jumps of `unit` (a count: 1; a width counted in
+/// cells: the cell's width) whose value is `central` and whose values on the
+/// [`Replicas::plausible_surfaces`] are `values`: the root-mean-square change, with Laplace's
+/// rule of succession, `√((Σ (v − central)² + unit²)/(n + 2))`, so that `n` surfaces none of
+/// which changed it give a jump rate of `1/(n + 2)`, not a noise of zero that `n` tries cannot
+/// establish. `None` for fewer than two values or any that is not finite.
+pub fn discrete_noise(central: f64, values: &[f64], unit: f64) -> Option<f64> {
+    let n = values.len();
+    if n < 2 || !central.is_finite() || !unit.is_finite() || values.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    let squares: f64 = values.iter().map(|v| (v - central).powi(2)).sum();
+    Some(((squares + unit * unit) / (n + 2) as f64).sqrt())
 }
 
 /// Sub-steps a stage with a noise target runs at the plan's own bound first, to measure the

@@ -4,7 +4,7 @@
 mod common;
 
 use common::joint;
-use wear::{NOISE_GROUPS, NoiseBatches, StageWear, WornJoint};
+use wear::{NOISE_GROUPS, NoiseBatches, StageWear, WornJoint, discrete_noise, jackknife_error};
 
 /// A small deterministic generator (xorshift64*), uniform in [−√3, √3): unit variance.
 struct Uniform(u64);
@@ -92,6 +92,94 @@ fn jackknife_noise_matches_independent_samples() {
             "{what}: variance {variance:e} against {exact:e}"
         );
     }
+}
+
+/// Over the plausible surfaces a measure linear in the depths deviates by exactly its
+/// jackknife noise (root-mean-square, about their mean), times the scale asked for.
+#[test]
+fn plausible_surfaces_deviate_by_one_noise() {
+    let joint = joint(CELLS);
+    let mut random = Uniform(0x2545_F491_4F6C_DD1D);
+    let (batches, bearing, pin) = stage(&joint, &mut random);
+    let replicas = &batches.replicas()[0];
+    let linear = |b: &[f64], p: &[f64]| 0.3 * b[1] + b[5] - 2.0 * p[2];
+    let jackknife = replicas.noise(&bearing, &pin, linear).unwrap();
+    for scale in [1.0, 0.4] {
+        let values: Vec<f64> = replicas
+            .plausible_surfaces(&bearing, &pin, scale)
+            .iter()
+            .map(|[b, p]| linear(b, p))
+            .collect();
+        let mean = values.iter().sum::<f64>() / values.len() as f64;
+        let rms =
+            (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / values.len() as f64).sqrt();
+        println!("scale {scale}: rms {rms:.6e}, jackknife {jackknife:.6e}");
+        assert!(
+            (rms / (scale * jackknife) - 1.0).abs() < 1e-10,
+            "scale {scale}: {rms:e} against {:e}",
+            scale * jackknife
+        );
+    }
+}
+
+/// A count whose threshold sits at a cell's expected depth: it is 0 or 1 by chance over the
+/// stages. The noise from the plausible surfaces has the mean square of the count's actual
+/// scatter, where the jackknife's is off (a replica moves the depths by a nineteenth of their
+/// noise; when it flips the count, the jackknife reads a whole unit); a threshold ten noises
+/// away gives Laplace's floor and no scatter.
+#[test]
+fn a_counts_noise_matches_its_scatter() {
+    let joint = joint(CELLS);
+    let mut random = Uniform(0x0DDB_1A5E_5BAD_5EED);
+    let expected: f64 = (0..RUNS).map(|r| 2.0 * weight(r) * MEAN[5]).sum();
+    let exact: f64 = (0..RUNS).map(|r| 2.0 * (weight(r) * SPREAD).powi(2)).sum();
+    let (mut counts, mut plausible, mut jackknife, mut far) = (Vec::new(), 0.0, 0.0, 0.0);
+    for _ in 0..REPEATS {
+        let (batches, bearing, pin) = stage(&joint, &mut random);
+        let replicas = &batches.replicas()[0];
+        let above =
+            |threshold: f64| move |b: &[f64], _: &[f64]| f64::from(u8::from(b[5] >= threshold));
+        let count = above(expected);
+        let values = |measure: &dyn Fn(&[f64], &[f64]) -> f64| -> Vec<f64> {
+            replicas
+                .plausible_surfaces(&bearing, &pin, 1.0)
+                .iter()
+                .map(|[b, p]| measure(b, p))
+                .collect()
+        };
+        counts.push(count(&bearing, &pin));
+        plausible += discrete_noise(count(&bearing, &pin), &values(&count), 1.0)
+            .unwrap()
+            .powi(2);
+        jackknife += jackknife_error(&replicas.values(&bearing, &pin, count))
+            .unwrap()
+            .powi(2);
+        let distant = above(expected + 10.0 * exact.sqrt());
+        far += discrete_noise(distant(&bearing, &pin), &values(&distant), 1.0)
+            .unwrap()
+            .powi(2);
+    }
+    let n = REPEATS as f64;
+    let mean = counts.iter().sum::<f64>() / n;
+    let scatter = counts.iter().map(|c| (c - mean).powi(2)).sum::<f64>() / n;
+    let (plausible, jackknife, far) = (plausible / n, jackknife / n, far / n);
+    println!(
+        "count mean {mean:.3}: scatter variance {scatter:.4}, plausible {plausible:.4}, \
+         jackknife {jackknife:.4}; ten noises away {far:.4}"
+    );
+    let floor = 1.0 / (2 * NOISE_GROUPS + 2) as f64;
+    assert!(
+        (plausible / scatter - 1.0).abs() < 0.25,
+        "{plausible} against {scatter}"
+    );
+    assert!(
+        (jackknife / scatter - 1.0).abs() > 0.5,
+        "the jackknife {jackknife} reads the count's scatter: the plausible surfaces are moot"
+    );
+    assert!(
+        (far / floor - 1.0).abs() < 1e-12,
+        "{far} against Laplace's {floor}"
+    );
 }
 
 /// Fewer than two batches holding samples measure nothing.

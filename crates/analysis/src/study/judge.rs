@@ -3,12 +3,15 @@
 //! Chaos-robust quantities used by the judge: per-cycle **medians** of the peak normal force
 //! after the start-up window (with their bootstrap noise), the largest deviation of rod 3 from
 //! the ideal mechanism after the window (with the jackknife noise of a maximum over the
-//! cycles), the energy dissipated per cycle (no noise measured), the worn volume, the **worn
+//! cycles), the energy dissipated per cycle (with the standard error of its cycles after the
+//! window), the worn volume, the **worn
 //! arc** (angular width where the depth is at least
 //! [`ARC_FRACTION`] of the surface's peak) and, for irregularity, the coefficient of variation
 //! of the depth over the worn arc and the number of separate concentrated ranges (depth at
 //! least [`RANGE_FRACTION`] of the peak), each wear measure with its noise from the stage's
-//! jackknife replicas (`wear::Replicas`). A difference's noise combines both cases'.
+//! jackknife replicas (`wear::Replicas`), levelled as the run's life curves are; the arc and
+//! the count, which move in jumps, from surfaces one noise away. A difference's noise combines
+//! both cases'.
 
 use std::fmt;
 
@@ -164,15 +167,74 @@ pub struct JointMetrics {
     pub pin: SurfaceMetrics,
     /// Volume removed from both surfaces, m³.
     pub volume_m3: f64,
+    /// Width of one wear cell, deg: the step a worn arc moves in.
+    pub cell_deg: f64,
     /// The same measures of each jackknife replica of the surfaces (`wear::Replicas`; empty
-    /// when the run measured no noise): the noise of any measure is their spread.
+    /// when the run measured no noise): the noise of a smooth measure is their spread.
     pub replicas: Vec<JointMetrics>,
+    /// The same measures on surfaces one noise away (`wear::Replicas::plausible_surfaces`):
+    /// the noise of a measure that moves in jumps (a worn arc, a count) is their spread.
+    pub plausible: Vec<JointMetrics>,
+    /// The share of the jackknife's noise the worn geometry's levelling leaves (the run's
+    /// levelled noise over the jackknife's, `wear::JointNoise::levelled`): of the peak depth
+    /// (used for every measure of the profile's shape) and of the worn volume.
+    pub levelling: LevellingShares,
+}
+
+/// The share of a joint's jackknife noise that survives the levelling of the worn geometry
+/// (1: none levelled, or not measured).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LevellingShares {
+    /// Of the deeper surface's peak depth.
+    pub depth: f64,
+    /// Of the worn volume.
+    pub volume: f64,
+}
+
+impl LevellingShares {
+    /// No levelling: the jackknife's noise as it is.
+    pub const NONE: Self = Self {
+        depth: 1.0,
+        volume: 1.0,
+    };
+
+    /// The shares at a stage's end from the run's levelled noise there and the jackknife's.
+    fn of(
+        levelled: Option<&wear::JointNoise>,
+        jackknife: Option<&wear::JointNoise>,
+        joint: &WornJoint,
+    ) -> Self {
+        let (Some(levelled), Some(jackknife)) = (levelled, jackknife) else {
+            return Self::NONE;
+        };
+        let share = |l: f64, j: f64| {
+            if j > 0.0 && l.is_finite() {
+                (l / j).clamp(0.0, 1.0)
+            } else {
+                1.0
+            }
+        };
+        let bearing_deeper = joint.bearing().peak().depth >= joint.pin().peak().depth;
+        Self {
+            depth: if bearing_deeper {
+                share(levelled.bearing_peak_depth, jackknife.bearing_peak_depth)
+            } else {
+                share(levelled.pin_peak_depth, jackknife.pin_peak_depth)
+            },
+            volume: share(levelled.worn_volume, jackknife.worn_volume),
+        }
+    }
 }
 
 impl JointMetrics {
-    fn new(name: &str, j: &WornJoint, replicas: Option<&wear::Replicas>) -> Self {
+    fn new(
+        name: &str,
+        j: &WornJoint,
+        replicas: Option<&wear::Replicas>,
+        levelling: LevellingShares,
+    ) -> Self {
         let (bearing, pin) = (j.bearing(), j.pin());
-        let replica = |[b, p]: [Vec<f64>; 2]| -> Option<JointMetrics> {
+        let measured = |[b, p]: [Vec<f64>; 2]| -> Option<JointMetrics> {
             // A replica may dip a barely worn cell below zero: no wear there.
             let clamp = |h: Vec<f64>| h.into_iter().map(|x| x.max(0.0)).collect::<Vec<f64>>();
             let b = WornProfile::from_depths(bearing.side(), bearing.nominal_radius(), clamp(b));
@@ -183,28 +245,57 @@ impl JointMetrics {
                 bearing: surface_metrics(&b),
                 pin: surface_metrics(&p),
                 volume_m3: b.worn_volume(j.hinge_width()) + p.worn_volume(j.hinge_width()),
+                cell_deg: 0.0,
                 replicas: Vec::new(),
+                plausible: Vec::new(),
+                levelling,
             })
         };
+        let (depth_b, depth_p) = (bearing.depth(), pin.depth());
         Self {
             name: name.to_string(),
             bearing: surface_metrics(bearing),
             pin: surface_metrics(pin),
             volume_m3: j.worn_volume(),
+            cell_deg: bearing.cell_width().to_degrees(),
             replicas: replicas
-                .map(|r| r.surfaces(bearing.depth(), pin.depth()))
+                .map(|r| r.surfaces(depth_b, depth_p))
                 .unwrap_or_default()
                 .into_iter()
-                .filter_map(replica)
+                .filter_map(measured)
                 .collect(),
+            plausible: replicas
+                .map(|r| r.plausible_surfaces(depth_b, depth_p, levelling.depth))
+                .unwrap_or_default()
+                .into_iter()
+                .filter_map(measured)
+                .collect(),
+            levelling,
         }
     }
 
-    /// The sampling noise of `measure` of these surfaces: its jackknife standard error over
-    /// the replicas (`None` without them).
-    pub fn noise(&self, measure: fn(&JointMetrics) -> f64) -> Option<f64> {
-        let values: Vec<f64> = self.replicas.iter().map(measure).collect();
-        wear::jackknife_error(&values)
+    /// The sampling noise of `measure` of these surfaces (`None` when the run measured
+    /// none): for a smooth measure (volume, peak depth, depth variation) the jackknife's
+    /// standard error over the replicas times the levelling's share; for one that moves in
+    /// jumps (worn arc, concentrated ranges) the spread over surfaces one levelled noise away
+    /// (`wear::discrete_noise`, in steps of a cell and of one range).
+    pub fn noise(&self, measure: WearMeasure) -> Option<f64> {
+        let value = measure_value(measure);
+        let over = |set: &[JointMetrics]| set.iter().map(value).collect::<Vec<f64>>();
+        match measure {
+            WearMeasure::Volume => {
+                wear::jackknife_error(&over(&self.replicas)).map(|n| n * self.levelling.volume)
+            }
+            WearMeasure::PeakDepth | WearMeasure::DepthVariation => {
+                wear::jackknife_error(&over(&self.replicas)).map(|n| n * self.levelling.depth)
+            }
+            WearMeasure::Arc => {
+                wear::discrete_noise(value(self), &over(&self.plausible), self.cell_deg)
+            }
+            WearMeasure::ConcentratedRanges => {
+                wear::discrete_noise(value(self), &over(&self.plausible), 1.0)
+            }
+        }
     }
     /// Deeper of the two surfaces' peaks, m.
     pub fn peak_m(&self) -> f64 {
@@ -224,17 +315,39 @@ impl JointMetrics {
     }
 }
 
+/// The value of `measure` of a joint's surfaces, in the unit the report gives it.
+fn measure_value(measure: WearMeasure) -> fn(&JointMetrics) -> f64 {
+    match measure {
+        WearMeasure::Volume => |m| m.volume_m3 * 1e9,
+        WearMeasure::Arc => JointMetrics::arc_deg,
+        WearMeasure::PeakDepth => |m| m.peak_m() * 1e6,
+        WearMeasure::DepthVariation => JointMetrics::cv,
+        WearMeasure::ConcentratedRanges => |m| m.range_count() as f64,
+    }
+}
+
 /// Wear measures per joint after stage `stage` (0-based) of a run.
 pub fn wear_metrics(outcome: &RunOutcome, stage: usize) -> Vec<JointMetrics> {
     outcome
         .wear
         .iter()
         .filter_map(|h| {
-            h.stages
-                .get(stage)
-                .map(|j| JointMetrics::new(&h.name, j, h.stage_replicas.get(stage)))
+            h.stages.get(stage).map(|j| {
+                let replicas = h.stage_replicas.get(stage);
+                let levelling = LevellingShares::of(
+                    stage_end(h, stage).and_then(|k| h.life_noise.get(k)?.as_ref()),
+                    replicas.and_then(|r| r.joint_noise(j)).as_ref(),
+                    j,
+                );
+                JointMetrics::new(&h.name, j, replicas, levelling)
+            })
         })
         .collect()
+}
+
+/// The index into `h.life` of stage `stage`'s (0-based) last point.
+fn stage_end(h: &sim::JointWearHistory, stage: usize) -> Option<usize> {
+    h.life.iter().rposition(|p| p.stage == stage + 1)
 }
 
 /// Wear measures per joint after the last stage of a run.
@@ -297,6 +410,8 @@ pub fn compare_runs(
 struct CycleMaxima {
     x: Vec<f64>,
     y: Vec<f64>,
+    /// The energy every clearance joint dissipated in each whole cycle after the window, J.
+    dissipated: Vec<f64>,
 }
 
 impl CycleMaxima {
@@ -304,10 +419,12 @@ impl CycleMaxima {
         let mut maxima = Self {
             x: Vec::new(),
             y: Vec::new(),
+            dissipated: Vec::new(),
         };
         if !period.is_finite() || period <= 0.0 {
             return maxima;
         }
+        maxima.dissipated = cycle_dissipation(r, window, period);
         for (k, t) in r.times.iter().enumerate() {
             if *t < window {
                 continue;
@@ -326,6 +443,47 @@ impl CycleMaxima {
         }
         maxima
     }
+}
+
+/// The energy the clearance joints dissipated in each whole cycle `[w + cT, w + (c + 1)T)`
+/// after the window `w`, read from their running totals at the first output at or after
+/// each cycle's bounds (to a millionth of a period).
+fn cycle_dissipation(r: &Response, window: f64, period: f64) -> Vec<f64> {
+    let total = |k: usize| -> f64 {
+        r.contact
+            .iter()
+            .map(|c| c.dissipated.get(k).copied().unwrap_or(0.0))
+            .sum()
+    };
+    let slack = 1e-6 * period;
+    let at = |t: f64| r.times.iter().position(|s| *s >= t - slack);
+    let mut out = Vec::new();
+    let mut start = at(window);
+    let mut cycle = 1.0;
+    while let Some(from) = start {
+        let bound = window + cycle * period;
+        if r.times.last().is_none_or(|last| *last < bound - slack) {
+            break;
+        }
+        let Some(to) = at(bound) else { break };
+        out.push(total(to) - total(from));
+        start = Some(to);
+        cycle += 1.0;
+    }
+    out
+}
+
+/// The standard error of the dissipation per cycle over `cycles` cycles, from the spread of
+/// the whole cycles' dissipation after the window (`per_cycle`, taken as independent: the
+/// motion is chaotic): `sd/√cycles`; `None` with fewer than two such cycles.
+fn dissipation_noise(per_cycle: &[f64], cycles: u32) -> Option<f64> {
+    let n = per_cycle.len();
+    if n < 2 || cycles == 0 || per_cycle.iter().any(|e| !e.is_finite()) {
+        return None;
+    }
+    let mean = per_cycle.iter().sum::<f64>() / n as f64;
+    let variance = per_cycle.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
+    Some((variance / f64::from(cycles)).sqrt())
 }
 
 /// The jackknife noise of the largest of `maxima` (one per cycle): how far it moves when
@@ -406,9 +564,10 @@ fn response_comparisons(
             quantity: format!("{label}: energy dissipated per cycle (J)"),
             low: a.dissipated_per_cycle_j,
             high: b.dissipated_per_cycle_j,
-            // The energy books are kept over the whole run, not per cycle: no samples to
-            // measure a noise from (n/a; the relative margin alone judges it).
-            noise: f64::NAN,
+            noise: combined([
+                dissipation_noise(&maxima[0].dissipated, a.cycles),
+                dissipation_noise(&maxima[1].dissipated, b.cycles),
+            ]),
         }],
     }
 }
@@ -422,31 +581,25 @@ pub fn wear_comparisons(
     let mut out = Vec::new();
     for (a, b) in low.iter().zip(high) {
         for measure in measures {
-            let (quantity, value): (String, fn(&JointMetrics) -> f64) = match measure {
-                WearMeasure::Volume => (format!("worn volume {} (mm³)", a.name), |m| {
-                    m.volume_m3 * 1e9
-                }),
-                WearMeasure::Arc => (
-                    format!("worn arc {} (deg, depth ≥ {ARC_FRACTION}·peak)", a.name),
-                    JointMetrics::arc_deg,
-                ),
-                WearMeasure::PeakDepth => {
-                    (format!("peak depth {} (µm)", a.name), |m| m.peak_m() * 1e6)
+            let quantity = match measure {
+                WearMeasure::Volume => format!("worn volume {} (mm³)", a.name),
+                WearMeasure::Arc => {
+                    format!("worn arc {} (deg, depth ≥ {ARC_FRACTION}·peak)", a.name)
                 }
-                WearMeasure::DepthVariation => (
-                    format!("irregularity {}: CV of depth over the worn arc", a.name),
-                    JointMetrics::cv,
-                ),
-                WearMeasure::ConcentratedRanges => (
-                    format!("irregularity {}: concentrated ranges (count)", a.name),
-                    |m| m.range_count() as f64,
-                ),
+                WearMeasure::PeakDepth => format!("peak depth {} (µm)", a.name),
+                WearMeasure::DepthVariation => {
+                    format!("irregularity {}: CV of depth over the worn arc", a.name)
+                }
+                WearMeasure::ConcentratedRanges => {
+                    format!("irregularity {}: concentrated ranges (count)", a.name)
+                }
             };
+            let value = measure_value(*measure);
             out.push(Comparison {
                 quantity,
                 low: value(a),
                 high: value(b),
-                noise: combined([a.noise(value), b.noise(value)]),
+                noise: combined([a.noise(*measure), b.noise(*measure)]),
             });
         }
     }
@@ -567,5 +720,50 @@ fn smaller_first<T>(direction: Direction, first: T, second: T) -> (T, T) {
     match direction {
         Direction::Grows => (first, second),
         Direction::Shrinks => (second, first),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sim::ContactSeries;
+
+    /// Two joints dissipating known amounts in each cycle after a window: the cycles' sums come
+    /// back from the running totals, and their noise is the spread over √cycles.
+    #[test]
+    fn each_whole_cycles_dissipation_is_read_from_the_running_totals() {
+        let (window, period, step) = (0.1, 1.0, 0.01);
+        let per_cycle = [4.0, 5.5, 3.0, 4.5];
+        let times: Vec<f64> = (0..=430).map(|k| f64::from(k) * step).collect();
+        // Dissipated at a steady rate within each cycle, split 3:1 between the joints.
+        let total = |t: f64| -> f64 {
+            if t < window {
+                return 7.0 * t / window;
+            }
+            let c = ((t - window) / period).floor() as usize;
+            let done: f64 = per_cycle.iter().take(c).sum();
+            let rate = per_cycle.get(c).copied().unwrap_or(0.0);
+            7.0 + done + rate * ((t - window) / period - c as f64)
+        };
+        let series = |share: f64| ContactSeries {
+            dissipated: times.iter().map(|t| share * total(*t)).collect(),
+            ..Default::default()
+        };
+        let response = Response {
+            times: times.clone(),
+            contact: vec![series(0.75), series(0.25)],
+            ..Default::default()
+        };
+        let cycles = cycle_dissipation(&response, window, period);
+        // 4.3 s hold four whole cycles after the window.
+        assert_eq!(cycles.len(), 4, "{cycles:?}");
+        for (got, want) in cycles.iter().zip(per_cycle) {
+            assert!((got - want).abs() < 1e-9, "{cycles:?}");
+        }
+        let mean = per_cycle.iter().sum::<f64>() / 4.0;
+        let sd = (per_cycle.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / 3.0).sqrt();
+        let noise = dissipation_noise(&cycles, 5).unwrap();
+        assert!((noise - sd / 5f64.sqrt()).abs() < 1e-9, "{noise}");
+        assert!(dissipation_noise(&cycles[..1], 5).is_none());
     }
 }

@@ -467,17 +467,20 @@ pub fn write_report(results: &StudyResults, out: &Path) -> Result<PathBuf, Outpu
          again on the worn surfaces after the stages.\n\
          - Wear, physical formulation (material sliding): **K = {} simulated cycles per \
          stage**, the amplification rescaled so a stage stands for {:.3e} cycles, applied in \
-         adaptive sub-steps on the elastic-foundation contact over the true outlines \
-         (docs/model.md §10; a stage on the line-of-centres contact would end early at its slope \
-         limit, and the cycles it applied would be listed with the validity). Paper's formulation (`*-paper` studies, wear on δφ̇): the paper's own \
+         adaptive sub-steps on the worn surfaces' contact named below (docs/model.md §10; a \
+         stage on the line-of-centres contact would end early at its slope limit, and the cycles \
+         it applied would be listed with the validity). Paper's formulation (`*-paper` studies, \
+         wear on δφ̇): the paper's own \
          staging, K = 100 and one jump ×20 000. Wear is gathered after the start-up window.\n\
          - Judging (docs/model.md §8, the dynamics are chaotic): per-cycle medians of peak force after \
          the start-up window (noise: their bootstrap noises combined), rod-3 maximum deviation \
          after the window (noise: the jackknife over the cycles' maxima), energy dissipated per \
-         cycle (no noise measured: n/a), worn volume, worn arc (depth ≥ {ARC_FRACTION}·peak), peak \
-         depth and irregularity (noise: the jackknife over the wear stage's batches, \
-         docs/model.md §10.4); the noise of a change is √(σ_low² + σ_high²), n/a where a case \
-         measured none. A quantity changes when it moves by more than its noise and {:.0} %. A trend is \
+         cycle (noise: the spread of the whole cycles after the window over √cycles), worn \
+         volume, peak depth and the depth's variation (noise: the jackknife over the wear \
+         stage's batches, levelled as the life curves, docs/model.md §10.4), worn arc (depth ≥ \
+         {ARC_FRACTION}·peak) and concentrated ranges, which move in jumps (noise: their spread \
+         over surfaces one noise away, with Laplace's rule where none moved); the noise of a \
+         change is √(σ_low² + σ_high²), n/a where a case measured none. A quantity changes when it moves by more than its noise and {:.0} %. A trend is \
          INCONCLUSIVE when at most half of its quantities change; otherwise it HOLDS when none \
          moves against the paper, HOLDS IN PART when more move with it than against, and DOES \
          NOT HOLD when at least as many move against it.\n",
