@@ -185,7 +185,11 @@ pub struct JointMetrics {
 /// (1: none levelled, or not measured).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LevellingShares {
-    /// Of the deeper surface's peak depth.
+    /// Of the bearing's peak depth.
+    pub bearing: f64,
+    /// Of the pin's peak depth.
+    pub pin: f64,
+    /// Of the deeper surface's peak depth (used for the measures of the profiles' shape).
     pub depth: f64,
     /// Of the worn volume.
     pub volume: f64,
@@ -194,6 +198,8 @@ pub struct LevellingShares {
 impl LevellingShares {
     /// No levelling: the jackknife's noise as it is.
     pub const NONE: Self = Self {
+        bearing: 1.0,
+        pin: 1.0,
         depth: 1.0,
         volume: 1.0,
     };
@@ -214,13 +220,13 @@ impl LevellingShares {
                 1.0
             }
         };
+        let bearing = share(levelled.bearing_peak_depth, jackknife.bearing_peak_depth);
+        let pin = share(levelled.pin_peak_depth, jackknife.pin_peak_depth);
         let bearing_deeper = joint.bearing().peak().depth >= joint.pin().peak().depth;
         Self {
-            depth: if bearing_deeper {
-                share(levelled.bearing_peak_depth, jackknife.bearing_peak_depth)
-            } else {
-                share(levelled.pin_peak_depth, jackknife.pin_peak_depth)
-            },
+            bearing,
+            pin,
+            depth: if bearing_deeper { bearing } else { pin },
             volume: share(levelled.worn_volume, jackknife.worn_volume),
         }
     }
@@ -296,6 +302,18 @@ impl JointMetrics {
                 wear::discrete_noise(value(self), &over(&self.plausible), 1.0)
             }
         }
+    }
+    /// The noise of the bearing's and the pin's peak depth, m (`None` when not measured):
+    /// the jackknife's, levelled.
+    pub fn peak_noises(&self) -> [Option<f64>; 2] {
+        let of = |peak: fn(&JointMetrics) -> f64, share: f64| {
+            let values: Vec<f64> = self.replicas.iter().map(peak).collect();
+            wear::jackknife_error(&values).map(|n| n * share)
+        };
+        [
+            of(|m| m.bearing.peak_m, self.levelling.bearing),
+            of(|m| m.pin.peak_m, self.levelling.pin),
+        ]
     }
     /// Deeper of the two surfaces' peaks, m.
     pub fn peak_m(&self) -> f64 {

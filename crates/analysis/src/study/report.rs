@@ -95,12 +95,17 @@ fn ranges_text(ranges: &[[f64; 2]]) -> String {
 
 fn wear_text(m: Option<&JointMetrics>) -> String {
     m.map_or("—".into(), |m| {
+        let [bearing_noise, pin_noise] = m.peak_noises();
+        let depth = |peak: f64, noise: Option<f64>| match noise {
+            Some(n) => format!("{:.1} ± {:.1} µm", peak * 1e6, n * 1e6),
+            None => format!("{:.1} µm", peak * 1e6),
+        };
         format!(
-            "bearing {:.1} µm at {:.0}° ({}); pin {:.1} µm at {:.0}° ({})",
-            m.bearing.peak_m * 1e6,
+            "bearing {} at {:.0}° ({}); pin {} at {:.0}° ({})",
+            depth(m.bearing.peak_m, bearing_noise),
             m.bearing.peak_deg,
             ranges_text(&m.bearing.ranges_deg),
-            m.pin.peak_m * 1e6,
+            depth(m.pin.peak_m, pin_noise),
             m.pin.peak_deg,
             ranges_text(&m.pin.ranges_deg)
         )
