@@ -265,6 +265,8 @@ fn main() {
             series: series(&x, &per_step),
             levels: Vec::new(),
             legend_top: true,
+            errors: Vec::new(),
+            dashed: Vec::new(),
         },
         Panel {
             title: "cost per simulated second",
@@ -273,6 +275,8 @@ fn main() {
             series: series(&x, &per_second),
             levels: Vec::new(),
             legend_top: true,
+            errors: Vec::new(),
+            dashed: Vec::new(),
         },
     ];
     let title = format!("chain of N bodies, clearance at every {PERIOD}th joint (medians)");

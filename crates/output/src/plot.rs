@@ -394,6 +394,12 @@ pub struct Panel<'a> {
     /// Legend in the upper-left corner instead of the lower-left, for curves that rise to the
     /// right and would otherwise run under it.
     pub legend_top: bool,
+    /// Per series (same order; missing or empty: none), each point's half-width of a vertical
+    /// bar (a noise), drawn from `y − e` (or the axis' floor) to `y + e`.
+    pub errors: Vec<&'a [f64]>,
+    /// Dashed curves, the `k`-th in series `k`'s colour (e.g. what each run predicts of its
+    /// own error).
+    pub dashed: Vec<Series<'a>>,
 }
 
 /// Tick label of a log axis: powers of ten only (the ticks between stay unlabelled).
@@ -448,9 +454,11 @@ pub fn log_panels(
                 panel
                     .series
                     .iter()
+                    .chain(&panel.dashed)
                     .flat_map(|s| positive(s).into_iter().map(|(_, y)| y))
                     .chain(panel.levels.iter().map(|(v, _)| *v)),
             );
+            let floor = ys.start;
             let mut chart = ChartBuilder::on(area)
                 .caption(panel.title, (FONT, 19))
                 .margin(12)
@@ -480,6 +488,21 @@ pub fn log_panels(
                         .iter()
                         .map(|p| Circle::new(*p, 4, colour(k).filled())),
                 )?;
+                let bars = panel.errors.get(k).copied().unwrap_or_default();
+                for ((x, y), e) in s.x.iter().zip(s.y).zip(bars) {
+                    if !(x.is_finite() && *x > 0.0 && y.is_finite() && e.is_finite() && *e > 0.0) {
+                        continue;
+                    }
+                    let bar = [(*x, (y - e).max(floor)), (*x, (y + e).max(floor))];
+                    chart.draw_series(LineSeries::new(bar, colour(k).stroke_width(1)))?;
+                }
+            }
+            for (k, s) in panel.dashed.iter().enumerate() {
+                let style = colour(k).stroke_width(1);
+                chart
+                    .draw_series(DashedLineSeries::new(positive(s), 6, 4, style))?
+                    .label(s.label)
+                    .legend(key(style));
             }
             for (k, (value, label)) in panel.levels.iter().enumerate() {
                 let style = RGBColor(90, 90, 90).stroke_width(1 + k as u32);

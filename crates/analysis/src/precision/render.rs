@@ -428,6 +428,8 @@ impl PrecisionReport {
                 series: series(0),
                 levels: vec![(a.start_up_m(), floor)],
                 legend_top: false,
+                errors: Vec::new(),
+                dashed: Vec::new(),
             },
             Panel {
                 title: "(b) cycle quantities: largest relative error",
@@ -436,6 +438,8 @@ impl PrecisionReport {
                 series: series(1),
                 levels: vec![(a.cycle_max(), floor)],
                 legend_top: false,
+                errors: Vec::new(),
+                dashed: Vec::new(),
             },
             Panel {
                 title: "(c) journal paths separate from the reference at",
@@ -444,6 +448,8 @@ impl PrecisionReport {
                 series: series(2),
                 levels: a.separation_s.map(|t| vec![(t, floor)]).unwrap_or_default(),
                 legend_top: true,
+                errors: Vec::new(),
+                dashed: Vec::new(),
             },
             Panel {
                 title: "(a) start-up error vs tolerance asked for",
@@ -452,6 +458,8 @@ impl PrecisionReport {
                 series: series(3),
                 levels: vec![(a.start_up_m(), floor)],
                 legend_top: false,
+                errors: Vec::new(),
+                dashed: Vec::new(),
             },
         ];
         let title = format!(
