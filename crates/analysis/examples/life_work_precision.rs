@@ -44,6 +44,15 @@ struct Run {
     joints: Vec<(String, [Value; 3])>,
 }
 
+/// One family's line in the figure, its runs by CPU time: per panel, the error (rms), its
+/// noise and the runs' printed noise.
+struct Curve {
+    family: String,
+    cpu_s: Vec<f64>,
+    peaks: [Vec<f64>; 3],
+    volumes: [Vec<f64>; 3],
+}
+
 const QUANTITIES: [&str; 3] = ["bearing peak", "pin peak", "worn volume"];
 
 fn read_run(label: &str, family: &str, dir: &Path, cpu_s: f64) -> Result<Run, Box<dyn Error>> {
@@ -252,7 +261,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     for members in families.values_mut() {
         members.sort_by(|a, b| a.cpu_s.total_cmp(&b.cpu_s));
     }
-    let mut columns: Vec<(String, Vec<f64>, [Vec<f64>; 3], [Vec<f64>; 3])> = Vec::new();
+    let mut columns: Vec<Curve> = Vec::new();
     for (family, members) in &families {
         let mut p = [Vec::new(), Vec::new(), Vec::new()];
         let mut v = [Vec::new(), Vec::new(), Vec::new()];
@@ -266,51 +275,52 @@ fn main() -> Result<(), Box<dyn Error>> {
                 slot.push(x);
             }
         }
-        columns.push((
-            family.to_string(),
-            members.iter().map(|r| r.cpu_s).collect(),
-            p,
-            v,
-        ));
+        columns.push(Curve {
+            family: family.to_string(),
+            cpu_s: members.iter().map(|r| r.cpu_s).collect(),
+            peaks: p,
+            volumes: v,
+        });
     }
     let labels: Vec<(String, String)> = columns
         .iter()
-        .map(|(f, ..)| (format!("{f}: error"), format!("{f}: printed noise")))
+        .map(|c| {
+            let f = &c.family;
+            (format!("{f}: error"), format!("{f}: printed noise"))
+        })
         .collect();
-    let panel =
-        |title: &'static str,
-         pick: fn(&(String, Vec<f64>, [Vec<f64>; 3], [Vec<f64>; 3])) -> &[Vec<f64>; 3]| {
-            let mut series = Vec::new();
-            let mut errors = Vec::new();
-            let mut dashed = Vec::new();
-            for (k, c) in columns.iter().enumerate() {
-                let values = pick(c);
-                series.push(Series {
-                    label: &labels[k].0,
-                    x: &c.1,
-                    y: &values[0],
-                });
-                errors.push(&values[1][..]);
-                dashed.push(Series {
-                    label: &labels[k].1,
-                    x: &c.1,
-                    y: &values[2],
-                });
-            }
-            Panel {
-                title,
-                x_label: "CPU time of the run (s)",
-                y_label: "relative error against the reference (rms)",
-                series,
-                levels: Vec::new(),
-                legend_top: false,
-                errors,
-                dashed,
-            }
-        };
+    let panel = |title: &'static str, pick: fn(&Curve) -> &[Vec<f64>; 3]| {
+        let mut series = Vec::new();
+        let mut errors = Vec::new();
+        let mut dashed = Vec::new();
+        for (k, c) in columns.iter().enumerate() {
+            let values = pick(c);
+            series.push(Series {
+                label: &labels[k].0,
+                x: &c.cpu_s,
+                y: &values[0],
+            });
+            errors.push(&values[1][..]);
+            dashed.push(Series {
+                label: &labels[k].1,
+                x: &c.cpu_s,
+                y: &values[2],
+            });
+        }
+        Panel {
+            title,
+            x_label: "CPU time of the run (s)",
+            y_label: "relative error against the reference (rms)",
+            series,
+            levels: Vec::new(),
+            legend_top: false,
+            errors,
+            dashed,
+        }
+    };
     let panels = [
-        panel("peak depths (bearing and pin of each joint)", |c| &c.2),
-        panel("worn volumes (each joint)", |c| &c.3),
+        panel("peak depths (bearing and pin of each joint)", |c| &c.peaks),
+        panel("worn volumes (each joint)", |c| &c.volumes),
     ];
     let out = PathBuf::from(out);
     std::fs::create_dir_all(&out)?;
