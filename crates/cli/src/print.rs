@@ -233,6 +233,15 @@ fn wear(w: &sim::WearSummary) {
             }
         );
     }
+    if w.joints
+        .iter()
+        .any(|j| j.bearing_peak_depth_noise_m.is_some())
+    {
+        outln!(
+            "  (± one standard error of the stage's sampling, levelled; the sub-steps' bias is \
+             not in it: at the LGRES default it is of the same size, docs/convergence.md)"
+        );
+    }
     for j in &w.joints {
         if let Some(limit) = &j.clearance_limit {
             outln!(
