@@ -444,8 +444,6 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let window = self.window(pose.eps, if simpson { 2 } else { 1 });
         // Padded indexes of nodes `first − 2 ..= last + 2` (`first`, `last` the window's);
         // their overlaps in the buffers in the same order, node `first` at 2.
-        // Padded indexes of nodes `first − 2 ..= last + 2` (`first`, `last` the window's);
-        // their overlaps in the buffers in the same order, node `first` at 2.
         let nodes = window.map_or(0..0, |w| w.nodes(cells, 2));
         let ThinGapWorkspace {
             deposits,
