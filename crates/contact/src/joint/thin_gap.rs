@@ -48,9 +48,11 @@
 //! # Window
 //! A node can overlap only where
 //! `ρ cos(θ_k − φ) > R_i⁻ − R_j⁺ − max|r'| ρ/r⁻ − max(κ, 0) ρ²/(2r⁻²)` (`ρ = |ε|` at
-//! angle `φ`): the nodes in that arc, and the one or two beyond each end whose segments it
-//! reaches, are visited, in order, their overlaps kept in a ring of five. Free (`ρ` below the
-//! bound) none is.
+//! angle `φ`): the overlaps of the nodes in that arc, and of the one or two beyond each end
+//! whose segments it reaches, are computed in one straight sweep over the tables (packed
+//! arithmetic, no branch per node) into the workspace; the forces then visit, in order, only
+//! the nodes a positive overlap reaches through a segment, stepping over runs of nodes apart
+//! in one search. Free (`ρ` below the bound) none is.
 
 mod kernel;
 mod layer;
@@ -86,11 +88,11 @@ impl ContactModel for ThinGap {
         )
     }
 
-    /// Room for every node's wear load.
+    /// Room for every node's wear load and overlap (a window of every node and two beyond
+    /// each end).
     fn workspace(&self) -> ThinGapWorkspace {
-        ThinGapWorkspace {
-            deposits: Vec::with_capacity(self.layer().cells),
-        }
+        let cells = self.layer().cells;
+        ThinGapWorkspace::with_room(cells, cells + 4)
     }
 
     fn nodes(&self) -> Option<usize> {
@@ -135,6 +137,6 @@ impl<B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw> Contact
         state: ModelState<'_, Self>,
         at: JointState,
     ) -> f64 {
-        kernel::Kernel::new(self, pair, state.tables).deepest(at)
+        kernel::Kernel::new(self, pair, state.tables).deepest(state.workspace, at)
     }
 }

@@ -4,7 +4,7 @@
 
 use nalgebra::Vector3;
 
-use super::layer::{ThinGap, ThinGapWorkspace};
+use super::layer::{ThinGap, ThinGapWorkspace, with_overlaps};
 use super::tables::{Shift, ThinGapTables};
 use crate::diagnostics::ContactDiagnostics;
 use crate::friction::FrictionLaw;
@@ -151,7 +151,7 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
 
     /// The deepest overlap at the nodes (m; negative apart): the event function. Free, the
     /// window's bound.
-    pub(super) fn deepest(&self, at: JointState) -> f64 {
+    pub(super) fn deepest(&self, workspace: &mut ThinGapWorkspace, at: JointState) -> f64 {
         let bearing = Body::new(at.bearing.coordinates());
         let pin = Body::new(at.pin.coordinates());
         let pose = self.pose(&bearing, &pin, at.pin.theta - at.bearing.theta);
@@ -160,11 +160,15 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             return self.outside_bound(pose.eps);
         };
         let shift = Shift::new(pose.turn, self.tables.cells);
+        let nodes = window.nodes(self.tables.cells, 0);
         let inverse_radius = 1.0 / self.tables.reference;
-        window
-            .nodes(self.tables.cells, 0)
-            .map(|node| self.gap(node, &pose, &shift, inverse_radius).1)
-            .fold(window.outside, f64::max)
+        let ThinGapWorkspace {
+            weighed, overlaps, ..
+        } = workspace;
+        with_overlaps(weighed, overlaps, nodes.len(), |weighed, overlaps| {
+            self.sweep(nodes, pose.eps, &shift, inverse_radius, weighed, overlaps);
+            overlaps.iter().copied().fold(window.outside, f64::max)
+        })
     }
 
     /// The pose of the pin in the bearing's frame.
@@ -264,11 +268,48 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
         let radius = pose.turn.chain(value, -slope);
         let slope = pose.turn.chain(slope, -curvature);
         let bend = pose.turn.chain(bend, -bend_slope);
-        let inverse = inverse_radius_at(radius, inverse_radius);
-        // The reading shift `b/r`.
-        let reading = b * inverse;
-        let g = a + radius - (slope + b * 0.5 - bend * reading * 0.5) * reading - t.bearing[node];
-        (g * (a * (inverse * 0.5) + 1.0), g.value())
+        weighed_overlap(
+            [a, b],
+            [radius, slope, bend],
+            t.bearing[node],
+            inverse_radius,
+        )
+    }
+
+    /// [`Self::gap`] in plain numbers of the nodes at the padded indexes `nodes`, into
+    /// `weighed` (`g̃_k`) and `overlaps` (`g_k`), as many as there are nodes: one straight
+    /// sweep over the tables, no branch and no bounds check per node, that the compiler
+    /// turns into packed arithmetic.
+    fn sweep(
+        &self,
+        nodes: std::ops::Range<usize>,
+        eps: [f64; 2],
+        shift: &Shift,
+        inverse_radius: f64,
+        weighed: &mut [f64],
+        overlaps: &mut [f64],
+    ) {
+        let t = self.tables;
+        let n = nodes.len();
+        let (cos, sin, bearing) = (
+            &t.cos[nodes.clone()],
+            &t.sin[nodes.clone()],
+            &t.bearing[nodes.clone()],
+        );
+        // The four control points of node `i` are `pin[base + i + j]`, `j` in 0..4.
+        let base = nodes.start + shift.offset;
+        let taps = |table: &'k [f64]| [0, 1, 2, 3].map(|j| &table[base + j..base + j + n]);
+        let (pin, bend) = (taps(&t.pin), taps(&t.bend));
+        let (weighed, overlaps) = (&mut weighed[..n], &mut overlaps[..n]);
+        for i in 0..n {
+            let a = eps[0] * cos[i] + eps[1] * sin[i];
+            let b = eps[1] * cos[i] - eps[0] * sin[i];
+            let (radius, slope, _) = shift.read([pin[0][i], pin[1][i], pin[2][i], pin[3][i]]);
+            let (bend, _, _) = shift.read([bend[0][i], bend[1][i], bend[2][i], bend[3][i]]);
+            let (w, g) = weighed_overlap([a, b], [radius, slope, bend], bearing[i], inverse_radius);
+            weighed[i] = w;
+            overlaps[i] = g;
+        }
     }
 
     /// The normal `m̃_k = ∂g̃_k/∂ε` of the node at padded index `node`, `∂g̃_k/∂Δ`, its rate,
@@ -400,84 +441,166 @@ impl<'k, B: SurfaceProfile, P: SurfaceProfile, N: NormalLaw, F: FrictionLaw>
             quadrature: layer.quadrature,
             ..Books::default()
         };
-        workspace.deposits.clear();
-        let mut sink = Sink {
-            visit,
-            deposits: &mut workspace.deposits,
-        };
-        let mut overlapping = 0.0;
         let window = self.window(pose.eps, if simpson { 2 } else { 1 });
+        // Padded indexes of nodes `first − 2 ..= last + 2` (`first`, `last` the window's);
+        // their overlaps in the buffers in the same order, node `first` at 2.
+        let nodes = window.map_or(0..0, |w| w.nodes(cells, 2));
+        let ThinGapWorkspace {
+            deposits,
+            weighed,
+            overlaps,
+        } = workspace;
+        deposits.clear();
+        let mut sink = Sink { visit, deposits };
+        let mut overlapping = 0.0;
+        let n = nodes.len();
         if let Some(window) = window {
-            let gap_at = |node: usize| self.gap(node, &pose, &pass.shift, pass.inverse_radius);
-            let (first, last) = (window.first, window.last);
-            // Padded index of node `first − 2`; node `k`'s is `before + 2 + (k − first)`.
-            let before = window.nodes(cells, 2).start;
-            // Overlaps of nodes k − 2 ..= k + 2.
-            let mut ring = std::array::from_fn::<_, 5, _>(|j| gap_at(before + j));
-            // Node `k`'s index in `0..N` (books and wear).
-            let mut cell = first.rem_euclid(cells as i64) as usize;
-            for (node, k) in (before + 2..).zip(first..=last) {
-                if k > first {
-                    ring.rotate_left(1);
-                    ring[4] = gap_at(node + 2);
+            with_overlaps(weighed, overlaps, n, |weighed, overlaps| {
+                let eps = [pose.eps[0].value(), pose.eps[1].value()];
+                let before = nodes.start;
+                self.sweep(
+                    nodes,
+                    eps,
+                    &pass.shift,
+                    pass.inverse_radius,
+                    weighed,
+                    overlaps,
+                );
+                let (weighed, overlaps) = (&*weighed, &*overlaps);
+                let first = window.first;
+                // Node `first + i − 2`'s index in `0..N` (books and wear).
+                let cell_of = |i: usize| (first + i as i64 - 2).rem_euclid(cells as i64) as usize;
+                // Whether a positive overlap reaches the node at buffer index `i` through a
+                // segment of its own (the fine segments, Simpson's coarse ones at even cells).
+                let reaches_at = |i: usize, cell: usize| {
+                    weighed[i - 1] > 0.0
+                        || overlaps[i] > 0.0
+                        || weighed[i + 1] > 0.0
+                        || (simpson
+                            && cell.is_multiple_of(2)
+                            && (weighed[i - 2] > 0.0 || weighed[i + 2] > 0.0))
+                };
+                let reaches = |i: usize| reaches_at(i, cell_of(i));
+                // A node reaches only within two of a positive overlap: the search for the first
+                // and the last that reach starts there.
+                let end = overlaps.len() - 3;
+                let positive = |(w, g): (&f64, &f64)| *w > 0.0 || *g > 0.0;
+                let pairs = || weighed.iter().zip(overlaps);
+                let reached = pairs().position(positive).and_then(|p| {
+                    let lo = (p.saturating_sub(2).max(2)..=end).find(|&i| reaches(i))?;
+                    let q = pairs().rposition(positive).unwrap_or(p);
+                    let hi = (lo..=(q + 2).min(end)).rev().find(|&i| reaches(i));
+                    Some((lo, hi.unwrap_or(lo)))
+                });
+                // The nodes no overlap reaches carry nothing: only their overlaps are seen.
+                let (lo, hi) = reached.unwrap_or((end + 1, end));
+                for &g in &overlaps[2..lo] {
+                    books.see_overlap(g);
+                }
+                let gap_at = |i: usize| {
+                    if T::PLAIN {
+                        T::constant(weighed[i])
+                    } else {
+                        self.gap(before + i, &pose, &pass.shift, pass.inverse_radius)
+                            .0
+                    }
+                };
+                // Weighed overlaps of the nodes at i − 2 ..= i + 2.
+                let ring_at = |i: usize| std::array::from_fn::<_, 5, _>(|j| gap_at(i - 2 + j));
+                let mut ring = if lo <= hi {
+                    ring_at(lo)
+                } else {
+                    [T::constant(0.0); 5]
+                };
+                let mut cell = cell_of(lo);
+                // Node `i` reaches (`lo` and `hi` do; between them the nodes that do not are
+                // stepped over in one search).
+                let mut i = lo;
+                while i <= hi {
+                    let k = first + i as i64 - 2;
+                    let g = overlaps[i];
+                    let deepest = books.see_overlap(g);
+                    let coarse = simpson && cell.is_multiple_of(2);
+                    // The segment to the left (its energy) and this node's share of both.
+                    let (q_left, _, left) = segment(ring[1], ring[2]);
+                    let (_, right, _) = segment(ring[2], ring[3]);
+                    let fine = left + right;
+                    let (gradient, fine_energy) = if simpson {
+                        let mut gradient = fine * (4.0 / 3.0);
+                        let mut energy = q_left.value() * (4.0 / 3.0);
+                        if coarse {
+                            let (q_coarse, _, coarse_left) = segment(ring[0], ring[2]);
+                            let (_, coarse_right, _) = segment(ring[2], ring[4]);
+                            gradient = gradient - (coarse_left + coarse_right) * (2.0 / 3.0);
+                            if k - 2 >= first {
+                                energy -= q_coarse.value() * (2.0 / 3.0);
+                            }
+                        }
+                        (gradient, energy)
+                    } else {
+                        (fine, q_left.value())
+                    };
+                    // The first node's left segments join nodes outside the window (overlaps ≤ 0).
+                    if k > first {
+                        books.energy += pass.weight * fine_energy;
+                    }
+                    if g > 0.0 {
+                        overlapping += g;
+                    }
+                    let load_gradient = gradient * pass.weight;
+                    let normal = self.carry(
+                        &pass,
+                        (before + i, cell),
+                        &pose,
+                        ring[2],
+                        load_gradient,
+                        fine.value() * pass.weight,
+                        &mut sums,
+                        &mut books,
+                        &mut sink,
+                    );
+                    if deepest {
+                        books.deepest_rate = normal.1;
+                    }
+                    books.see_zone(cell, g, normal.0);
+                    if i == hi {
+                        break;
+                    }
                     cell += 1;
                     if cell == cells {
                         cell = 0;
                     }
-                }
-                let g = ring[2].1;
-                let deepest = books.see_overlap(g);
-                let coarse = simpson && cell.is_multiple_of(2);
-                let near = [ring[1].0.value(), g, ring[3].0.value()];
-                let reaches = near.iter().any(|&v| v > 0.0)
-                    || (coarse && (ring[0].0.value() > 0.0 || ring[4].0.value() > 0.0));
-                if !reaches {
-                    books.see_zone(cell, g, 0.0);
-                    continue;
-                }
-                // The segment to the left (its energy) and this node's share of both.
-                let (q_left, _, left) = segment(ring[1].0, ring[2].0);
-                let (_, right, _) = segment(ring[2].0, ring[3].0);
-                let fine = left + right;
-                let (gradient, fine_energy) = if simpson {
-                    let mut gradient = fine * (4.0 / 3.0);
-                    let mut energy = q_left.value() * (4.0 / 3.0);
-                    if coarse {
-                        let (q_coarse, _, coarse_left) = segment(ring[0].0, ring[2].0);
-                        let (_, coarse_right, _) = segment(ring[2].0, ring[4].0);
-                        gradient = gradient - (coarse_left + coarse_right) * (2.0 / 3.0);
-                        if k - 2 >= first {
-                            energy -= q_coarse.value() * (2.0 / 3.0);
-                        }
+                    if reaches_at(i + 1, cell) {
+                        i += 1;
+                        ring.rotate_left(1);
+                        ring[4] = gap_at(i + 2);
+                        continue;
                     }
-                    (gradient, energy)
-                } else {
-                    (fine, q_left.value())
-                };
-                // The first node's left segments join nodes outside the window (overlaps ≤ 0).
-                if k > first {
-                    books.energy += pass.weight * fine_energy;
+                    // The next node that reaches (`hi` does) is `i + 2`, reached from `i`, or lies
+                    // within two of the next positive overlap; those between are apart and only
+                    // seen, their zone closed.
+                    let after = weighed[i + 1..]
+                        .iter()
+                        .zip(&overlaps[i + 1..])
+                        .position(positive)
+                        .map_or(hi, |p| i + 1 + p);
+                    let next = std::iter::once(i + 2)
+                        .chain(after.saturating_sub(2).max(i + 3)..=hi)
+                        .find(|&j| j <= hi && reaches(j))
+                        .unwrap_or(hi);
+                    for &g in &overlaps[i + 1..next] {
+                        books.see_overlap(g);
+                    }
+                    books.close_zone();
+                    i = next;
+                    cell = cell_of(i);
+                    ring = ring_at(i);
                 }
-                if g > 0.0 {
-                    overlapping += g;
+                for &g in &overlaps[(hi + 1).max(lo)..=end] {
+                    books.see_overlap(g);
                 }
-                let load_gradient = gradient * pass.weight;
-                let normal = self.carry(
-                    &pass,
-                    (node, cell),
-                    &pose,
-                    ring[2].0,
-                    load_gradient,
-                    fine.value() * pass.weight,
-                    &mut sums,
-                    &mut books,
-                    &mut sink,
-                );
-                if deepest {
-                    books.deepest_rate = normal.1;
-                }
-                books.see_zone(cell, g, normal.0);
-            }
+                books.close_zone();
+            });
         }
         sink.deposit(&books);
         let (s, c) = bearing.theta_sin_cos;
@@ -683,6 +806,23 @@ fn neglected(b: f64, pin: [f64; 5], inverse_radius: f64) -> f64 {
         + b2 * b * (2.0 / 3.0 * slope + bend_slope.abs() * inverse_radius / 6.0)
         + b2 * b2 / 8.0
         + (slope * b + b2 * (0.5 + bend.abs() * inverse_radius)) * deviation * deviation
+}
+
+/// The overlap `g_k` of a node (m) and its weighed form `g̃_k = g_k (1 + a_k/(2r_k))` (m), in
+/// the arithmetic of the pose, from `[a_k, b_k]`, the pin's `[v_k, r'_k, κ_k]` where the node
+/// reads it (`v_k = r_k − R`) and the bearing's radius there less `R`.
+#[inline(always)]
+fn weighed_overlap<T: Real>(
+    [a, b]: [T; 2],
+    [radius, slope, bend]: [T; 3],
+    bearing: f64,
+    inverse_radius: f64,
+) -> (T, f64) {
+    let inverse = inverse_radius_at(radius, inverse_radius);
+    // The reading shift `b/r`.
+    let reading = b * inverse;
+    let g = a + radius - (slope + b * 0.5 - bend * reading * 0.5) * reading - bearing;
+    (g * (a * (inverse * 0.5) + 1.0), g.value())
 }
 
 /// `1/r_k` of the pin's radius `r_k = R + v_k` where a node reads it (`deviation` = `v_k` ≤ 0),

@@ -138,19 +138,7 @@ impl ThinGapTables {
 fn read(table: &[f64], k: usize, shift: &Shift) -> (f64, f64, f64) {
     let base = k + shift.offset;
     let c = &table[base..base + 4];
-    let value = shift.value[0] * c[0]
-        + shift.value[1] * c[1]
-        + shift.value[2] * c[2]
-        + shift.value[3] * c[3];
-    let slope = shift.slope[0] * c[0]
-        + shift.slope[1] * c[1]
-        + shift.slope[2] * c[2]
-        + shift.slope[3] * c[3];
-    let curvature = shift.curvature[0] * c[0]
-        + shift.curvature[1] * c[1]
-        + shift.curvature[2] * c[2]
-        + shift.curvature[3] * c[3];
-    (value, slope, curvature)
+    shift.read([c[0], c[1], c[2], c[3]])
 }
 
 /// Entries of the padded per-node tables for `cells` nodes: a window of up to every node and
@@ -178,6 +166,18 @@ pub(super) struct Shift {
 }
 
 impl Shift {
+    /// A spline's value and first two derivatives from the four control points `c` of a node
+    /// under this shift.
+    #[inline(always)]
+    pub(super) fn read(&self, c: [f64; 4]) -> (f64, f64, f64) {
+        let weigh = |w: &[f64; 4]| w[0] * c[0] + w[1] * c[1] + w[2] * c[2] + w[3] * c[3];
+        (
+            weigh(&self.value),
+            weigh(&self.slope),
+            weigh(&self.curvature),
+        )
+    }
+
     /// The weights for relative rotation `turn = θ_j − θ_i` (rad) on `cells` nodes.
     pub(super) fn new(turn: f64, cells: usize) -> Self {
         let per_rad = cells as f64 / TAU;
