@@ -238,8 +238,8 @@ fn wear(w: &sim::WearSummary) {
         .any(|j| j.bearing_peak_depth_noise_m.is_some())
     {
         outln!(
-            "  (± one standard error of the stage's sampling, levelled; the sub-steps' bias is \
-             not in it: at the LGRES default it is of the same size, docs/convergence.md)"
+            "  (±: one standard error of the stage's sampling, levelled; the bias of the \
+             sub-steps, tolerance and grids is not in it, docs/convergence.md)"
         );
     }
     for j in &w.joints {
