@@ -167,51 +167,54 @@ pub struct JointMetrics {
     pub pin: SurfaceMetrics,
     /// Volume removed from both surfaces, m³.
     pub volume_m3: f64,
-    /// Width of one wear cell, deg: the step a worn arc moves in.
-    pub cell_deg: f64,
-    /// The same measures of each jackknife replica of the surfaces (`wear::Replicas`; empty
-    /// when the run measured no noise): the noise of a smooth measure is their spread.
-    pub replicas: Vec<JointMetrics>,
-    /// The same measures on surfaces one noise away (`wear::Replicas::plausible_surfaces`):
-    /// the noise of a measure that moves in jumps (a worn arc, a count) is their spread.
-    pub plausible: Vec<JointMetrics>,
-    /// The share of the jackknife's noise the worn geometry's levelling leaves (the run's
-    /// levelled noise over the jackknife's, `wear::JointNoise::levelled`): of the peak depth
-    /// (used for every measure of the profile's shape) and of the worn volume.
-    pub levelling: LevellingShares,
+    /// What the noise of these measures comes from (empty when the run measured none, and in
+    /// the replicas' own measures).
+    pub samples: NoiseSamples,
 }
 
-/// The share of a joint's jackknife noise that survives the levelling of the worn geometry
-/// (1: none levelled, or not measured).
+/// The samples the noise of a joint's wear measures is read from.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct NoiseSamples {
+    /// The measures of each jackknife replica of the surfaces (`wear::Replicas`): the noise of
+    /// a smooth measure is their spread.
+    pub replicas: Vec<JointMetrics>,
+    /// The measures on surfaces one noise away (`wear::Replicas::plausible_surfaces`): the
+    /// noise of a measure that moves in jumps (a worn arc, a count) is their spread.
+    pub plausible: Vec<JointMetrics>,
+    /// The share of the jackknife's noise the worn geometry's levelling leaves.
+    pub levelling: LevellingShares,
+    /// Width of one wear cell, deg: the step a worn arc moves in.
+    pub cell_deg: f64,
+}
+
+/// The share of a joint's jackknife noise that survives the levelling of the worn geometry:
+/// the run's levelled noise over the jackknife's (`wear::JointNoise::levelled`; 1: none
+/// levelled, or not measured).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LevellingShares {
     /// Of the bearing's peak depth.
     pub bearing: f64,
     /// Of the pin's peak depth.
     pub pin: f64,
-    /// Of the deeper surface's peak depth (used for the measures of the profiles' shape).
-    pub depth: f64,
     /// Of the worn volume.
     pub volume: f64,
 }
 
-impl LevellingShares {
-    /// No levelling: the jackknife's noise as it is.
-    pub const NONE: Self = Self {
-        bearing: 1.0,
-        pin: 1.0,
-        depth: 1.0,
-        volume: 1.0,
-    };
+impl Default for LevellingShares {
+    fn default() -> Self {
+        Self {
+            bearing: 1.0,
+            pin: 1.0,
+            volume: 1.0,
+        }
+    }
+}
 
+impl LevellingShares {
     /// The shares at a stage's end from the run's levelled noise there and the jackknife's.
-    fn of(
-        levelled: Option<&wear::JointNoise>,
-        jackknife: Option<&wear::JointNoise>,
-        joint: &WornJoint,
-    ) -> Self {
+    fn of(levelled: Option<&wear::JointNoise>, jackknife: Option<&wear::JointNoise>) -> Self {
         let (Some(levelled), Some(jackknife)) = (levelled, jackknife) else {
-            return Self::NONE;
+            return Self::default();
         };
         let share = |l: f64, j: f64| {
             if j > 0.0 && l.is_finite() {
@@ -220,19 +223,17 @@ impl LevellingShares {
                 1.0
             }
         };
-        let bearing = share(levelled.bearing_peak_depth, jackknife.bearing_peak_depth);
-        let pin = share(levelled.pin_peak_depth, jackknife.pin_peak_depth);
-        let bearing_deeper = joint.bearing().peak().depth >= joint.pin().peak().depth;
         Self {
-            bearing,
-            pin,
-            depth: if bearing_deeper { bearing } else { pin },
+            bearing: share(levelled.bearing_peak_depth, jackknife.bearing_peak_depth),
+            pin: share(levelled.pin_peak_depth, jackknife.pin_peak_depth),
             volume: share(levelled.worn_volume, jackknife.worn_volume),
         }
     }
 }
 
 impl JointMetrics {
+    /// The measures of `j`'s surfaces, with the noise samples `replicas` give (levelled by
+    /// `levelling`).
     fn new(
         name: &str,
         j: &WornJoint,
@@ -251,33 +252,51 @@ impl JointMetrics {
                 bearing: surface_metrics(&b),
                 pin: surface_metrics(&p),
                 volume_m3: b.worn_volume(j.hinge_width()) + p.worn_volume(j.hinge_width()),
-                cell_deg: 0.0,
-                replicas: Vec::new(),
-                plausible: Vec::new(),
-                levelling,
+                samples: NoiseSamples::default(),
             })
         };
-        let (depth_b, depth_p) = (bearing.depth(), pin.depth());
-        Self {
+        let mut metrics = Self {
             name: name.to_string(),
             bearing: surface_metrics(bearing),
             pin: surface_metrics(pin),
             volume_m3: j.worn_volume(),
-            cell_deg: bearing.cell_width().to_degrees(),
-            replicas: replicas
-                .map(|r| r.surfaces(depth_b, depth_p))
-                .unwrap_or_default()
-                .into_iter()
-                .filter_map(measured)
-                .collect(),
-            plausible: replicas
-                .map(|r| r.plausible_surfaces(depth_b, depth_p, levelling.depth))
-                .unwrap_or_default()
-                .into_iter()
-                .filter_map(measured)
-                .collect(),
-            levelling,
+            samples: NoiseSamples::default(),
+        };
+        if let Some(r) = replicas {
+            let (depth_b, depth_p) = (bearing.depth(), pin.depth());
+            let depth_share = metrics.depth_share(&levelling);
+            metrics.samples = NoiseSamples {
+                replicas: r
+                    .surfaces(depth_b, depth_p)
+                    .into_iter()
+                    .filter_map(measured)
+                    .collect(),
+                plausible: r
+                    .plausible_surfaces(depth_b, depth_p, depth_share)
+                    .into_iter()
+                    .filter_map(measured)
+                    .collect(),
+                levelling,
+                cell_deg: bearing.cell_width().to_degrees(),
+            };
         }
+        metrics
+    }
+
+    /// The levelling's share of the deeper surface's peak: the one the measures of the
+    /// profiles' shape take.
+    fn depth_share(&self, levelling: &LevellingShares) -> f64 {
+        if self.bearing.peak_m >= self.pin.peak_m {
+            levelling.bearing
+        } else {
+            levelling.pin
+        }
+    }
+
+    /// The jackknife's standard error of `value` over the replicas, times `share`.
+    fn jackknife(&self, value: impl Fn(&JointMetrics) -> f64, share: f64) -> Option<f64> {
+        let values: Vec<f64> = self.samples.replicas.iter().map(value).collect();
+        wear::jackknife_error(&values).map(|n| n * share)
     }
 
     /// The sampling noise of `measure` of these surfaces (`None` when the run measured
@@ -287,32 +306,25 @@ impl JointMetrics {
     /// (`wear::discrete_noise`, in steps of a cell and of one range).
     pub fn noise(&self, measure: WearMeasure) -> Option<f64> {
         let value = measure_value(measure);
-        let over = |set: &[JointMetrics]| set.iter().map(value).collect::<Vec<f64>>();
+        let samples = &self.samples;
+        let plausible = || samples.plausible.iter().map(value).collect::<Vec<f64>>();
         match measure {
-            WearMeasure::Volume => {
-                wear::jackknife_error(&over(&self.replicas)).map(|n| n * self.levelling.volume)
-            }
+            WearMeasure::Volume => self.jackknife(value, samples.levelling.volume),
             WearMeasure::PeakDepth | WearMeasure::DepthVariation => {
-                wear::jackknife_error(&over(&self.replicas)).map(|n| n * self.levelling.depth)
+                self.jackknife(value, self.depth_share(&samples.levelling))
             }
-            WearMeasure::Arc => {
-                wear::discrete_noise(value(self), &over(&self.plausible), self.cell_deg)
-            }
-            WearMeasure::ConcentratedRanges => {
-                wear::discrete_noise(value(self), &over(&self.plausible), 1.0)
-            }
+            WearMeasure::Arc => wear::discrete_noise(value(self), &plausible(), samples.cell_deg),
+            WearMeasure::ConcentratedRanges => wear::discrete_noise(value(self), &plausible(), 1.0),
         }
     }
+
     /// The noise of the bearing's and the pin's peak depth, m (`None` when not measured):
     /// the jackknife's, levelled.
     pub fn peak_noises(&self) -> [Option<f64>; 2] {
-        let of = |peak: fn(&JointMetrics) -> f64, share: f64| {
-            let values: Vec<f64> = self.replicas.iter().map(peak).collect();
-            wear::jackknife_error(&values).map(|n| n * share)
-        };
+        let levelling = &self.samples.levelling;
         [
-            of(|m| m.bearing.peak_m, self.levelling.bearing),
-            of(|m| m.pin.peak_m, self.levelling.pin),
+            self.jackknife(|m| m.bearing.peak_m, levelling.bearing),
+            self.jackknife(|m| m.pin.peak_m, levelling.pin),
         ]
     }
     /// Deeper of the two surfaces' peaks, m.
@@ -355,7 +367,6 @@ pub fn wear_metrics(outcome: &RunOutcome, stage: usize) -> Vec<JointMetrics> {
                 let levelling = LevellingShares::of(
                     stage_end(h, stage).and_then(|k| h.life_noise.get(k)?.as_ref()),
                     replicas.and_then(|r| r.joint_noise(j)).as_ref(),
-                    j,
                 );
                 JointMetrics::new(&h.name, j, replicas, levelling)
             })
