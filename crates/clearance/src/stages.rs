@@ -220,10 +220,10 @@ pub struct StageHalves {
     pub worn_volume: f64,
 }
 
-/// Runs every stage of `plan` on `joints` (all wearing joints of the mechanism, updated
-/// together so one sub-step bound covers them all), one trajectory per run
-/// ([`Ensemble::SINGLE`]). On error the joints hold the surfaces of the sub-steps completed so
-/// far.
+/// Runs every stage of `plan` (or up to its clearance stop, [`wear::StagePlan::next_stage`])
+/// on `joints` (all wearing joints of the mechanism, updated together so one sub-step bound
+/// covers them all), one trajectory per run ([`Ensemble::SINGLE`]). On error the joints hold
+/// the surfaces of the sub-steps completed so far.
 pub fn run_wear_stages<R: StageRuns>(
     joints: &mut [WornJoint],
     plan: &StagePlan,
@@ -271,7 +271,9 @@ pub fn run_ensemble_stages<R: StageRuns>(
     let mut lengths = Vec::new();
     // Runs of an error-controlled stage simulate predicted surfaces, not the life's points.
     let controlled = matches!(plan.extrapolation, Extrapolation::Controlled { .. });
-    for stage in 0..plan.stages {
+    while let Some(stage_plan) = plan.next_stage(&out.reports) {
+        let plan = &stage_plan;
+        let stage = out.reports.len();
         let mut halves: Vec<Vec<[StageWear; 2]>> = Vec::new();
         // The surfaces each run started from: the life's points between sub-steps.
         let mut entries: Vec<Vec<WornJoint>> = Vec::new();

@@ -248,6 +248,21 @@ fn wear(w: &sim::WearSummary) {
                 "  {}",
                 clearance_limit_line(&j.name, limit, w.cycles_applied)
             );
+            if let (Some(b10), Some(b50)) = (limit.b10_cycles, limit.b50_cycles) {
+                outln!(
+                    "    under a k_d scatter of {} (sd of ln k_d): B10 {}, B50 {} cycles",
+                    limit.k_d_scatter,
+                    sim::life_distribution::cycles_with_noise(b10, limit.b10_noise),
+                    sim::life_distribution::cycles_with_noise(b50, limit.b50_noise)
+                );
+            }
+        }
+    }
+    if let Some(life) = &w.life {
+        outln!("  life: {}", life.ended);
+        if w.joints.len() > 1 {
+            outln!("  mechanism: {}", life.mechanism_message);
+            outln!("    assumed: {}", life.assumption);
         }
     }
     for text in &w.warnings {

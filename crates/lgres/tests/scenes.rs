@@ -263,6 +263,123 @@ fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
 }
 
 #[test]
+fn a_run_to_the_limit_needs_the_limit_a_cycle_budget_and_wear() {
+    let with = |lines: &str| {
+        edited(
+            "transient_window = 0.1",
+            &format!("transient_window = 0.1\n{lines}"),
+        )
+    };
+    // Each missing piece named, with its field.
+    let msg = refused(&with("until_limit = true"));
+    assert_eq!(msg.len(), 2, "{msg:?}");
+    assert!(msg[0].starts_with("run.until_limit = true: needs run.clearance_limit"));
+    assert!(
+        msg[1].starts_with("run.max_cycles = \"none\": required with run.until_limit"),
+        "{msg:?}"
+    );
+    let msg = refused(&with("until_limit = true\nclearance_limit = 0.0008"));
+    assert_eq!(msg.len(), 1, "{msg:?}");
+    assert!(
+        msg[0].starts_with("run.max_cycles = \"none\": required"),
+        "{msg:?}"
+    );
+    // A budget only with the run it bounds; positive, finite, and not too many stages.
+    let msg = refused(&with("max_cycles = 2e7"));
+    assert_eq!(
+        msg,
+        [
+            "run.max_cycles = 20000000.0: only bounds a run with run.until_limit = true (drop it, \
+          or set that)"
+        ]
+    );
+    let full = "until_limit = true\nclearance_limit = 0.0008\nmax_cycles = ";
+    assert_eq!(
+        refused(&with(&format!("{full}-1"))),
+        ["run.max_cycles = -1.0: must be positive"]
+    );
+    assert_eq!(
+        refused(&with(&format!("{full}inf"))),
+        ["run.max_cycles = inf: must be a finite number"]
+    );
+    // 2e6 cycles a stage: 1000 stages at most.
+    let msg = refused(&with(&format!("{full}3e9")));
+    assert_eq!(msg.len(), 1, "{msg:?}");
+    assert!(
+        msg[0].starts_with("run.max_cycles = 3000000000.0: would take 1500 stages"),
+        "{msg:?}"
+    );
+    // No wear to run on.
+    let msg = refused(
+        &edited(
+            "transient_window = 0.1",
+            &format!("transient_window = 0.1\n{full}2e7"),
+        )
+        .replace("wear_stages = 1", "wear_stages = 0"),
+    );
+    assert!(
+        msg.iter()
+            .any(|m| m.starts_with("run.until_limit = true: needs wear")),
+        "{msg:?}"
+    );
+    // Valid: loads, survives the round trip; off by default and not written then.
+    let s = load(&with(&format!("{full}2e7\nk_d_correlation = \"shared\""))).unwrap();
+    assert!(s.run.until_limit);
+    assert_eq!(s.run.max_cycles, Some(2e7));
+    assert_eq!(s.run.k_d_correlation, scene::KdCorrelation::Shared);
+    let again = load(&s.to_toml()).unwrap();
+    assert_eq!(again.run, s.run);
+    let builtin = scenes::builtin("lgres").unwrap();
+    assert!(!builtin.run.until_limit);
+    let text = builtin.to_toml();
+    for field in [
+        "until_limit",
+        "max_cycles",
+        "k_d_correlation",
+        "k_d_scatter",
+    ] {
+        assert!(!text.contains(field), "{field}");
+    }
+    // An unknown correlation is refused where it is written, with the ones there are.
+    let msg = load(&with("k_d_correlation = \"both\""))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        msg.contains("k_d_correlation") && msg.contains("independent") && msg.contains("shared"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn a_wear_coefficients_scatter_is_a_bounded_standard_deviation() {
+    let with = |scatter: &str| {
+        edited(
+            "wear = { k_d = 1.8e-13, hardness = 1.716e9, width = 0.1, cells = 1000 }\n# The same",
+            &format!(
+                "wear = {{ k_d = 1.8e-13, hardness = 1.716e9, width = 0.1, cells = 1000, \
+                 k_d_scatter = {scatter} }}\n# The same"
+            ),
+        )
+    };
+    let s = load(&with("0.5")).unwrap();
+    let scatter = |s: &scene::Scene, k: usize| s.clearance_joints[k].wear.unwrap().k_d_scatter;
+    assert_eq!((scatter(&s, 0), scatter(&s, 1)), (0.5, 0.0));
+    assert_eq!(scatter(&load(&s.to_toml()).unwrap(), 0), 0.5);
+    assert_eq!(
+        refused(&with("-0.1")),
+        [
+            "clearance_joints[0].wear.k_d_scatter = -0.1: must lie in [0, 3] (the standard \
+          deviation of ln k_d; 3 already spreads k_d by a factor of 20 either way)"
+        ]
+    );
+    assert_eq!(refused(&with("4")).len(), 1);
+    assert_eq!(
+        refused(&with("nan")),
+        ["clearance_joints[0].wear.k_d_scatter = NaN: must be a finite number"]
+    );
+}
+
+#[test]
 fn unknown_keys_and_syntax_errors_carry_position() {
     let text = edited("mass = 6.32", "mass = 6.32\nmas = 1.0");
     let msg = load(&text).unwrap_err().to_string();

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use crate::animation;
 use crate::files::{Cell, Column, CsvWriter, OutputError, write_atomic, write_csv, write_json};
-use crate::life_plot::{LifeCurve, life_curve};
+use crate::life_plot::{LifeCurve, life_curve, life_distribution};
 use crate::plot::{self, DEFAULT_SIZE, Figure, Series};
 use crate::report::{Captioned, FILES_MARK, REPORT_FILE, RunFigure};
 use scene::file_names::{JointFile, is_file_name_safe};
@@ -312,8 +312,65 @@ fn life_files(files: &mut Written, outcome: &RunOutcome, dir: &Path) -> Result<(
         )?;
         files.figure(path, RunFigure::WearLife { joint: &joint.name });
     }
+    if let Some(lives) = outcome
+        .summary
+        .wear
+        .as_ref()
+        .and_then(sim::life_distributions)
+    {
+        life_distribution_files(files, &lives, dir)?;
+    }
     Ok(())
 }
+
+/// With a clearance limit reached: `life_distribution.csv` (the cycles, then per joint and for
+/// the mechanism the fraction that has reached the limit by them) and its figure,
+/// `life_distribution.png`.
+fn life_distribution_files(
+    files: &mut Written,
+    lives: &sim::life_distribution::SampledLives,
+    dir: &Path,
+) -> Result<(), OutputError> {
+    let path = dir.join(LIFE_DISTRIBUTION_CSV);
+    let names: Vec<String> = lives
+        .curves
+        .iter()
+        .map(|c| c.label.replace("joint ", "failed_"))
+        .map(|n| {
+            if n == "mechanism" {
+                "failed_mechanism".into()
+            } else {
+                n
+            }
+        })
+        .collect();
+    let columns: Vec<Column> = std::iter::once(col("cycles", "1"))
+        .chain(names.iter().map(|n| col(n, "1")))
+        .collect();
+    let mut csv = CsvWriter::create(&path, &columns)?;
+    for (k, cycles) in lives.cycles.iter().enumerate() {
+        let row: Vec<f64> = std::iter::once(*cycles)
+            .chain(lives.curves.iter().map(|c| c.failed[k]))
+            .collect();
+        csv.row(&row)?;
+    }
+    files.file(csv.finish()?);
+    let path = dir.join(LIFE_DISTRIBUTION_PNG);
+    life_distribution(
+        &path,
+        "Life to the clearance limit under the wear coefficients' scatter",
+        DEFAULT_SIZE,
+        lives,
+    )?;
+    files.figure(path, RunFigure::LifeDistribution);
+    Ok(())
+}
+
+/// The life distribution's table: the cycles, then per joint (`failed_<joint>`) and for the
+/// mechanism (`failed_mechanism`) the fraction that reached the clearance limit by them.
+pub const LIFE_DISTRIBUTION_CSV: &str = "life_distribution.csv";
+/// The life distribution's figure.
+pub const LIFE_DISTRIBUTION_PNG: &str = "life_distribution.png";
 
 /// The surfaces a response ran on, which its files are named and titled after.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -171,3 +171,80 @@ pub fn life_curve(
         Ok(())
     })
 }
+
+/// The life distribution figure (`life_distribution.png`): the fraction of joints (and of
+/// mechanisms) that have reached the clearance limit against the drive cycles, on a log cycle
+/// axis, one curve per distribution of `lives`; each curve's B10 and B50 marked (a circle on
+/// the 10 % line, a square on the 50 % line), their values in the legend, with noise.
+pub fn life_distribution(
+    path: impl AsRef<Path>,
+    title: &str,
+    size: (u32, u32),
+    lives: &sim::life_distribution::SampledLives,
+) -> Result<(), OutputError> {
+    let cycles = &lives.cycles;
+    let (Some(first), Some(last)) = (cycles.first(), cycles.last()) else {
+        return Err(OutputError::Plot {
+            path: path.as_ref().to_path_buf(),
+            reason: "no cycles to draw the life distribution over".into(),
+        });
+    };
+    let xs = *first..last.max(first * 10.0);
+    let labels: Vec<String> = lives
+        .curves
+        .iter()
+        .map(|c| {
+            let b = &c.lives;
+            format!(
+                "{}: B10 {}, B50 {}",
+                c.label,
+                sim::life_distribution::cycles_with_noise(b.b10_cycles, b.b10_noise),
+                sim::life_distribution::cycles_with_noise(b.b50_cycles, b.b50_noise)
+            )
+        })
+        .collect();
+    render(path.as_ref(), size, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, (FONT, 22))
+            .margin(15)
+            .margin_right(30)
+            .x_label_area_size(50)
+            .y_label_area_size(70)
+            .build_cartesian_2d(xs.clone().log_scale(), 0.0..1.0)?;
+        chart
+            .configure_mesh()
+            .x_desc("drive cycles to the clearance limit")
+            .y_desc("fraction that reached the limit")
+            .x_label_formatter(&|v| format!("{v:.1e}"))
+            .label_style((FONT, 14))
+            .axis_desc_style((FONT, 16))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()?;
+        let grey = RGBColor(110, 110, 110).stroke_width(1);
+        for level in [0.1, 0.5] {
+            chart.draw_series(DashedLineSeries::new(
+                [(xs.start, level), (xs.end, level)],
+                6,
+                4,
+                grey,
+            ))?;
+        }
+        for (k, (curve, label)) in lives.curves.iter().zip(&labels).enumerate() {
+            let c = colour(k);
+            let points = cycles.iter().copied().zip(curve.failed.iter().copied());
+            chart
+                .draw_series(LineSeries::new(points, c.stroke_width(2)))?
+                .label(label.as_str())
+                .legend(key(c.stroke_width(2)));
+            let b = &curve.lives;
+            chart.draw_series([Circle::new((b.b10_cycles, 0.1), 6, c.filled())])?;
+            // A square of 11 pixels about the B50 (pixel offsets from its point).
+            chart.draw_series(std::iter::once(
+                EmptyElement::at((b.b50_cycles, 0.5))
+                    + Rectangle::new([(-5, -5), (5, 5)], c.filled()),
+            ))?;
+        }
+        draw_legend(&mut chart, 14, SeriesLabelPosition::UpperLeft)?;
+        Ok(())
+    })
+}

@@ -38,6 +38,8 @@ pub(crate) enum RunFigure<'a> {
     WearLife { joint: &'a str },
     /// Wear depth against angle after each stage.
     Wear { joint: &'a str },
+    /// The cycles to the clearance limit under the wear coefficients' scatter.
+    LifeDistribution,
     /// The worn outlines after the last stage.
     WornOutline { joint: &'a str },
     /// One quantity of the response body's centroid against the ideal mechanism.
@@ -51,7 +53,7 @@ impl RunFigure<'_> {
         match self {
             Self::ContactForce { .. } => 1,
             Self::Journal { .. } => 2,
-            Self::WearLife { .. } => 3,
+            Self::WearLife { .. } | Self::LifeDistribution => 3,
             Self::Wear { .. } => 4,
             Self::WornOutline { .. } => 5,
             Self::Response { .. } => 6,
@@ -84,6 +86,15 @@ impl RunFigure<'_> {
                 "{name}: peak depths and the largest local clearance of joint {joint} over the \
                  drive cycles of the stages; the slope is the wear rate, and the limit line (if \
                  set) shows when the joint needs maintenance."
+            ),
+            Self::LifeDistribution => format!(
+                "{name}: the fraction of joints (and of mechanisms, the first joint to reach \
+                 it) that reach the clearance limit by a number of drive cycles, under the \
+                 scatter of the wear coefficient; circles mark B10, squares B50. {}",
+                s.wear
+                    .as_ref()
+                    .and_then(|w| w.life.as_ref())
+                    .map_or(String::new(), |l| format!("Assumed: {}.", l.assumption))
             ),
             Self::Wear { joint } => format!(
                 "{name}: wear depth against angle on the bearing and the pin of joint {joint}, \
@@ -450,6 +461,71 @@ fn wear(html: &mut Html, s: &Summary) {
             "worn volume",
             "largest clearance",
             "clearance limit",
+        ],
+        &rows,
+    );
+    life(html, w);
+}
+
+/// The life to the clearance limit under the wear coefficients' scatter: how the stages ended,
+/// each joint's and the mechanism's B10 and B50, and what the mechanism's assumes.
+fn life(html: &mut Html, w: &sim::WearSummary) {
+    let Some(life) = &w.life else {
+        return;
+    };
+    html.heading(3, "Life to the clearance limit");
+    html.lede(&format!(
+        "{}{}. B10 and B50 are the cycles by which 10 % and half of such joints reach {}, with \
+         each joint's ln k_d normal about the scene's k_d (its standard deviation: k_d \
+         scatter), rescaled exactly from the simulated life (Archard wear is linear in k_d); \
+         ± is the sampling noise of the simulated life, scaled. The mechanism's life is its \
+         first joint's to reach the limit: {}.",
+        if life.until_limit {
+            "Run until every wearing joint reached the limit: "
+        } else {
+            ""
+        },
+        life.ended,
+        micro(life.limit_m),
+        life.assumption
+    ));
+    let cycles = |c: Option<f64>, n: Option<f64>| {
+        c.map_or_else(
+            || "–".to_string(),
+            |c| sim::life_distribution::cycles_with_noise(c, n),
+        )
+    };
+    let mut rows: Vec<Vec<Td>> = w
+        .joints
+        .iter()
+        .filter_map(|j| j.clearance_limit.as_ref().map(|l| (j, l)))
+        .map(|(j, l)| {
+            vec![
+                Td::text(format!("joint {}", j.name)),
+                Td::num(cycles(l.cycles, l.cycles_noise)),
+                Td::num(format!("{}", l.k_d_scatter)),
+                Td::num(cycles(l.b10_cycles, l.b10_noise)),
+                Td::num(cycles(l.b50_cycles, l.b50_noise)),
+            ]
+        })
+        .collect();
+    if w.joints.len() > 1 {
+        let m = life.mechanism;
+        rows.push(vec![
+            Td::text("mechanism"),
+            Td::num("–"),
+            Td::text(format!("{:?}", life.k_d_correlation).to_lowercase()),
+            Td::num(cycles(m.map(|m| m.b10_cycles), m.and_then(|m| m.b10_noise))),
+            Td::num(cycles(m.map(|m| m.b50_cycles), m.and_then(|m| m.b50_noise))),
+        ]);
+    }
+    html.table(
+        &[
+            "life of",
+            "cycles to the limit (simulated)",
+            "k_d scatter",
+            "B10 cycles",
+            "B50 cycles",
         ],
         &rows,
     );

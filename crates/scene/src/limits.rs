@@ -26,8 +26,13 @@ pub const MAX_CYCLES: u32 = 10_000;
 pub const MAX_STAGE_CYCLES: u32 = 10_000;
 /// Most trajectories of a wear sub-step (`run.trajectories`): each holds a system and a thread.
 pub const MAX_TRAJECTORIES: u32 = 64;
-/// Most wear stages.
+/// Most wear stages, also those a run to the clearance limit may take
+/// (`run.max_cycles / (cycles_per_stage × amplification)`, rounded up).
 pub const MAX_WEAR_STAGES: u32 = 1000;
+/// Largest scatter of a wear coefficient, the standard deviation of `ln k_d`
+/// (`clearance_joints[*].wear.k_d_scatter`): 3 spreads `k_d` by a factor of 20 at one
+/// standard deviation; measured scatters are tens of percent.
+pub const MAX_K_D_SCATTER: f64 = 3.0;
 /// Most extrapolation sub-steps per wear stage (`run.max_substeps`): each re-simulates the
 /// stage's `K` cycles (the shipped scenes take a few dozen; the default budget is 400).
 pub const MAX_SUBSTEPS: u32 = 10_000;
@@ -370,6 +375,22 @@ impl Limits<'_> {
                 ),
             );
         }
+        if let (true, Some(max)) = (r.until_limit, r.max_cycles)
+            && max.is_finite()
+            && represented.is_finite()
+            && represented > 0.0
+            && max / represented > f64::from(MAX_WEAR_STAGES)
+        {
+            self.0.push(
+                "run.max_cycles",
+                max,
+                format!(
+                    "would take {:.0} stages of {represented:.3e} cycles (cycles_per_stage × \
+                     amplification); at most {MAX_WEAR_STAGES} (raise the amplification)",
+                    (max / represented).ceil()
+                ),
+            );
+        }
         if r.wear_stages > MAX_WEAR_STAGES {
             self.0.push(
                 "run.wear_stages",
@@ -451,14 +472,20 @@ impl Limits<'_> {
             .filter_map(|c| c.wear.as_ref())
             .map(|w| 2.0 * w.cells as f64)
             .sum();
-        if cells * f64::from(r.wear_stages) > MAX_WEAR_VALUES {
+        if let Some(stages) = r.most_stages()
+            && cells * stages > MAX_WEAR_VALUES
+        {
+            let (path, value) = match (r.until_limit, r.max_cycles) {
+                (true, Some(max)) => ("run.max_cycles", max),
+                _ => ("run.wear_stages", f64::from(r.wear_stages)),
+            };
             self.0.push(
-                "run.wear_stages",
-                r.wear_stages,
+                path,
+                value,
                 format!(
-                    "{} stage(s) of {cells} wear cells would keep more than {MAX_WEAR_VALUES:e} \
-                     values (lower the stages or clearance_joints[*].wear.cells)",
-                    r.wear_stages
+                    "{stages} stage(s) of {cells} wear cells would keep more than \
+                     {MAX_WEAR_VALUES:e} values (lower the stages or \
+                     clearance_joints[*].wear.cells)"
                 ),
             );
         }

@@ -113,10 +113,50 @@ pub struct RunSettings {
     /// interpolated linearly between the wear sub-steps, or that the run does not reach it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub clearance_limit: Option<f64>,
+    /// Run the wear stages until every wearing joint's largest local clearance reaches
+    /// `clearance_limit` (needs it and `max_cycles`): stages of `cycles_per_stage ×
+    /// amplification` drive cycles follow each other, the last ending at the sub-step where the
+    /// last joint reaches the limit, and `wear_stages` counts nothing.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub until_limit: bool,
+    /// With `until_limit`: the most drive cycles the stages may stand for; a joint that has
+    /// not reached the limit by then is reported as not reaching it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_cycles: Option<f64>,
+    /// How the wearing joints' wear coefficients scatter together
+    /// (`clearance_joints[*].wear.k_d_scatter`) in the mechanism's life, the first joint to
+    /// reach the limit: each on its own (`"independent"`, the default) or all as one
+    /// (`"shared"`: one material pair, one batch).
+    #[serde(default, skip_serializing_if = "KdCorrelation::is_independent")]
+    pub k_d_correlation: KdCorrelation,
     /// Body whose centroid response is recorded and compared with the ideal mechanism;
     /// default: `rod3` if the scene has one, else the last body.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub response_body: Option<String>,
+}
+
+/// How the wear coefficients of a mechanism's wearing joints scatter together.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum KdCorrelation {
+    /// Each joint's `k_d` on its own: the mechanism survives `n` cycles when every joint does,
+    /// `S(n) = Π S_j(n)`. Each joint's life is rescaled alone, which leaves out how one joint's
+    /// wear changes the dynamics that wear the other.
+    #[default]
+    Independent,
+    /// One factor scales every joint's `k_d` (one material pair, one batch): exact from the
+    /// simulated life, since the whole mechanism's wear then scales as one.
+    Shared,
+}
+
+impl KdCorrelation {
+    fn is_independent(&self) -> bool {
+        *self == Self::Independent
+    }
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 fn one() -> u32 {
@@ -145,6 +185,18 @@ fn max_substeps() -> u32 {
 }
 
 impl RunSettings {
+    /// The most wear stages the run may take: `wear_stages`, or with `until_limit` the stages
+    /// `max_cycles` stands for (rounded up; `None` while a factor is not a positive finite
+    /// number, which validation names).
+    pub fn most_stages(&self) -> Option<f64> {
+        if !self.until_limit {
+            return Some(f64::from(self.wear_stages));
+        }
+        let represented = f64::from(self.cycles_per_stage) * self.amplification;
+        let stages = (self.max_cycles? / represented).ceil();
+        (stages.is_finite() && stages > 0.0).then_some(stages)
+    }
+
     /// The slope and curvature bounds per extrapolation sub-step: the scene's, else 0.25 each
     /// when `shape_limited` (some joint's contact model needs its worn outlines within shape
     /// limits, `contact::ContactModel::shape_limits`: the line of centres) and unbounded
@@ -183,6 +235,9 @@ impl Default for RunSettings {
             transient_window: transient_window(),
             animation: true,
             clearance_limit: None,
+            until_limit: false,
+            max_cycles: None,
+            k_d_correlation: KdCorrelation::default(),
             response_body: None,
         }
     }

@@ -5,6 +5,7 @@ use contact::ContactError;
 use std::collections::HashSet;
 
 use super::error::Validator;
+use super::limits::MAX_K_D_SCATTER;
 use super::{
     BodyRef, ClearanceJointSpec, DriverTarget, GROUND, MAX_WEAR_CELLS, Scene, SceneError, Solver,
     TimeLaw,
@@ -244,6 +245,18 @@ impl Validator {
                 self.number(&format!("{q}.hardness"), h, true);
             }
             self.number(&format!("{q}.width"), w.width, true);
+            if self.number(&format!("{q}.k_d_scatter"), w.k_d_scatter, false)
+                && !(0.0..=MAX_K_D_SCATTER).contains(&w.k_d_scatter)
+            {
+                self.push(
+                    format!("{q}.k_d_scatter"),
+                    w.k_d_scatter,
+                    format!(
+                        "must lie in [0, {MAX_K_D_SCATTER}] (the standard deviation of ln k_d; \
+                         {MAX_K_D_SCATTER} already spreads k_d by a factor of 20 either way)"
+                    ),
+                );
+            }
             if !(8..=MAX_WEAR_CELLS).contains(&w.cells) {
                 self.push(
                     format!("{q}.cells"),
@@ -294,6 +307,48 @@ impl Validator {
         }
         if let Some(t) = s.max_wall_time {
             self.number("solver.max_wall_time", t, true);
+        }
+    }
+
+    /// `run.until_limit` and what it needs: the limit, a cycle budget and wear; `max_cycles`
+    /// only with it.
+    fn until_limit(&mut self, s: &Scene) {
+        let r = &s.run;
+        if let Some(max) = r.max_cycles
+            && self.number("run.max_cycles", max, true)
+            && !r.until_limit
+        {
+            self.push(
+                "run.max_cycles",
+                max,
+                "only bounds a run with run.until_limit = true (drop it, or set that)",
+            );
+        }
+        if !r.until_limit {
+            return;
+        }
+        if r.clearance_limit.is_none() {
+            self.push(
+                "run.until_limit",
+                true,
+                "needs run.clearance_limit, the largest local clearance to run to (m)",
+            );
+        }
+        if r.max_cycles.is_none() {
+            self.push(
+                "run.max_cycles",
+                "none",
+                "required with run.until_limit = true: the most drive cycles the stages may \
+                 stand for, so that a joint that wears slowly does not run without end",
+            );
+        }
+        let wears = s.active_clearance_joints().any(|c| c.wear.is_some());
+        if r.wear_stages == 0 || !wears {
+            self.push(
+                "run.until_limit",
+                true,
+                "needs wear: run.wear_stages at least 1 and a clearance joint with a wear table",
+            );
         }
     }
 
@@ -408,6 +463,7 @@ impl Validator {
                 }
             }
         }
+        self.until_limit(s);
         if self.number("run.transient_window", r.transient_window, false)
             && r.transient_window < 0.0
         {

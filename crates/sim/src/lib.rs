@@ -79,6 +79,7 @@ mod error;
 mod ideal;
 pub mod integrate;
 mod life;
+pub mod life_distribution;
 mod options;
 mod outcome;
 pub mod overrides;
@@ -92,12 +93,12 @@ pub mod validity;
 
 pub use error::RunError;
 pub use integrate::{Integrated, Integration, IntegrationError, IntegrationErrorKind, integrate};
-pub use life::{crossing_noise, cycles_to_reach};
+pub use life::{LIFE_DISTRIBUTION_POINTS, crossing_noise, cycles_to_reach, life_distributions};
 pub use options::{RunOptions, simulation_options};
 pub use outcome::{
     ClearanceLimitReport, ContactSeries, Deviation, JointSummary, JointWearHistory,
-    JointWearSummary, LifePoint, MechanismFrames, Motion, Numerics, PeakStats, Response,
-    ResponseSummary, RunOutcome, SubstepSummary, Summary, WearSummary,
+    JointWearSummary, LifePoint, LifeSummary, MechanismFrames, Motion, Numerics, PeakStats,
+    Response, ResponseSummary, RunOutcome, SubstepSummary, Summary, WearSummary,
 };
 pub use progress::Progress;
 pub use run::{AssemblyCheck, MAX_ANIMATION_FRAMES, check_assembly, run_scene, scene_as_run};

@@ -2,9 +2,13 @@
 //! for, one point per sub-step, and when its largest local clearance reaches the maintenance
 //! limit `run.clearance_limit`.
 
+use scene::{KdCorrelation, RunSettings};
 use wear::{JointNoise, StageReport, WornJoint};
 
-use super::{ClearanceLimitReport, LifePoint};
+use super::life_distribution::{
+    JointLife, LifeDistribution, MechanismLife, SampledLives, b_lives, cycles_with_noise, sample,
+};
+use super::{ClearanceLimitReport, JointWearSummary, LifePoint, LifeSummary, WearSummary};
 
 /// Per joint of `initial` (the surfaces the stages started from, in the stages' order), its
 /// life curve: a point at 0 cycles, then one after every sub-step of `reports`, each standing
@@ -81,11 +85,13 @@ pub fn cycles_to_reach(curve: impl IntoIterator<Item = (f64, f64)>, limit: f64) 
 }
 
 /// When `curve` reaches `limit` (see [`cycles_to_reach`]), in a number and in words, with
-/// its noise from the curve's (`noise`, one per point; see [`crossing_noise`]).
+/// its noise from the curve's (`noise`, one per point; see [`crossing_noise`]), and the B
+/// lives of a joint whose `ln k_d` scatters by `scatter`.
 pub(super) fn clearance_limit(
     curve: &[LifePoint],
     noise: &[Option<JointNoise>],
     limit: f64,
+    scatter: f64,
 ) -> ClearanceLimitReport {
     let cycles = cycles_to_reach(
         curve.iter().map(|p| (p.cycles, p.max_local_clearance_m)),
@@ -115,12 +121,168 @@ pub(super) fn clearance_limit(
         }
         (None, _) => "not reached within the run".to_string(),
     };
+    let lives = cycles.filter(|c| *c > 0.0).and_then(|cycles| {
+        b_lives(&MechanismLife {
+            joints: vec![JointLife {
+                cycles,
+                noise: cycles_noise,
+                scatter,
+            }],
+            correlation: KdCorrelation::Independent,
+        })
+    });
     ClearanceLimitReport {
         limit_m: limit,
         cycles,
         cycles_noise,
         message,
+        k_d_scatter: scatter,
+        b10_cycles: lives.map(|b| b.b10_cycles),
+        b10_noise: lives.and_then(|b| b.b10_noise),
+        b50_cycles: lives.map(|b| b.b50_cycles),
+        b50_noise: lives.and_then(|b| b.b50_noise),
     }
+}
+
+/// The life to `run.clearance_limit` (`None` without one): how the stages `reports` ended
+/// (`cycles_applied` in all) and the mechanism's B lives from its `joints`' (each with its
+/// [`ClearanceLimitReport`]).
+pub(super) fn life_summary(
+    r: &RunSettings,
+    joints: &[JointWearSummary],
+    reports: &[StageReport],
+    cycles_applied: f64,
+) -> Option<LifeSummary> {
+    let limit = r.clearance_limit?;
+    let short: Vec<&str> = joints
+        .iter()
+        .filter(|j| {
+            j.clearance_limit
+                .as_ref()
+                .is_none_or(|l| l.cycles.is_none())
+        })
+        .map(|j| j.name.as_str())
+        .collect();
+    let at_geometry_limits = reports.last().is_some_and(|r| r.ended_at_limits.is_some());
+    let ended = if short.is_empty() {
+        format!("every wearing joint reached the limit within the {cycles_applied:.3e} cycles run")
+    } else {
+        let why = if at_geometry_limits {
+            "the stages ended at the contact model's validity limits (run.stop_at_validity_limits)"
+                .to_string()
+        } else if r.until_limit {
+            format!(
+                "run.max_cycles = {:.3e} was spent",
+                r.max_cycles.unwrap_or(cycles_applied)
+            )
+        } else {
+            "the scene's stages ended (run.until_limit = true runs on to the limit)".to_string()
+        };
+        format!(
+            "{why} after {cycles_applied:.3e} cycles, before {} reached the limit",
+            short.join(" and ")
+        )
+    };
+    let lives: Option<Vec<JointLife>> = joints
+        .iter()
+        .map(|j| {
+            let l = j.clearance_limit.as_ref()?;
+            Some(JointLife {
+                cycles: l.cycles.filter(|c| *c > 0.0)?,
+                noise: l.cycles_noise,
+                scatter: l.k_d_scatter,
+            })
+        })
+        .collect();
+    let correlation = r.k_d_correlation;
+    let mechanism = lives.and_then(|joints| {
+        b_lives(&MechanismLife {
+            joints,
+            correlation,
+        })
+    });
+    let mechanism_message = match &mechanism {
+        Some(b) => format!(
+            "B10 {}, B50 {} cycles (the first joint to reach the limit)",
+            cycles_with_noise(b.b10_cycles, b.b10_noise),
+            cycles_with_noise(b.b50_cycles, b.b50_noise)
+        ),
+        None if !short.is_empty() => {
+            "no mechanism life: not every wearing joint reached the limit".to_string()
+        }
+        None => "no mechanism life: a joint was at the limit from the start".to_string(),
+    };
+    let assumption = match correlation {
+        KdCorrelation::Shared => {
+            "one factor scales every joint's k_d (run.k_d_correlation = \"shared\"): the \
+             mechanism's life is rescaled exactly from the one simulated life"
+        }
+        KdCorrelation::Independent if joints.len() > 1 => {
+            "each joint's k_d scatters on its own (run.k_d_correlation = \"independent\"): \
+             each joint's life is rescaled alone, which leaves out how one joint's wear \
+             changes the dynamics that wear the other (measured on the LGRES in \
+             docs/life.md)"
+        }
+        KdCorrelation::Independent => {
+            "one wearing joint: its life is rescaled exactly from the simulated one"
+        }
+    }
+    .to_string();
+    Some(LifeSummary {
+        limit_m: limit,
+        until_limit: r.until_limit,
+        max_cycles: r.max_cycles.filter(|_| r.until_limit),
+        ended,
+        k_d_correlation: correlation,
+        assumption,
+        mechanism,
+        mechanism_message,
+    })
+}
+
+/// Points on a sampled life distribution: enough for a smooth curve and a plain table.
+pub const LIFE_DISTRIBUTION_POINTS: usize = 201;
+
+/// A run's life distributions to `run.clearance_limit`, sampled
+/// ([`crate::life_distribution::sample`]): per wearing joint that reached the limit, and the
+/// mechanism's when every one did. `None` without a limit or when none reached it.
+pub fn life_distributions(wear: &WearSummary) -> Option<SampledLives> {
+    let life = wear.life.as_ref()?;
+    let joints: Vec<(String, JointLife, _)> = wear
+        .joints
+        .iter()
+        .filter_map(|j| {
+            let l = j.clearance_limit.as_ref()?;
+            let joint = JointLife {
+                cycles: l.cycles.filter(|c| *c > 0.0)?,
+                noise: l.cycles_noise,
+                scatter: l.k_d_scatter,
+            };
+            let lives = b_lives(&MechanismLife {
+                joints: vec![joint],
+                correlation: life.k_d_correlation,
+            })?;
+            Some((j.name.clone(), joint, lives))
+        })
+        .collect();
+    let mechanism = MechanismLife {
+        joints: joints.iter().map(|(_, j, _)| *j).collect(),
+        correlation: life.k_d_correlation,
+    };
+    let mut curves: Vec<(String, &dyn LifeDistribution, _)> = joints
+        .iter()
+        .map(|(name, joint, lives)| {
+            (
+                format!("joint {name}"),
+                joint as &dyn LifeDistribution,
+                *lives,
+            )
+        })
+        .collect();
+    if let (Some(lives), true) = (life.mechanism, joints.len() > 1) {
+        curves.push(("mechanism".to_string(), &mechanism, lives));
+    }
+    sample(&curves, LIFE_DISTRIBUTION_POINTS)
 }
 
 /// The noise of the cycles at which a curve of `(cycles, clearance, its noise)` points first
@@ -189,17 +351,23 @@ mod tests {
             wear_stiffness: 0.0,
         };
         let curve: Vec<LifePoint> = CURVE.iter().map(|(c, v)| point(*c, v * 1e-6)).collect();
-        let r = clearance_limit(&curve, &[], 560e-6);
+        let r = clearance_limit(&curve, &[], 560e-6, 0.5);
         assert!((r.cycles.unwrap() - 200.0).abs() < 1e-9, "{r:?}");
         assert_eq!(r.limit_m, 560e-6);
         assert!(
             r.message.starts_with("reached after 2.000e2 cycles"),
             "{r:?}"
         );
-        let r = clearance_limit(&curve, &[], 1e-3);
+        // Scatter 0.5: B50 the simulated life, B10 exp(0.5 Φ⁻¹(0.1)) of it.
+        assert!((r.b50_cycles.unwrap() - 200.0).abs() < 1e-9, "{r:?}");
+        let ratio = r.b10_cycles.unwrap() / 200.0;
+        assert!((ratio - (-0.5 * 1.281_551_565_544_600_5_f64).exp()).abs() < 1e-12);
+        assert_eq!(r.b10_noise, None);
+        let r = clearance_limit(&curve, &[], 1e-3, 0.5);
         assert_eq!(r.cycles, None);
         assert_eq!(r.message, "not reached within the run");
         assert_eq!(r.cycles_noise, None);
+        assert_eq!((r.b10_cycles, r.b50_cycles), (None, None));
     }
 
     #[test]

@@ -180,6 +180,42 @@ pub struct ClearanceLimitReport {
     pub cycles_noise: Option<f64>,
     /// The same in words (`not reached within the run` when `cycles` is `None`).
     pub message: String,
+    /// The scatter of the joint's `ln k_d` its B lives assume
+    /// (`clearance_joints[*].wear.k_d_scatter`; 0: none).
+    pub k_d_scatter: f64,
+    /// Cycles by which 10 % of such joints reach the limit, under that scatter, rescaled
+    /// exactly from the simulated life (`crate::life_distribution`); `None` when not reached.
+    pub b10_cycles: Option<f64>,
+    /// Its sampling noise (that of `cycles`, scaled).
+    pub b10_noise: Option<f64>,
+    /// Cycles by which half of them do: `cycles` itself (the scatter's median is the scene's
+    /// `k_d`).
+    pub b50_cycles: Option<f64>,
+    /// Its sampling noise.
+    pub b50_noise: Option<f64>,
+}
+
+/// The life to the clearance limit under the scatter of the wear coefficients: how the run
+/// ended, and the mechanism's B lives (its first joint to reach the limit).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LifeSummary {
+    /// The limit on the largest local clearance, m (`run.clearance_limit`).
+    pub limit_m: f64,
+    /// Whether the run ran until every joint reached it (`run.until_limit`).
+    pub until_limit: bool,
+    /// The most cycles it could run (`run.max_cycles`, with `until_limit`).
+    pub max_cycles: Option<f64>,
+    /// How the stages ended, in words.
+    pub ended: String,
+    /// How the joints' wear coefficients scatter together in the mechanism's life
+    /// (`run.k_d_correlation`).
+    pub k_d_correlation: scene::KdCorrelation,
+    /// That assumption in words, with what it leaves out.
+    pub assumption: String,
+    /// The mechanism's B10 and B50 lives, when every wearing joint reached the limit.
+    pub mechanism: Option<crate::life_distribution::BLives>,
+    /// The mechanism's lives in words, or why there are none.
+    pub mechanism_message: String,
 }
 
 /// Statistics of per-cycle peaks.
@@ -363,7 +399,7 @@ pub struct JointWearSummary {
 /// How the wear stages were run.
 #[derive(Debug, Clone, Serialize)]
 pub struct WearSummary {
-    /// Stages.
+    /// Stages run (`run.wear_stages`, or with `run.until_limit` as many as it took).
     pub stages: u32,
     /// Simulated cycles per stage `K` actually used.
     pub cycles_per_stage: u32,
@@ -413,6 +449,9 @@ pub struct WearSummary {
     pub warnings: Vec<String>,
     /// Per wearing joint, after the last stage.
     pub joints: Vec<JointWearSummary>,
+    /// With `run.clearance_limit`: the life to it, and the mechanism's B lives.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub life: Option<LifeSummary>,
     /// Wall time of the stages, s.
     pub wall_time_s: f64,
 }

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use clearance::{Ensemble, StageRuns, StageSimulation, WearStagesError, run_ensemble_stages};
 use multibody::{OutputTimes, SimulationError, SimulationResult};
-use wear::{Extrapolation, GeometryLimits, RunContext, StagePlan, WornJoint};
+use wear::{ClearanceStop, Extrapolation, GeometryLimits, RunContext, StagePlan, WornJoint};
 
 use super::life::life_curves;
 use super::record::{Recorder, assemble};
@@ -44,6 +44,11 @@ struct SceneRuns<'a> {
     progress: &'a mut dyn Progress,
     /// When the current stage's first run started: the time estimate's clock.
     clock: Option<(usize, Instant)>,
+    /// With `run.until_limit`: the limit (m) and the wearing joints' names; the progress then
+    /// says how far the surfaces of the current run are toward it.
+    limit: Option<(f64, Vec<String>)>,
+    /// How far toward the limit, in words, for the current run's label.
+    toward_limit: Option<String>,
 }
 
 fn run_name(context: RunContext) -> String {
@@ -69,6 +74,9 @@ impl SceneRuns<'_> {
             }
         };
         let name = run_name(context);
+        if let Some(words) = &self.toward_limit {
+            return format!("{name}: {words}");
+        }
         let applied = context.applied;
         if !(applied > 0.0 && applied < 1.0) || context.substep == 0 {
             return name;
@@ -81,6 +89,30 @@ impl SceneRuns<'_> {
             duration_words(left)
         )
     }
+}
+
+/// How far `joints` (named `names`) are toward the clearance `limit`, for a progress line:
+/// the least advanced joint's share of the way from its nominal clearance, and each joint's
+/// largest local clearance, e.g. "62 % of the way to the 0.800 mm limit (A 0.871, B 0.687 mm)".
+fn toward_limit(limit: f64, names: &[String], joints: &[WornJoint]) -> String {
+    let share = joints
+        .iter()
+        .map(|j| {
+            let c0 = j.nominal_clearance();
+            ((j.max_local_clearance() - c0) / (limit - c0)).clamp(0.0, 1.0)
+        })
+        .fold(1.0, f64::min);
+    let each: Vec<String> = names
+        .iter()
+        .zip(joints)
+        .map(|(n, j)| format!("{n} {:.3}", 1e3 * j.max_local_clearance()))
+        .collect();
+    format!(
+        "{:.0} % of the way to the {:.3} mm clearance limit ({} mm)",
+        100.0 * share,
+        1e3 * limit,
+        each.join(", ")
+    )
 }
 
 /// A duration in words a progress line can carry: "40 s", "7 min", "1 h 05 min".
@@ -104,6 +136,9 @@ impl StageRuns for SceneRuns<'_> {
         context: RunContext,
         current: &[WornJoint],
     ) -> Result<StageSimulation, RunError> {
+        if let Some((limit, names)) = &self.limit {
+            self.toward_limit = Some(toward_limit(*limit, names, current));
+        }
         let worn: Vec<Option<WornJoint>> = self
             .slots
             .iter()
@@ -196,9 +231,16 @@ pub(super) fn stages(
     let r = &scene.run;
     let k = r.cycles_per_stage.max(1);
     let shape_limits = shape_limits(scene)?;
-    let plan = stage_plan(r, shape_limits);
+    let plan = stage_plan(r, shape_limits, k);
     // Gather wear after the start-up window only (see the module docs).
     let wear_start = r.transient_window;
+    let wearing = || {
+        scene
+            .active_clearance_joints()
+            .zip(initial)
+            .filter(|(_, w)| w.is_some())
+            .map(|(c, _)| c)
+    };
     let slots = wearing_slots(initial);
     let mut joints: Vec<WornJoint> = initial.iter().flatten().cloned().collect();
     let start = joints.clone();
@@ -211,15 +253,17 @@ pub(super) fn stages(
         k,
         progress: &mut *progress,
         clock: None,
+        limit: until_limit(r, k)
+            .map(|stop| (stop.limit, wearing().map(|c| c.name.clone()).collect())),
+        toward_limit: None,
     };
     let staged = run_ensemble_stages(&mut joints, &plan, ensemble(r, threads), &mut runs)
         .map_err(run_error)?;
     let (curves, cycles_applied) = life_curves(&start, &staged.reports, k);
-    let names = scene
-        .active_clearance_joints()
-        .zip(initial)
-        .filter(|(_, w)| w.is_some())
-        .map(|(c, _)| c.name.clone());
+    let names = wearing().map(|c| c.name.clone());
+    let k_d_scatters = wearing()
+        .map(|c| c.wear.as_ref().map_or(0.0, |w| w.k_d_scatter))
+        .collect();
     let history: Vec<JointWearHistory> = joints
         .iter()
         .enumerate()
@@ -246,6 +290,7 @@ pub(super) fn stages(
         scene_cycles_per_stage,
         staged: &staged,
         shape_limited: shape_limits.is_some(),
+        k_d_scatters,
     };
     let summary = ran.summary(&history, cycles_applied, wear_start, started, progress);
     let surfaces = slots
@@ -261,7 +306,7 @@ pub(super) fn stages(
 
 /// The stage plan of the run settings `r`: how each stage is extrapolated, smoothed and
 /// stepped, and where it stops. `shape_limits` are the contact models' tightest.
-fn stage_plan(r: &RunSettings, shape_limits: Option<ShapeLimits>) -> StagePlan {
+fn stage_plan(r: &RunSettings, shape_limits: Option<ShapeLimits>, k: u32) -> StagePlan {
     let (max_slope_change, max_curvature_change) = r.shape_change_bounds(shape_limits.is_some());
     let extrapolation =
         if let (true, Some(tolerance)) = (r.adaptive_extrapolation, r.wear_tolerance) {
@@ -295,6 +340,18 @@ fn stage_plan(r: &RunSettings, shape_limits: Option<ShapeLimits>) -> StagePlan {
                 .filter(|_| r.adaptive_extrapolation && r.stop_at_validity_limits)
                 .map(|l| GeometryLimits::new(l.slope, l.curvature)),
         )
+        .with_clearance_stop(until_limit(r, k))
+}
+
+/// With `run.until_limit`: the stop at `run.clearance_limit`, `run.max_cycles` spread over
+/// runs of `k` cycles (validation requires both with it).
+fn until_limit(r: &RunSettings, k: u32) -> Option<ClearanceStop> {
+    match (r.until_limit, r.clearance_limit, r.max_cycles) {
+        (true, Some(limit), Some(max_cycles)) => {
+            Some(ClearanceStop::new(limit, max_cycles / f64::from(k)))
+        }
+        _ => None,
+    }
 }
 
 /// Per active clearance joint: its index among the wearing joints, if it wears.

@@ -138,10 +138,12 @@ where
         if step > 0.0 {
             let mut substep = apply_all(joints, &mean, step, context(run, used))?;
             substep.error_estimate = Some(estimate);
-            report.substeps.push(substep);
             report.run_weights[start_run] += 0.5 * step;
             report.run_weights[run] += 0.5 * step;
             used += step;
+            if report.push_substep(substep, plan, joints) && !at_limits {
+                return Ok(report);
+            }
         }
         if at_limits {
             report.ended_at_limits = Some(used);

@@ -87,6 +87,7 @@ pub use noise::{
 pub use profile::{AngularRange, Peak, Side, WornProfile};
 pub use run::{run_stage, run_stages};
 pub use staging::{
-    Extrapolation, ExtrapolationWarning, GeometryLimits, JointSubstep, NOISE_MAX_FRACTION,
-    RunContext, StagePlan, StageReport, StagingError, SubstepReport, WearSample, WearStepping,
+    ClearanceStop, Extrapolation, ExtrapolationWarning, GeometryLimits, JointSubstep,
+    NOISE_MAX_FRACTION, RunContext, StagePlan, StageReport, StagingError, SubstepReport,
+    WearSample, WearStepping,
 };

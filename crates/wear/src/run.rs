@@ -18,7 +18,9 @@ use crate::staging::{
 ///
 /// `runner(context, joints)` must simulate the K cycles on the joints as given (frozen) and
 /// return one [`StageWear`] per joint, same order, as a `Vec` or a [`WearSample`] with the
-/// halves. On error the joints hold the surfaces of the sub-steps completed so far.
+/// halves. On error the joints hold the surfaces of the sub-steps completed so far. With a
+/// [`ClearanceStop`](crate::ClearanceStop) the stages go on until it ends them
+/// ([`StagePlan::next_stage`]).
 pub fn run_stages<E, W, F>(
     joints: &mut [WornJoint],
     plan: &StagePlan,
@@ -29,9 +31,12 @@ where
     F: FnMut(RunContext, &[WornJoint]) -> Result<W, E>,
 {
     plan.validate()?;
-    (0..plan.stages)
-        .map(|stage| run_stage(joints, stage, plan, &mut runner))
-        .collect()
+    let mut reports = Vec::new();
+    while let Some(stage_plan) = plan.next_stage(&reports) {
+        let report = run_stage(joints, reports.len(), &stage_plan, &mut runner)?;
+        reports.push(report);
+    }
+    Ok(reports)
 }
 
 /// Runs stage `stage` of `plan` (see [`run_stages`]).
@@ -46,13 +51,7 @@ where
     F: FnMut(RunContext, &[WornJoint]) -> Result<W, E>,
 {
     plan.validate()?;
-    let mut report = StageReport {
-        stage,
-        substeps: Vec::new(),
-        warning: None,
-        ended_at_limits: None,
-        run_weights: Vec::new(),
-    };
+    let mut report = StageReport::start(stage);
     if let Extrapolation::Controlled {
         tolerance,
         min_fraction,
@@ -167,12 +166,12 @@ where
                 limit: warn_fraction,
             });
         }
-        report.substeps.push(substep);
+        let reached = report.push_substep(substep, plan, joints);
         if at_limits {
             report.ended_at_limits = Some(used);
             return Ok(report);
         }
-        if amplification == remaining {
+        if reached || amplification == remaining {
             return Ok(report);
         }
         if let Extrapolation::Adaptive { max_substeps, .. } = plan.extrapolation

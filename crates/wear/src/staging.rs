@@ -243,6 +243,43 @@ pub struct StagePlan {
     /// `crate::noise::noise_fraction`); it needs the runs' halves to measure the noise.
     #[serde(default)]
     pub noise_target: Option<f64>,
+    /// Run to a clearance limit (`None`: the plan's `stages` stages): see [`ClearanceStop`].
+    #[serde(default)]
+    pub clearance_stop: Option<ClearanceStop>,
+}
+
+/// Run the stages until every joint's largest local clearance
+/// ([`WornJoint::max_local_clearance`]) reaches `limit`, or until `max_amplification` in all
+/// has been applied, whichever comes first; the plan's stage count is then no bound.
+///
+/// A stage ends after the sub-step at which the last joint reaches the limit
+/// ([`StageReport::reached_clearance_limit`]); the last stage is shortened to what is left of
+/// `max_amplification` ([`StagePlan::next_stage`]). Sub-steps are sized as without the stop:
+/// the surfaces of a run to a limit are those of the same plan with enough stages, up to where
+/// it stops.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[non_exhaustive]
+pub struct ClearanceStop {
+    /// Largest local clearance every joint must reach (m).
+    pub limit: f64,
+    /// Most amplification applied over all stages (the caller's cycle budget over its K).
+    pub max_amplification: f64,
+}
+
+impl ClearanceStop {
+    /// Stop when every joint's largest local clearance reaches `limit` (m, > 0), or after
+    /// `max_amplification` (> 0) in all.
+    pub fn new(limit: f64, max_amplification: f64) -> Self {
+        Self {
+            limit,
+            max_amplification,
+        }
+    }
+
+    /// Whether every joint of `joints` has reached the limit.
+    pub fn reached(&self, joints: &[WornJoint]) -> bool {
+        joints.iter().all(|j| j.max_local_clearance() >= self.limit)
+    }
 }
 
 /// The largest relative clearance change of a sub-step whose length a noise target sets: the
@@ -322,7 +359,37 @@ impl StagePlan {
             smoothing: 0.0,
             stepping: WearStepping::default(),
             noise_target: None,
+            clearance_stop: None,
         }
+    }
+
+    /// The same plan running to a clearance limit (see [`ClearanceStop`]; `None`: `stages`
+    /// stages).
+    pub fn with_clearance_stop(mut self, stop: Option<ClearanceStop>) -> Self {
+        self.clearance_stop = stop;
+        self
+    }
+
+    /// The plan of the stage that follows the stages `done` (in order), or `None` when the
+    /// run is over: after `stages` stages; with a [`ClearanceStop`], once a stage reached the
+    /// limit or ended at the geometry limits (the next would apply nothing), or once the
+    /// stop's `max_amplification` is spent, the last stage being shortened to what is left
+    /// of it.
+    pub fn next_stage(&self, done: &[StageReport]) -> Option<StagePlan> {
+        let Some(stop) = self.clearance_stop else {
+            return (done.len() < self.stages).then_some(*self);
+        };
+        if done
+            .last()
+            .is_some_and(|r| r.reached_clearance_limit || r.ended_at_limits.is_some())
+        {
+            return None;
+        }
+        let applied: f64 = done.iter().map(StageReport::applied).sum();
+        let left = stop.max_amplification - applied;
+        // A rounding-sized remainder is no stage.
+        (left > 1e-9 * stop.max_amplification)
+            .then(|| self.with_amplification(self.amplification.min(left)))
     }
 
     /// The same plan sizing adaptive sub-steps for a relative noise `target` of the stage's
@@ -377,6 +444,10 @@ impl StagePlan {
             self.smoothing >= 0.0 && self.smoothing.is_finite(),
             ">= 0 rad",
         )?;
+        if let Some(stop) = self.clearance_stop {
+            positive("clearance_stop.limit", stop.limit)?;
+            positive("clearance_stop.max_amplification", stop.max_amplification)?;
+        }
         if let Some(target) = self.noise_target {
             require(
                 "noise_target",
@@ -501,9 +572,43 @@ pub struct StageReport {
     /// stage's applied amplification.
     #[serde(default)]
     pub run_weights: Vec<f64>,
+    /// Set when the plan's [`ClearanceStop`] ended the stage: every joint reached the limit
+    /// after its last sub-step.
+    #[serde(default)]
+    pub reached_clearance_limit: bool,
 }
 
 impl StageReport {
+    /// An empty report of stage `stage`, before its first sub-step.
+    pub(crate) fn start(stage: usize) -> Self {
+        Self {
+            stage,
+            substeps: Vec::new(),
+            warning: None,
+            ended_at_limits: None,
+            run_weights: Vec::new(),
+            reached_clearance_limit: false,
+        }
+    }
+
+    /// The amplification the stage applied: its sub-steps' sum.
+    pub fn applied(&self) -> f64 {
+        self.substeps.iter().map(|s| s.amplification).sum()
+    }
+
+    /// Records `substep`; returns whether the plan's clearance stop (if any) ends the stage
+    /// now that `joints` took it.
+    pub(crate) fn push_substep(
+        &mut self,
+        substep: SubstepReport,
+        plan: &StagePlan,
+        joints: &[WornJoint],
+    ) -> bool {
+        self.substeps.push(substep);
+        self.reached_clearance_limit = plan.clearance_stop.is_some_and(|s| s.reached(joints));
+        self.reached_clearance_limit
+    }
+
     /// Runs whose prediction the controlled extrapolation rejected (0 otherwise).
     pub fn rejected_runs(&self) -> usize {
         // Run 0 is the first rate, never a prediction.

@@ -6,7 +6,7 @@ use std::time::Instant;
 use clearance::WearStages;
 use wear::{Extrapolation, StagePlan, WearStepping};
 
-use crate::life::clearance_limit;
+use crate::life::{clearance_limit, life_summary};
 use crate::outcome::StageHalvesSummary;
 use crate::summary::STAGE_HALVES_TOLERANCE;
 use crate::{JointWearHistory, JointWearSummary, Progress, SubstepSummary, WearSummary};
@@ -23,6 +23,8 @@ pub(super) struct StagesRan<'a> {
     pub(super) staged: &'a WearStages,
     /// Whether a contact model limits the worn outlines' shape.
     pub(super) shape_limited: bool,
+    /// Per wearing joint, the scatter of its `ln k_d` (`wear.k_d_scatter`).
+    pub(super) k_d_scatters: Vec<f64>,
 }
 
 /// Per stage: its sub-steps, runs, rejected runs and where it ended early; every sub-step's
@@ -59,8 +61,10 @@ impl StagesRan<'_> {
         for w in &records.warnings {
             progress.note(w);
         }
+        let joints = joint_summaries(history, r, &self.k_d_scatters);
+        let life = life_summary(r, &joints, &self.staged.reports, cycles_applied);
         WearSummary {
-            stages: r.wear_stages,
+            stages: u32::try_from(self.staged.reports.len()).unwrap_or(u32::MAX),
             cycles_per_stage: k,
             scene_cycles_per_stage: self.scene_cycles_per_stage,
             trajectories: r.trajectories,
@@ -78,7 +82,8 @@ impl StagesRan<'_> {
             converged,
             cycles_applied_at_limits: records.ended_at_limits,
             warnings: records.warnings,
-            joints: joint_summaries(history, r),
+            joints,
+            life,
             wall_time_s: started.elapsed().as_secs_f64(),
         }
     }
@@ -243,11 +248,16 @@ impl StagesRan<'_> {
 
 /// Each wearing joint's final wear: peaks, the ranges it is concentrated in, the largest local
 /// clearance and, when the scene sets one, when the clearance limit is reached.
-fn joint_summaries(history: &[JointWearHistory], r: &RunSettings) -> Vec<JointWearSummary> {
+fn joint_summaries(
+    history: &[JointWearHistory],
+    r: &RunSettings,
+    k_d_scatters: &[f64],
+) -> Vec<JointWearSummary> {
     history
         .iter()
-        .filter_map(|h| h.stages.last().map(|j| (h, j)))
-        .map(|(h, j)| {
+        .zip(k_d_scatters)
+        .filter_map(|(h, s)| h.stages.last().map(|j| (h, j, *s)))
+        .map(|(h, j, scatter)| {
             let (b, p) = (j.bearing().peak(), j.pin().peak());
             let noise = h.life_noise.last().copied().flatten();
             let ranges = |p: &wear::WornProfile| {
@@ -277,7 +287,7 @@ fn joint_summaries(history: &[JointWearHistory], r: &RunSettings) -> Vec<JointWe
                 },
                 clearance_limit: r
                     .clearance_limit
-                    .map(|limit| clearance_limit(&h.life, &h.life_noise, limit)),
+                    .map(|limit| clearance_limit(&h.life, &h.life_noise, limit, scatter)),
             }
         })
         .collect()
