@@ -323,10 +323,13 @@ fn a_run_to_the_limit_needs_the_limit_a_cycle_budget_and_wear() {
         "{msg:?}"
     );
     // Valid: loads, survives the round trip; off by default and not written then.
-    let s = load(&with(&format!("{full}2e7\nk_d_correlation = \"shared\""))).unwrap();
+    let s = load(&with(&format!(
+        "{full}2e7\nk_d_correlation = \"independent\""
+    )))
+    .unwrap();
     assert!(s.run.until_limit);
     assert_eq!(s.run.max_cycles, Some(2e7));
-    assert_eq!(s.run.k_d_correlation, scene::KdCorrelation::Shared);
+    assert_eq!(s.run.k_d_correlation, scene::KdCorrelation::Independent);
     let again = load(&s.to_toml()).unwrap();
     assert_eq!(again.run, s.run);
     let builtin = scenes::builtin("lgres").unwrap();

@@ -174,8 +174,9 @@ pub fn life_curve(
 
 /// The life distribution figure (`life_distribution.png`): the fraction of joints (and of
 /// mechanisms) that have reached the clearance limit against the drive cycles, on a log cycle
-/// axis, one curve per distribution of `lives`; each curve's B10 and B50 marked (a circle on
-/// the 10 % line, a square on the 50 % line), their values in the legend, with noise.
+/// axis, one curve per distribution of `lives` (the mechanism's dashed); each curve's B10 and
+/// B50 marked (a circle on the 10 % line, a square on the 50 % line), their values in the
+/// legend, with noise.
 pub fn life_distribution(
     path: impl AsRef<Path>,
     title: &str,
@@ -232,10 +233,18 @@ pub fn life_distribution(
         for (k, (curve, label)) in lives.curves.iter().zip(&labels).enumerate() {
             let c = colour(k);
             let points = cycles.iter().copied().zip(curve.failed.iter().copied());
-            chart
-                .draw_series(LineSeries::new(points, c.stroke_width(2)))?
-                .label(label.as_str())
-                .legend(key(c.stroke_width(2)));
+            // The mechanism's curve dashed: where one joint always goes first it lies on it.
+            if curve.label == "mechanism" {
+                chart
+                    .draw_series(DashedLineSeries::new(points, 10, 6, c.stroke_width(2)))?
+                    .label(label.as_str())
+                    .legend(key(c.stroke_width(2)));
+            } else {
+                chart
+                    .draw_series(LineSeries::new(points, c.stroke_width(2)))?
+                    .label(label.as_str())
+                    .legend(key(c.stroke_width(2)));
+            }
             let b = &curve.lives;
             chart.draw_series([Circle::new((b.b10_cycles, 0.1), 6, c.filled())])?;
             // A square of 11 pixels about the B50 (pixel offsets from its point).

@@ -307,6 +307,15 @@ fn fill_outcome(d: &Bound<'_, PyDict>, py: Python<'_>, o: &RunOutcome) -> PyResu
         wear.set_item(&joint.name, j)?;
     }
     d.set_item("wear", wear)?;
+    // The life distribution as life_distribution.csv holds it (none without a limit reached).
+    let life = PyList::empty(py);
+    if let Some(lives) = o.summary.wear.as_ref().and_then(sim::life_distributions) {
+        life.append(("cycles", column(py, &lives.cycles)))?;
+        for c in &lives.curves {
+            life.append((c.column(), column(py, &c.failed)))?;
+        }
+    }
+    d.set_item("life_distribution", life)?;
     Ok(())
 }
 

@@ -213,18 +213,18 @@ pub(super) fn life_summary(
         None => "no mechanism life: a joint was at the limit from the start".to_string(),
     };
     let assumption = match correlation {
-        KdCorrelation::Shared => {
-            "one factor scales every joint's k_d (run.k_d_correlation = \"shared\"): the \
-             mechanism's life is rescaled exactly from the one simulated life"
+        _ if joints.len() < 2 => {
+            "one wearing joint: its life is rescaled exactly from the simulated one"
         }
-        KdCorrelation::Independent if joints.len() > 1 => {
-            "each joint's k_d scatters on its own (run.k_d_correlation = \"independent\"): \
-             each joint's life is rescaled alone, which leaves out how one joint's wear \
-             changes the dynamics that wear the other (measured on the LGRES in \
-             docs/life.md)"
+        KdCorrelation::Shared => {
+            "one factor scales every joint's k_d (run.k_d_correlation = \"shared\"): every \
+             life is rescaled exactly from the one simulated life"
         }
         KdCorrelation::Independent => {
-            "one wearing joint: its life is rescaled exactly from the simulated one"
+            "each joint's k_d scatters on its own (run.k_d_correlation = \"independent\"): \
+             each joint's life is rescaled alone, which leaves out how one joint's wear \
+             changes the dynamics that wear the other; approximate (on the LGRES, 13 % at \
+             joint A for a doubled k_d, docs/life.md)"
         }
     }
     .to_string();

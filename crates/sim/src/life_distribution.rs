@@ -252,20 +252,29 @@ pub struct SampledCurve {
     pub lives: BLives,
 }
 
+impl SampledCurve {
+    /// Its column in a table of the sampled distributions (`life_distribution.csv`, the
+    /// Python frame): `failed_<joint>` for `joint <joint>`, else `failed_<label>`.
+    pub fn column(&self) -> String {
+        let what = self.label.strip_prefix("joint ").unwrap_or(&self.label);
+        format!("failed_{what}")
+    }
+}
+
 /// `curves` (label, distribution, B lives) sampled at `points` (≥ 2) log-spaced cycles from
-/// where the first of them has 0.1 % ended to where the last has 99.9 % (a decade either side
-/// of the B50s where that is empty, as without scatter); `None` without curves.
+/// where the first of them has 0.1 % ended to where the last has 99.9 %, widened to at least
+/// half and twice the B50s (where a curve without scatter steps); `None` without curves.
 pub fn sample(
     curves: &[(String, &dyn LifeDistribution, BLives)],
     points: usize,
 ) -> Option<SampledLives> {
     let low = curves
         .iter()
-        .filter_map(|(_, l, b)| Some(quantile(&Dyn(*l), 1e-3)?.min(b.b50_cycles / 10.0)))
+        .filter_map(|(_, l, b)| Some(quantile(&Dyn(*l), 1e-3)?.min(b.b50_cycles / 2.0)))
         .reduce(f64::min)?;
     let high = curves
         .iter()
-        .filter_map(|(_, l, b)| Some(quantile(&Dyn(*l), 0.999)?.max(b.b50_cycles * 10.0)))
+        .filter_map(|(_, l, b)| Some(quantile(&Dyn(*l), 0.999)?.max(b.b50_cycles * 2.0)))
         .reduce(f64::max)?;
     let points = points.max(2);
     let cycles: Vec<f64> = (0..points)

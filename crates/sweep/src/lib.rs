@@ -58,6 +58,7 @@
 mod definition;
 mod error;
 pub mod figures;
+pub mod life;
 pub mod page;
 pub mod path;
 mod plan;
@@ -74,7 +75,7 @@ use output::files::OutputError;
 
 pub use definition::{Input, Mode, Sampler};
 pub use error::{SampleError, SweepError};
-pub use plan::{MAX_SWEEP_FILE_BYTES, Sweep};
+pub use plan::{LifeColumns, MAX_SWEEP_FILE_BYTES, Sweep};
 pub use row::{Row, Status};
 pub use spec::MAX_SAMPLES;
 pub use table::MAX_ROWS_FILE_BYTES;
@@ -199,6 +200,7 @@ fn remove_drawn_outputs(out: &Path) -> Result<(), SweepError> {
         page::PAGE_FILE,
         figures::SCATTER_FILE,
         figures::HISTOGRAMS_FILE,
+        life::LIFE_FILE,
     ] {
         let path = out.join(name);
         match std::fs::remove_file(&path) {
@@ -219,8 +221,28 @@ pub fn write_outputs(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<Path
     rows.sort_by_key(|r| r.sample);
     rows.dedup_by_key(|r| r.sample);
     let mut files = vec![table::write_rows(sweep, &rows, &rows_path(out))?];
-    let figures = figures::draw(sweep, &rows, out)?;
-    files.push(page::write_page(sweep, &rows, &figures, out)?);
+    let mut figures = figures::draw(sweep, &rows, out)?;
+    let life = life::combine(sweep, &rows);
+    if let Some(sampled) = life.as_ref().and_then(|l| l.distributions.as_ref()) {
+        let path = out.join(life::LIFE_FILE);
+        output::life_plot::life_distribution(
+            &path,
+            &format!(
+                "Sweep {}: life to the clearance limit over the samples' inputs and k_d scatter",
+                sweep.name
+            ),
+            output::plot::DEFAULT_SIZE,
+            sampled,
+        )?;
+        figures.push(path);
+    }
+    files.push(page::write_page(
+        sweep,
+        &rows,
+        &figures,
+        life.as_ref(),
+        out,
+    )?);
     files.extend(figures);
     Ok(files)
 }

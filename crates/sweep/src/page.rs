@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use output::files::OutputError;
 use output::html::{Html, Td};
 
+use crate::life::{LIFE_FILE, RESAMPLES, SweepLife};
 use crate::table::{self, Status};
 use crate::{Mode, Row, Sweep};
 
@@ -18,6 +19,7 @@ pub fn write_page(
     sweep: &Sweep,
     rows: &[Row],
     figures: &[PathBuf],
+    life: Option<&SweepLife>,
     out: &Path,
 ) -> Result<PathBuf, OutputError> {
     let mut html = Html::new();
@@ -57,6 +59,9 @@ pub fn write_page(
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
+            if name == LIFE_FILE {
+                continue;
+            }
             let caption = if name.starts_with("scatter") {
                 "Every metric (rows) against every input (columns): a trend is a slope, scatter at \
                  one input value is the chaotic dynamics' noise."
@@ -65,6 +70,9 @@ pub fn write_page(
             };
             html.figure(f, &name, &format!("{name}: {caption}"))?;
         }
+    }
+    if let Some(life) = life {
+        life_section(&mut html, sweep, life, figures)?;
     }
     html.heading(2, "Rows");
     let body: Vec<Vec<Td>> = rows.iter().map(row_cells).collect();
@@ -90,4 +98,69 @@ fn row_cells(r: &Row) -> Vec<Td> {
     cells.push(Td::text(&r.error));
     cells.push(Td::num(format!("{:.3} s", r.wall_time_s)));
     cells
+}
+
+/// The combined life to the clearance limit: what it is, the figure, the B lives.
+fn life_section(
+    html: &mut Html,
+    sweep: &Sweep,
+    life: &SweepLife,
+    figures: &[PathBuf],
+) -> Result<(), OutputError> {
+    html.heading(2, "Life to the clearance limit");
+    let weights = match sweep.mode {
+        Mode::Grid { .. } => {
+            "a grid: the mixture weighs every grid point equally, as if the inputs were \
+             uniform over the grid"
+        }
+        Mode::Random { .. } => "random samples: the mixture is over the inputs' distributions",
+    };
+    let correlation = format!("{:?}", life.correlation).to_lowercase();
+    html.lede(&format!(
+        "The cycles to a largest local clearance of {:.3} mm. Each sample's joints reach it \
+         after a lognormal number of cycles (median the simulated one, the standard deviation \
+         of ln k_d its k_d scatter: exact from the one simulated life, since Archard wear is \
+         linear in k_d); a mechanism's life is its first joint's ({correlation} k_d scatter \
+         between the joints, run.k_d_correlation). The samples' distributions are averaged \
+         with equal weights ({weights}). ± is the bootstrap over the {} samples used \
+         ({RESAMPLES} resamples) and each sample's own sampling noise, in quadrature.",
+        1e3 * life.limit_m,
+        life.used.len()
+    ));
+    if !life.not_reached.is_empty() {
+        html.paragraph(&format!(
+            "Not combined: sample(s) {:?} ran but a joint did not reach the limit (its life is \
+             longer than the run and not known; raise run.max_cycles in the scene, or run \
+             with run.until_limit).",
+            life.not_reached
+        ));
+    }
+    let Some(sampled) = &life.distributions else {
+        return Ok(());
+    };
+    if let Some(f) = figures.iter().find(|f| f.ends_with(LIFE_FILE)) {
+        html.figure(
+            f,
+            LIFE_FILE,
+            &format!(
+                "{LIFE_FILE}: the fraction of joints (and mechanisms) that reached the limit by \
+                 a number of drive cycles, over the samples' inputs and k_d scatter; circles \
+                 mark B10, squares B50."
+            ),
+        )?;
+    }
+    let text = sim::life_distribution::cycles_with_noise;
+    let rows: Vec<Vec<Td>> = sampled
+        .curves
+        .iter()
+        .map(|c| {
+            vec![
+                Td::text(&c.label),
+                Td::num(text(c.lives.b10_cycles, c.lives.b10_noise)),
+                Td::num(text(c.lives.b50_cycles, c.lives.b50_noise)),
+            ]
+        })
+        .collect();
+    html.table(&["life of", "B10 cycles", "B50 cycles"], &rows);
+    Ok(())
 }

@@ -152,7 +152,7 @@ fn an_ok_row_with_a_nan_metric_counts_as_failed_on_the_page() {
     assert_eq!(rows[1].written_status(), sweep::Status::Failed);
     let out = std::env::temp_dir().join(format!("sweep-nan-page-{}", std::process::id()));
     std::fs::create_dir_all(&out).unwrap();
-    let page = sweep::page::write_page(&s, &rows, &[], &out).unwrap();
+    let page = sweep::page::write_page(&s, &rows, &[], None, &out).unwrap();
     let html = std::fs::read_to_string(page).unwrap();
     assert!(html.contains("1 of 2 rows ran, 1 failed"), "{html}");
     std::fs::remove_dir_all(&out).unwrap();

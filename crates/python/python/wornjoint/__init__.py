@@ -85,6 +85,11 @@ class Result:
       stages).
     - ``wear``: per joint, ``{"angle_deg": cells, "bearing": stages x cells, "pin": stages x
       cells, "bearing_radius", "pin_radius"}``, depths in m.
+    - ``life_distribution``: with ``run.clearance_limit`` reached, the columns of
+      ``life_distribution.csv``: ``cycles`` and, per joint and for the mechanism, the fraction
+      that reached the limit by them under the ``k_d`` scatter (``failed_A``,
+      ``failed_mechanism``); their B10 and B50 are in ``summary["wear"]``; ``None`` without.
+      ``r.frame("life_distribution")`` gives it as a pandas DataFrame.
     - ``scene_toml``: the scene as run.
 
     In a notebook a result displays its report (:meth:`report_html`).
@@ -98,6 +103,7 @@ class Result:
         self.worn_response = _structured(raw.get("worn_response"))
         self.worn_contact = _structured(raw.get("worn_contact"))
         self.wear: Dict[str, Dict[str, Any]] = raw["wear"]
+        self.life_distribution = _structured(raw.get("life_distribution"))
         self._outcome = raw["outcome"]
         self._html: Optional[str] = None
 
