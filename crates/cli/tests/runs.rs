@@ -115,6 +115,62 @@ values = [5e-4, -1e-4]
 }
 
 #[test]
+fn a_run_to_the_limit_says_how_far_and_prints_the_lives() {
+    let (dir, out) = scratch_out("until-limit");
+    let scene = |run_extra: &str| {
+        write_scene(
+            &dir,
+            &format!(
+                "extends = \"slider-crank\"\n\
+                 [[clearance_joints]]\n\
+                 name = \"rod-slider\"\n\
+                 wear = {{ k_d = 1.8e-13, width = 0.02, cells = 360, k_d_scatter = 0.4 }}\n\
+                 [run]\n\
+                 cycles = 1\n\
+                 wear_stages = 1\n\
+                 cycles_per_stage = 2\n\
+                 amplification = 1e5\n\
+                 animation = false\n\
+                 clearance_limit = 0.0006\n\
+                 until_limit = true\n\
+                 {run_extra}"
+            ),
+        )
+    };
+    // Without its budget: bad input, the field named, for check and run alike.
+    let bad = scene("");
+    for command in ["check", "run"] {
+        let o = wearsim(&[command, bad.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{command}");
+        assert!(
+            stderr(&o).contains("run.max_cycles = \"none\": required with run.until_limit"),
+            "{command}: {}",
+            stderr(&o)
+        );
+    }
+    let good = scene("max_cycles = 2e5\n");
+    let o = run_into(good.to_str().unwrap(), &out);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    for line in [
+        "joint rod-slider reaches 0.60 mm clearance after ",
+        "under a k_d scatter of 0.4 (sd of ln k_d): B10 ",
+        "life: every wearing joint reached the limit within the ",
+    ] {
+        assert!(text.contains(line), "{line}: {text}");
+    }
+    // Progress toward the limit, not toward a cycle count.
+    assert!(
+        stderr(&o).contains("% of the way to the 0.600 mm clearance limit (rod-slider 0."),
+        "{}",
+        stderr(&o)
+    );
+    for file in ["life_distribution.csv", "life_distribution.png"] {
+        assert!(out.join(file).is_file(), "{file} missing");
+    }
+}
+
+#[test]
 fn run_prints_when_each_joint_reaches_the_clearance_limit() {
     let (dir, out) = scratch_out("limit");
     // The run's standard output, with the scene's clearance limit `limit`.

@@ -121,6 +121,32 @@ def test_wear_stage_equals_wearsim(tmp_path, wearsim):
     assert_same_table(r.worn_contact, out / "contact_worn.csv")
 
 
+def test_a_life_to_the_limit_is_a_distribution_frame(tmp_path):
+    # The worn slider-crank run until 0.6 mm, k_d scattering by 0.4 in ln k_d.
+    scene = tmp_path / "life.toml"
+    scene.write_text(
+        'extends = "slider-crank"\n'
+        "[[clearance_joints]]\n"
+        'name = "rod-slider"\n'
+        "wear = { k_d = 1.8e-13, width = 0.02, cells = 360, k_d_scatter = 0.4 }\n"
+        "[run]\ncycles = 1\nwear_stages = 1\ncycles_per_stage = 2\namplification = 1e5\n"
+        "animation = false\nclearance_limit = 0.0006\nuntil_limit = true\nmax_cycles = 2e5\n"
+    )
+    out = tmp_path / "out"
+    r = wornjoint.run(scene, out=out)
+    limit = r.summary["wear"]["joints"][0]["clearance_limit"]
+    frame = r.frame("life_distribution")
+    assert list(frame.columns) == ["cycles", "failed_rod-slider"]
+    # The lognormal's distribution function passes 10 % and 50 % at B10 and B50.
+    for b, p in ((limit["b10_cycles"], 0.1), (limit["b50_cycles"], 0.5)):
+        assert abs(np.interp(np.log(b), np.log(frame["cycles"]), frame["failed_rod-slider"]) - p) < 2e-3
+    # The same numbers as the run's life_distribution.csv, bit for bit.
+    assert_same_table(r.life_distribution, out / "life_distribution.csv")
+    assert (out / "life_distribution.png").is_file()
+    # Without a limit there is none.
+    assert wornjoint.run("slider-crank", cycles=1, stages=0).life_distribution is None
+
+
 def test_bad_values_name_the_field():
     scene = wornjoint.load("lgres")
     scene["clearance_joints"][0]["clearance"] = -0.0005

@@ -20,10 +20,15 @@ fn grid(n: usize, columns: usize) -> (usize, usize) {
     (c, n.div_ceil(c).max(1))
 }
 
-/// Short axis label: the last two path segments (`A.bearing_peak_depth_m`).
+/// Short axis label: from a joint's name on (`A.clearance_limit.cycles`), else the last two
+/// path segments (`mechanism.b50_cycles`).
 fn short(name: &str) -> String {
     let parts: Vec<&str> = name.split('.').collect();
-    parts[parts.len().saturating_sub(2)..].join(".")
+    let from = parts
+        .iter()
+        .position(|p| *p == "joints")
+        .map_or(parts.len().saturating_sub(2), |k| k + 1);
+    parts[from.min(parts.len().saturating_sub(1))..].join(".")
 }
 
 /// The scatter figure's file name.

@@ -52,7 +52,11 @@ pub fn write_page(
             .map(|m| format!("metric {m} (summary.json)")),
     );
     html.list(&items);
-    if !figures.is_empty() {
+    // A sweep's lives first: what a maintenance engineer came for.
+    if let Some(life) = life {
+        life_section(&mut html, sweep, life, figures)?;
+    }
+    if figures.iter().any(|f| !f.ends_with(LIFE_FILE)) {
         html.heading(2, "Figures");
         for f in figures {
             let name = f
@@ -70,9 +74,6 @@ pub fn write_page(
             };
             html.figure(f, &name, &format!("{name}: {caption}"))?;
         }
-    }
-    if let Some(life) = life {
-        life_section(&mut html, sweep, life, figures)?;
     }
     html.heading(2, "Rows");
     let body: Vec<Vec<Td>> = rows.iter().map(row_cells).collect();
