@@ -147,8 +147,9 @@ pub enum KdCorrelation {
     /// Each joint's `k_d` on its own: the mechanism survives `n` cycles when every joint does,
     /// `S(n) = Π S_j(n)`, each joint's life rescaled alone. Approximate: one joint's wear
     /// changes the dynamics that wear the other (on the LGRES, B's wear hastens A's: with A's
-    /// `k_d` doubled alone A reaches the limit 13 % later than rescaling says, B within
-    /// 0.1 %; docs/life.md). A sweep drawing each joint's `k_d` samples it exactly.
+    /// `k_d` doubled alone A reaches the limit 13 % later than rescaling says, with B's
+    /// doubled alone 20 % sooner; B moves by 0.1 %; docs/life.md). A sweep drawing each
+    /// joint's `k_d` samples it without the rescaling.
     Independent,
 }
 

@@ -223,8 +223,9 @@ pub(super) fn life_summary(
         KdCorrelation::Independent => {
             "each joint's k_d scatters on its own (run.k_d_correlation = \"independent\"): \
              each joint's life is rescaled alone, which leaves out how one joint's wear \
-             changes the dynamics that wear the other; approximate (on the LGRES, 13 % at \
-             joint A for a doubled k_d, docs/life.md)"
+             changes the dynamics that wear the other; approximate (on the LGRES, joint A's \
+             life moves 13-20 % off the rescaled one when one joint's k_d doubles alone, \
+             docs/life.md)"
         }
     }
     .to_string();
