@@ -475,17 +475,17 @@ fn life(html: &mut Html, w: &sim::WearSummary) {
     };
     html.heading(3, "Life to the clearance limit");
     html.lede(&format!(
-        "{}{}. B10 and B50 are the cycles by which 10 % and half of such joints reach {}, with \
-         each joint's ln k_d normal about the scene's k_d (its standard deviation: k_d \
-         scatter), rescaled exactly from the simulated life (Archard wear is linear in k_d); \
-         ± is the sampling noise of the simulated life, scaled. The mechanism's life is its \
-         first joint's to reach the limit: {}.",
+        "How the stages ended: {}{}. B10 and B50 are the cycles by which 10 % and half of \
+         such joints reach {}, with each joint's ln k_d normal about the scene's k_d (its \
+         standard deviation: k_d scatter), rescaled from the simulated life (Archard wear is \
+         linear in k_d); ± is the sampling noise of the simulated life, scaled. The \
+         mechanism's life is its first joint's to reach the limit: {}.",
+        life.ended,
         if life.until_limit {
-            "Run until every wearing joint reached the limit: "
+            " (run.until_limit)"
         } else {
             ""
         },
-        life.ended,
         micro(life.limit_m),
         life.assumption
     ));

@@ -59,6 +59,7 @@ mod definition;
 mod error;
 pub mod figures;
 pub mod life;
+mod life_columns;
 pub mod page;
 pub mod path;
 mod plan;
@@ -75,7 +76,8 @@ use output::files::OutputError;
 
 pub use definition::{Input, Mode, Sampler};
 pub use error::{SampleError, SweepError};
-pub use plan::{LifeColumns, MAX_SWEEP_FILE_BYTES, Sweep};
+pub use life_columns::{LifeColumns, joint_metrics, life_metrics};
+pub use plan::{MAX_SWEEP_FILE_BYTES, Sweep};
 pub use row::{Row, Status};
 pub use spec::MAX_SAMPLES;
 pub use table::MAX_ROWS_FILE_BYTES;

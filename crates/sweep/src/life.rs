@@ -6,12 +6,13 @@
 //! draws of the inputs) and each sample's own sampling noise.
 //!
 //! A sweep whose base scene sets a clearance limit keeps, per wearing joint, the cycles to it
-//! and their noise as metrics of its own ([`life_metrics`]), so any engine's rows hold them.
+//! and their noise as metrics of its own ([`crate::LifeColumns`]), so any engine's rows hold
+//! them.
 
 use rand::Rng;
 use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
-use scene::{KdCorrelation, Scene};
+use scene::KdCorrelation;
 use sim::life_distribution::{
     BLives, JointLife, LifeDistribution, MechanismLife, Mixture, SampledLives, mixture_b_lives,
     sample,
@@ -28,27 +29,6 @@ pub const RESAMPLES: usize = 1000;
 
 /// The seed of the bootstrap's stream: the same rows give the same noise.
 const BOOTSTRAP_SEED: u64 = 0x6c69_6665;
-
-/// The metric a sweep keeps of joint `joint`'s cycles to the limit, and of their noise.
-pub fn joint_metrics(joint: &str) -> [String; 2] {
-    [
-        format!("wear.joints.{joint}.clearance_limit.cycles"),
-        format!("wear.joints.{joint}.clearance_limit.cycles_noise"),
-    ]
-}
-
-/// What a sweep whose base `scene` sets `run.clearance_limit` keeps besides the file's
-/// metrics: each wearing joint's [`joint_metrics`] (none without a limit).
-pub fn life_metrics(scene: &Scene) -> Vec<String> {
-    if scene.run.clearance_limit.is_none() {
-        return Vec::new();
-    }
-    scene
-        .active_clearance_joints()
-        .filter(|c| c.wear.is_some())
-        .flat_map(|c| joint_metrics(&c.name))
-        .collect()
-}
 
 /// A sweep's combined life distribution.
 #[derive(Debug, Clone)]

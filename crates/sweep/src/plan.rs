@@ -15,6 +15,7 @@ use sim::overrides::RunOverrides;
 
 use crate::definition::{Input, Mode, Sampler};
 use crate::error::{SampleError, SweepError};
+use crate::life_columns::LifeColumns;
 use crate::row::{FIXED_COLUMNS, Row, Status, number};
 use crate::{path, spec};
 
@@ -201,18 +202,6 @@ pub struct Sweep {
     /// With a clearance limit in the base scene: where the rows keep each wearing joint's
     /// cycles to it ([`crate::life`]).
     pub life: Option<LifeColumns>,
-}
-
-/// What a sweep's combined life reads from its rows ([`crate::life::combine`]).
-#[derive(Debug, Clone, PartialEq)]
-pub struct LifeColumns {
-    /// The base scene's `run.clearance_limit`, m.
-    pub limit_m: f64,
-    /// Its `run.k_d_correlation`.
-    pub correlation: scene::KdCorrelation,
-    /// Per wearing joint: its name, and the indices among the metrics of its cycles to the
-    /// limit and of their noise.
-    pub joints: Vec<(String, usize, usize)>,
 }
 
 /// The `[run]` table against the base scene, with the scene's rules and the run's
@@ -413,24 +402,7 @@ impl Sweep {
         // With a clearance limit: each wearing joint's cycles to it and their noise too.
         let base_scene = scene::from_table(base.clone(), &scene_name)?;
         let mut metrics = file.metrics.clone();
-        for m in crate::life::life_metrics(&base_scene) {
-            if !metrics.contains(&m) {
-                metrics.push(m);
-            }
-        }
-        let life = base_scene.run.clearance_limit.map(|limit_m| LifeColumns {
-            limit_m,
-            correlation: base_scene.run.k_d_correlation,
-            joints: base_scene
-                .active_clearance_joints()
-                .filter(|c| c.wear.is_some())
-                .filter_map(|c| {
-                    let [cycles, noise] = crate::life::joint_metrics(&c.name);
-                    let at = |m: &String| metrics.iter().position(|x| x == m);
-                    Some((c.name.clone(), at(&cycles)?, at(&noise)?))
-                })
-                .collect(),
-        });
+        let life = LifeColumns::of(&base_scene, &mut metrics);
         let mut names: Vec<&str> = inputs.iter().map(|i| i.name.as_str()).collect();
         names.extend(metrics.iter().map(String::as_str));
         names.extend(FIXED_COLUMNS);
