@@ -50,7 +50,13 @@ pub fn scene_check(name: &str, s: &ValidScene, check: &AssemblyCheck) {
                 "clearance {} mm, bearing R = {} mm, wear {}",
                 millimetres(c.clearance, 0),
                 millimetres(c.bearing_radius, 0),
-                if c.wear.is_some() { "on" } else { "off" }
+                match &c.wear {
+                    Some(w) if w.k_d_scatter > 0.0 => {
+                        format!("on (k_d {:e}, scatter {} in ln k_d)", w.k_d, w.k_d_scatter)
+                    }
+                    Some(_) => "on".to_string(),
+                    None => "off".to_string(),
+                }
             )
         };
         outln!(
@@ -70,6 +76,16 @@ pub fn scene_check(name: &str, s: &ValidScene, check: &AssemblyCheck) {
         s.constraint_count(),
         s.degrees_of_freedom()
     );
+    if let (true, Some(limit), Some(max)) =
+        (s.run.until_limit, s.run.clearance_limit, s.run.max_cycles)
+    {
+        let correlation = format!("{:?}", s.run.k_d_correlation).to_lowercase();
+        outln!(
+            "  run: wear stages until every wearing joint reaches {} mm clearance, at most \
+             {max:.3e} cycles; k_d scatter {correlation} between the joints",
+            millimetres(limit, 2)
+        );
+    }
     let t = s.tolerances();
     outln!(
         "  solver: {:?}, rtol {:e}, atol {:.3e} m / {:.3e} rad / {:.3e} (m|rad)/s; cycle {} s",

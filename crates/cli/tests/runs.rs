@@ -149,6 +149,16 @@ fn a_run_to_the_limit_says_how_far_and_prints_the_lives() {
         );
     }
     let good = scene("max_cycles = 2e5\n");
+    let o = wearsim(&["check", good.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    for line in [
+        "wear on (k_d 1.8e-13, scatter 0.4 in ln k_d)",
+        "run: wear stages until every wearing joint reaches 0.60 mm clearance, at most \
+         2.000e5 cycles; k_d scatter shared between the joints",
+    ] {
+        assert!(text.contains(line), "{line}: {text}");
+    }
     let o = run_into(good.to_str().unwrap(), &out);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = String::from_utf8_lossy(&o.stdout);
