@@ -79,7 +79,7 @@ pub fn scene_check(name: &str, s: &ValidScene, check: &AssemblyCheck) {
     if let (true, Some(limit), Some(max)) =
         (s.run.until_limit, s.run.clearance_limit, s.run.max_cycles)
     {
-        let correlation = format!("{:?}", s.run.k_d_correlation).to_lowercase();
+        let correlation = s.run.k_d_correlation.name();
         outln!(
             "  run: wear stages until every wearing joint reaches {} mm clearance, at most \
              {max:.3e} cycles; k_d scatter {correlation} between the joints",

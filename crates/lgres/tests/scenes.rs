@@ -332,6 +332,9 @@ fn a_run_to_the_limit_needs_the_limit_a_cycle_budget_and_wear() {
     assert_eq!(s.run.k_d_correlation, scene::KdCorrelation::Independent);
     let again = load(&s.to_toml()).unwrap();
     assert_eq!(again.run, s.run);
+    // Its name in words is the one the file takes.
+    let written = format!("k_d_correlation = \"{}\"", s.run.k_d_correlation.name());
+    assert!(s.to_toml().contains(&written), "{written}");
     let builtin = scenes::builtin("lgres").unwrap();
     assert!(!builtin.run.until_limit);
     let text = builtin.to_toml();

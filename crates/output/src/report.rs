@@ -514,7 +514,7 @@ fn life(html: &mut Html, w: &sim::WearSummary) {
         rows.push(vec![
             Td::text("mechanism"),
             Td::num("–"),
-            Td::text(format!("{:?}", life.k_d_correlation).to_lowercase()),
+            Td::text(life.k_d_correlation.name()),
             Td::num(cycles(m.map(|m| m.b10_cycles), m.and_then(|m| m.b10_noise))),
             Td::num(cycles(m.map(|m| m.b50_cycles), m.and_then(|m| m.b50_noise))),
         ]);

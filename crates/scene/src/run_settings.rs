@@ -157,6 +157,14 @@ impl KdCorrelation {
     fn is_shared(&self) -> bool {
         *self == Self::Shared
     }
+
+    /// As a scene writes it: `"shared"`, `"independent"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Shared => "shared",
+            Self::Independent => "independent",
+        }
+    }
 }
 
 fn is_false(b: &bool) -> bool {

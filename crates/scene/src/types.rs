@@ -365,9 +365,10 @@ pub struct WearSpec {
     /// Scatter of the wear coefficient between nominally equal joints: the standard deviation
     /// of `ln k_d` (lognormal, `k_d` its median; 0: none, the default). Wear coefficients of
     /// equal parts scatter by tens of percent; with `run.clearance_limit` the summary gives
-    /// this joint's B10 and B50 lives under it, exactly from the one simulated life (Archard
+    /// this joint's B10 and B50 lives under it, rescaled from the one simulated life (Archard
     /// wear is linear in `k_d`: a life at `k_d'` is the simulated one with its cycles scaled
-    /// by `k_d/k_d'`).
+    /// by `k_d/k_d'`; exact when one factor scales every joint's `k_d`,
+    /// `run.k_d_correlation`).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub k_d_scatter: f64,
 }

@@ -3,8 +3,10 @@
 //! has reached the limit, as quoted for rolling bearings: B10, B50).
 //!
 //! Archard wear is linear in `k_d`, and `k_d` enters nothing but the wear: a life simulated at
-//! `k_d` is the life at any `k_d'` with its cycle axis scaled by `k_d/k_d'` (the same surfaces
-//! after the same product `k_d · N`, hence the same dynamics). A joint whose `ln k_d` is normal
+//! `k_d` is the life with every joint's `k_d` scaled to `f·k_d`, its cycle axis divided by `f`
+//! (the same surfaces after the same product `k_d · N`, hence the same dynamics). One joint's
+//! `k_d` scaled alone is not that exactly: the joints share the mechanism's dynamics
+//! ([`KdCorrelation::Independent`]). A joint whose `ln k_d` is normal
 //! with standard deviation `s` about the simulated `ln k_d` therefore reaches the limit after a
 //! lognormal number of cycles, with median the simulated cycles `N` and the same `s`:
 //! `B_p = N · exp(s · z_p)`, `z_p` the standard normal's `p`-quantile. A mechanism's life is its

@@ -116,7 +116,7 @@ fn life_section(
         }
         Mode::Random { .. } => "random samples: the mixture is over the inputs' distributions",
     };
-    let correlation = format!("{:?}", life.correlation).to_lowercase();
+    let correlation = life.correlation.name();
     html.lede(&format!(
         "The cycles to a largest local clearance of {:.3} mm. Each sample's joints reach it \
          after a lognormal number of cycles (median the simulated one, the standard deviation \
