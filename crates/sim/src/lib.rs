@@ -68,7 +68,9 @@
 //! beside the ideal mechanism, the wear, the outcome), `ideal` the ideal mechanism the response
 //! is compared with, `outcome` the result types, `record` the response run and its recording
 //! observer, `summary` the statistics and energy books, `stages` the wear stages, `life` the
-//! joints' life curves over the stages' drive cycles, [`validity`] the worn geometry's
+//! joints' life curves over the stages' drive cycles and their lives to the clearance limit,
+//! [`life_distribution`] the distribution of those lives under the wear coefficients' scatter
+//! (B10, B50, mixtures), [`validity`] the worn geometry's
 //! validity measures and [`integrate`] one integration for the analyses that measure the
 //! integrator.
 

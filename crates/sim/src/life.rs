@@ -1,12 +1,16 @@
 //! Life curves: how each wearing joint's wear grows over the drive cycles the stages stand
 //! for, one point per sub-step, and when its largest local clearance reaches the maintenance
-//! limit `run.clearance_limit`.
+//! limit `run.clearance_limit`; with it, each joint's and the mechanism's B lives under the
+//! wear coefficients' scatter, how the stages ended ([`LifeSummary`]), and the run's life
+//! distributions sampled for a table and a figure ([`life_distributions`]; the distributions
+//! themselves are `crate::life_distribution`'s).
 
 use scene::{KdCorrelation, RunSettings};
 use wear::{JointNoise, StageReport, WornJoint};
 
 use super::life_distribution::{
-    JointLife, LifeDistribution, MechanismLife, SampledLives, b_lives, cycles_with_noise, sample,
+    BLives, JointLife, LifeDistribution, MechanismLife, SampledLives, b_lives, cycles_with_noise,
+    sample,
 };
 use super::{ClearanceLimitReport, JointWearSummary, LifePoint, LifeSummary, WearSummary};
 
@@ -259,10 +263,13 @@ pub fn life_distributions(wear: &WearSummary) -> Option<SampledLives> {
                 noise: l.cycles_noise,
                 scatter: l.k_d_scatter,
             };
-            let lives = b_lives(&MechanismLife {
-                joints: vec![joint],
-                correlation: life.k_d_correlation,
-            })?;
+            // The joint's B lives as its report gives them.
+            let lives = BLives {
+                b10_cycles: l.b10_cycles?,
+                b10_noise: l.b10_noise,
+                b50_cycles: l.b50_cycles?,
+                b50_noise: l.b50_noise,
+            };
             Some((j.name.clone(), joint, lives))
         })
         .collect();

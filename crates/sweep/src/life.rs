@@ -1,6 +1,6 @@
 //! A sweep's lives to the clearance limit, combined: each sample's life distribution (its
-//! joints' cycles to `run.clearance_limit`, each under its `wear.k_d_scatter`, rescaled exactly
-//! from the one simulated life; `sim::life_distribution`) weighs equally in one mixture, the
+//! joints' cycles to `run.clearance_limit`, each under its `wear.k_d_scatter`, rescaled from
+//! the one simulated life; `sim::life_distribution`) weighs equally in one mixture, the
 //! life of a joint (or mechanism) whose other inputs scatter as the sweep drew them. Its B10 and
 //! B50 carry two noises in quadrature: the bootstrap over the samples (a finite number of
 //! draws of the inputs) and each sample's own sampling noise.
