@@ -332,7 +332,7 @@ fn life_distribution_files(
     dir: &Path,
 ) -> Result<(), OutputError> {
     let path = dir.join(LIFE_DISTRIBUTION_CSV);
-    let names: Vec<String> = lives.curves.iter().map(|c| c.column()).collect();
+    let names: Vec<String> = lives.curves.iter().map(|c| c.of.column()).collect();
     let columns: Vec<Column> = std::iter::once(col("cycles", "1"))
         .chain(names.iter().map(|n| col(n, "1")))
         .collect();

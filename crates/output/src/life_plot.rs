@@ -198,7 +198,7 @@ pub fn life_distribution(
             let b = &c.lives;
             format!(
                 "{}: B10 {}, B50 {}",
-                c.label,
+                c.of.label(),
                 sim::life_distribution::cycles_with_noise(b.b10_cycles, b.b10_noise),
                 sim::life_distribution::cycles_with_noise(b.b50_cycles, b.b50_noise)
             )
@@ -234,7 +234,7 @@ pub fn life_distribution(
             let c = colour(k);
             let points = cycles.iter().copied().zip(curve.failed.iter().copied());
             // The mechanism's curve dashed: where one joint always goes first it lies on it.
-            if curve.label == "mechanism" {
+            if curve.of == sim::life_distribution::LifeOf::Mechanism {
                 chart
                     .draw_series(DashedLineSeries::new(points, 10, 6, c.stroke_width(2)))?
                     .label(label.as_str())

@@ -312,7 +312,7 @@ fn fill_outcome(d: &Bound<'_, PyDict>, py: Python<'_>, o: &RunOutcome) -> PyResu
     if let Some(lives) = o.summary.wear.as_ref().and_then(sim::life_distributions) {
         life.append(("cycles", column(py, &lives.cycles)))?;
         for c in &lives.curves {
-            life.append((c.column(), column(py, &c.failed)))?;
+            life.append((c.of.column(), column(py, &c.failed)))?;
         }
     }
     d.set_item("life_distribution", life)?;

@@ -9,8 +9,8 @@ use scene::{KdCorrelation, RunSettings};
 use wear::{JointNoise, StageReport, WornJoint};
 
 use super::life_distribution::{
-    BLives, JointLife, LifeDistribution, MechanismLife, SampledLives, b_lives, cycles_with_noise,
-    sample,
+    BLives, JointLife, LifeDistribution, LifeOf, MechanismLife, SampledLives, b_lives,
+    cycles_with_noise, sample,
 };
 use super::{ClearanceLimitReport, JointWearSummary, LifePoint, LifeSummary, WearSummary};
 
@@ -125,27 +125,24 @@ pub(super) fn clearance_limit(
         }
         (None, _) => "not reached within the run".to_string(),
     };
-    let lives = cycles.filter(|c| *c > 0.0).and_then(|cycles| {
-        b_lives(&MechanismLife {
-            joints: vec![JointLife {
-                cycles,
-                noise: cycles_noise,
-                scatter,
-            }],
-            correlation: KdCorrelation::Independent,
-        })
-    });
-    ClearanceLimitReport {
+    let mut report = ClearanceLimitReport {
         limit_m: limit,
         cycles,
         cycles_noise,
         message,
         k_d_scatter: scatter,
-        b10_cycles: lives.map(|b| b.b10_cycles),
-        b10_noise: lives.and_then(|b| b.b10_noise),
-        b50_cycles: lives.map(|b| b.b50_cycles),
-        b50_noise: lives.and_then(|b| b.b50_noise),
+        b10_cycles: None,
+        b10_noise: None,
+        b50_cycles: None,
+        b50_noise: None,
+    };
+    if let Some(lives) = report.joint_life().and_then(JointLife::b_lives) {
+        report.b10_cycles = Some(lives.b10_cycles);
+        report.b10_noise = lives.b10_noise;
+        report.b50_cycles = Some(lives.b50_cycles);
+        report.b50_noise = lives.b50_noise;
     }
+    report
 }
 
 /// The life to `run.clearance_limit` (`None` without one): how the stages `reports` ended
@@ -189,14 +186,7 @@ pub(super) fn life_summary(
     };
     let lives: Option<Vec<JointLife>> = joints
         .iter()
-        .map(|j| {
-            let l = j.clearance_limit.as_ref()?;
-            Some(JointLife {
-                cycles: l.cycles.filter(|c| *c > 0.0)?,
-                noise: l.cycles_noise,
-                scatter: l.k_d_scatter,
-            })
-        })
+        .map(|j| j.clearance_limit.as_ref()?.joint_life())
         .collect();
     let correlation = r.k_d_correlation;
     let mechanism = lives.and_then(|joints| {
@@ -253,42 +243,30 @@ pub const LIFE_DISTRIBUTION_POINTS: usize = 201;
 /// mechanism's when every one did. `None` without a limit or when none reached it.
 pub fn life_distributions(wear: &WearSummary) -> Option<SampledLives> {
     let life = wear.life.as_ref()?;
-    let joints: Vec<(String, JointLife, _)> = wear
+    let joints: Vec<(String, JointLife, BLives)> = wear
         .joints
         .iter()
         .filter_map(|j| {
             let l = j.clearance_limit.as_ref()?;
-            let joint = JointLife {
-                cycles: l.cycles.filter(|c| *c > 0.0)?,
-                noise: l.cycles_noise,
-                scatter: l.k_d_scatter,
-            };
-            // The joint's B lives as its report gives them.
-            let lives = BLives {
-                b10_cycles: l.b10_cycles?,
-                b10_noise: l.b10_noise,
-                b50_cycles: l.b50_cycles?,
-                b50_noise: l.b50_noise,
-            };
-            Some((j.name.clone(), joint, lives))
+            Some((j.name.clone(), l.joint_life()?, l.b_lives()?))
         })
         .collect();
     let mechanism = MechanismLife {
         joints: joints.iter().map(|(_, j, _)| *j).collect(),
         correlation: life.k_d_correlation,
     };
-    let mut curves: Vec<(String, &dyn LifeDistribution, _)> = joints
+    let mut curves: Vec<(LifeOf, &dyn LifeDistribution, BLives)> = joints
         .iter()
         .map(|(name, joint, lives)| {
             (
-                format!("joint {name}"),
+                LifeOf::Joint(name.clone()),
                 joint as &dyn LifeDistribution,
                 *lives,
             )
         })
         .collect();
     if let (Some(lives), true) = (life.mechanism, joints.len() > 1) {
-        curves.push(("mechanism".to_string(), &mechanism, lives));
+        curves.push((LifeOf::Mechanism, &mechanism, lives));
     }
     sample(&curves, LIFE_DISTRIBUTION_POINTS)
 }

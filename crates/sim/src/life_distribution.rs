@@ -33,6 +33,15 @@ pub struct JointLife {
 }
 
 impl JointLife {
+    /// Its B lives (those of a mechanism of this one joint, [`b_lives`]).
+    pub fn b_lives(self) -> Option<BLives> {
+        b_lives(&MechanismLife {
+            joints: vec![self],
+            // One joint: how joints scatter together does not enter.
+            correlation: KdCorrelation::Shared,
+        })
+    }
+
     /// The fraction of such joints that have reached the limit by `n` cycles.
     pub fn failed_by(&self, n: f64) -> f64 {
         if self.scatter > 0.0 {
@@ -243,40 +252,59 @@ pub struct SampledLives {
     pub curves: Vec<SampledCurve>,
 }
 
+/// What a life distribution is the life of.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum LifeOf {
+    /// A wearing joint, by name.
+    Joint(String),
+    /// The mechanism: its first joint to reach the limit.
+    Mechanism,
+}
+
+impl LifeOf {
+    /// For a legend or a table: `joint A`, `mechanism`.
+    pub fn label(&self) -> String {
+        match self {
+            Self::Joint(name) => format!("joint {name}"),
+            Self::Mechanism => "mechanism".into(),
+        }
+    }
+
+    /// Its column in a table of sampled distributions (`life_distribution.csv`, the Python
+    /// frame): `failed_A`, `failed_mechanism`.
+    pub fn column(&self) -> String {
+        match self {
+            Self::Joint(name) => format!("failed_{name}"),
+            Self::Mechanism => "failed_mechanism".into(),
+        }
+    }
+}
+
 /// One distribution of [`SampledLives`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SampledCurve {
-    /// What it is the life of (a joint's name, `mechanism`).
-    pub label: String,
+    /// What it is the life of.
+    pub of: LifeOf,
     /// The fraction of lives ended by each of the grid's cycles.
     pub failed: Vec<f64>,
     /// Its B lives.
     pub lives: BLives,
 }
 
-impl SampledCurve {
-    /// Its column in a table of the sampled distributions (`life_distribution.csv`, the
-    /// Python frame): `failed_<joint>` for `joint <joint>`, else `failed_<label>`.
-    pub fn column(&self) -> String {
-        let what = self.label.strip_prefix("joint ").unwrap_or(&self.label);
-        format!("failed_{what}")
-    }
-}
-
-/// `curves` (label, distribution, B lives) sampled at `points` (≥ 2) log-spaced cycles from
+/// `curves` (what, distribution, B lives) sampled at `points` (≥ 2) log-spaced cycles from
 /// where the first of them has 0.1 % ended to where the last has 99.9 %, widened to at least
 /// half and twice the B50s (where a curve without scatter steps); `None` without curves.
 pub fn sample(
-    curves: &[(String, &dyn LifeDistribution, BLives)],
+    curves: &[(LifeOf, &dyn LifeDistribution, BLives)],
     points: usize,
 ) -> Option<SampledLives> {
     let low = curves
         .iter()
-        .filter_map(|(_, l, b)| Some(quantile(&Dyn(*l), 1e-3)?.min(b.b50_cycles / 2.0)))
+        .filter_map(|(_, l, b)| Some(quantile(*l, 1e-3)?.min(b.b50_cycles / 2.0)))
         .reduce(f64::min)?;
     let high = curves
         .iter()
-        .filter_map(|(_, l, b)| Some(quantile(&Dyn(*l), 0.999)?.max(b.b50_cycles * 2.0)))
+        .filter_map(|(_, l, b)| Some(quantile(*l, 0.999)?.max(b.b50_cycles * 2.0)))
         .reduce(f64::max)?;
     let points = points.max(2);
     let cycles: Vec<f64> = (0..points)
@@ -284,25 +312,13 @@ pub fn sample(
         .collect();
     let curves = curves
         .iter()
-        .map(|(label, life, lives)| SampledCurve {
-            label: label.clone(),
+        .map(|(of, life, lives)| SampledCurve {
+            of: of.clone(),
             failed: cycles.iter().map(|n| life.failed_by(*n)).collect(),
             lives: *lives,
         })
         .collect();
     Some(SampledLives { cycles, curves })
-}
-
-/// A `&dyn LifeDistribution` as a sized one, for [`quantile`].
-struct Dyn<'a>(&'a dyn LifeDistribution);
-
-impl LifeDistribution for Dyn<'_> {
-    fn failed_by(&self, n: f64) -> f64 {
-        self.0.failed_by(n)
-    }
-    fn bracket(&self) -> (f64, f64) {
-        self.0.bracket()
-    }
 }
 
 /// Cycles with their sampling noise for a sentence, a legend or a table: `1.203e6 ± 2.1e4`

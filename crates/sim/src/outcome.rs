@@ -195,6 +195,27 @@ pub struct ClearanceLimitReport {
     pub b50_noise: Option<f64>,
 }
 
+impl ClearanceLimitReport {
+    /// The joint's life to the limit, when it reached the limit after some cycles.
+    pub fn joint_life(&self) -> Option<crate::life_distribution::JointLife> {
+        Some(crate::life_distribution::JointLife {
+            cycles: self.cycles.filter(|c| *c > 0.0)?,
+            noise: self.cycles_noise,
+            scatter: self.k_d_scatter,
+        })
+    }
+
+    /// Its B lives as reported (`None` when not reached).
+    pub fn b_lives(&self) -> Option<crate::life_distribution::BLives> {
+        Some(crate::life_distribution::BLives {
+            b10_cycles: self.b10_cycles?,
+            b10_noise: self.b10_noise,
+            b50_cycles: self.b50_cycles?,
+            b50_noise: self.b50_noise,
+        })
+    }
+}
+
 /// The life to the clearance limit under the scatter of the wear coefficients: how the run
 /// ended, and the mechanism's B lives (its first joint to reach the limit).
 #[derive(Debug, Clone, PartialEq, Serialize)]

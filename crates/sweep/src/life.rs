@@ -14,8 +14,8 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha20Rng;
 use scene::KdCorrelation;
 use sim::life_distribution::{
-    BLives, JointLife, LifeDistribution, MechanismLife, Mixture, SampledLives, mixture_b_lives,
-    sample,
+    BLives, JointLife, LifeDistribution, LifeOf, MechanismLife, Mixture, SampledLives,
+    mixture_b_lives, sample,
 };
 
 use crate::{Row, Status, Sweep};
@@ -131,24 +131,24 @@ fn distributions(
                 .collect()
         })
         .collect();
-    let mut lives: Vec<(String, Mixture<MechanismLife>, BLives)> = Vec::new();
+    let mut lives: Vec<(LifeOf, Mixture<MechanismLife>, BLives)> = Vec::new();
     for ((name, _, _), members) in joints.iter().zip(alone) {
         let b = mixture_b_lives(&members, &resamples)?;
-        lives.push((format!("joint {name}"), Mixture { members }, b));
+        lives.push((LifeOf::Joint(name.clone()), Mixture { members }, b));
     }
     if joints.len() > 1 {
         let b = mixture_b_lives(members, &resamples)?;
         lives.push((
-            "mechanism".into(),
+            LifeOf::Mechanism,
             Mixture {
                 members: members.to_vec(),
             },
             b,
         ));
     }
-    let curves: Vec<(String, &dyn LifeDistribution, BLives)> = lives
+    let curves: Vec<(LifeOf, &dyn LifeDistribution, BLives)> = lives
         .iter()
-        .map(|(label, m, b)| (label.clone(), m as &dyn LifeDistribution, *b))
+        .map(|(of, m, b)| (of.clone(), m as &dyn LifeDistribution, *b))
         .collect();
     sample(&curves, sim::LIFE_DISTRIBUTION_POINTS)
 }

@@ -156,7 +156,7 @@ fn life_section(
         .iter()
         .map(|c| {
             vec![
-                Td::text(&c.label),
+                Td::text(c.of.label()),
                 Td::num(text(c.lives.b10_cycles, c.lives.b10_noise)),
                 Td::num(text(c.lives.b50_cycles, c.lives.b50_noise)),
             ]
