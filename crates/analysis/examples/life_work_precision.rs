@@ -27,12 +27,9 @@ use std::path::{Path, PathBuf};
 
 use output::plot::{Panel, Series, log_panels};
 
-/// One wear result of a run with its printed noise.
-#[derive(Debug, Clone, Copy)]
-struct Value {
-    value: f64,
-    noise: f64,
-}
+#[path = "support/wear_runs.rs"]
+mod wear_runs;
+use wear_runs::{QUANTITIES, Value, WearResults, read_wear_results};
 
 /// What one run gives: per joint, bearing peak, pin peak, worn volume.
 #[derive(Debug, Clone)]
@@ -53,41 +50,8 @@ struct Curve {
     volumes: [Vec<f64>; 3],
 }
 
-const QUANTITIES: [&str; 3] = ["bearing peak", "pin peak", "worn volume"];
-
 fn read_run(label: &str, family: &str, dir: &Path, cpu_s: f64) -> Result<Run, Box<dyn Error>> {
-    let path = dir.join("summary.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let summary: serde_json::Value = serde_json::from_str(&text)?;
-    let wear = &summary["wear"];
-    let number = |v: &serde_json::Value, field: &str| -> Result<f64, String> {
-        v[field]
-            .as_f64()
-            .ok_or_else(|| format!("{}: no number `{field}`", path.display()))
-    };
-    let mut joints = Vec::new();
-    for j in wear["joints"]
-        .as_array()
-        .ok_or("summary.json: no wear joints")?
-    {
-        let value = |field: &str, noise: &str| -> Result<Value, String> {
-            Ok(Value {
-                value: number(j, field)?,
-                noise: number(j, noise)?,
-            })
-        };
-        joints.push((
-            j["name"].as_str().unwrap_or("?").to_string(),
-            [
-                value("bearing_peak_depth_m", "bearing_peak_depth_noise_m")?,
-                value("pin_peak_depth_m", "pin_peak_depth_noise_m")?,
-                value("worn_volume_m3", "worn_volume_noise_m3")?,
-            ],
-        ));
-    }
-    let substeps = wear["substeps_per_stage"]
-        .as_array()
-        .map_or(0, |s| s.iter().filter_map(serde_json::Value::as_u64).sum());
+    let WearResults { joints, substeps } = read_wear_results(dir)?;
     Ok(Run {
         label: label.to_string(),
         family: family.to_string(),
