@@ -82,7 +82,8 @@ pub use implicit::ContactZone;
 pub use joint::{ContactArc, DEFAULT_CELLS, ShapeBound, WearParams, WornJoint};
 pub use noise::{
     JointNoise, JointResults, LEVELLING_MIN_STEPS, Levelling, NOISE_GROUPS, NOISE_WARM_UP,
-    NoiseBatches, Replicas, discrete_noise, jackknife_error, levelling,
+    NoiseBatches, PERSISTENCE_TREND_DEGREE, Replicas, discrete_noise, jackknife_error, levelling,
+    persistence,
 };
 pub use profile::{AngularRange, Peak, Side, WornProfile};
 pub use run::{run_stage, run_stages};

@@ -16,8 +16,11 @@
 //! geometry levels out what one sample deepened (a deeper dent carries less load). What of a
 //! sub-step's noise survives to the end is read from the life curve itself ([`levelling`]):
 //! a fluctuation that survives a fraction `s` of itself per sub-step leaves the increments of
-//! the curve correlated by `−(1 − s)/2`. [`JointNoise::levelled`] scales the jackknife by the
-//! surviving share. The peak of a noisy profile is biased upwards by about its noise.
+//! the curve correlated by `−(1 − s)/2`. The other way, a trajectory that continues across
+//! sub-steps can keep a more wearing motion for a few of them, which the interleaved batches
+//! count as independent: [`persistence`] reads that from the curve's positive correlations.
+//! [`JointNoise::levelled`] scales the jackknife by both ([`Levelling::share`]). The peak of a
+//! noisy profile is biased upwards by about its noise.
 
 use crate::accumulate::StageWear;
 use crate::joint::WornJoint;
@@ -289,8 +292,9 @@ pub struct JointNoise {
 }
 
 impl JointNoise {
-    /// The noise that survives the worn geometry's levelling: each field's jackknife noise
-    /// times the [`levelling`] share read from that result's life curve so far, `history` (its
+    /// The noise at the end, the worn geometry's levelling and the fluctuations' persistence
+    /// counted: each field's jackknife noise times the [`levelling`] share read from that
+    /// result's life curve so far, `history` (its
     /// values at the stage's start and after every sub-step, this point last) and the
     /// sub-steps' lengths (amplifications) `lengths`.
     pub fn levelled(self, history: &[JointResults], lengths: &[f64]) -> Self {
@@ -313,7 +317,12 @@ pub struct Levelling {
     /// The fraction of a sub-step's fluctuation still there one sub-step later, in `[0, 1]`
     /// (1: none levelled, the fluctuations add up).
     pub survival: f64,
-    /// The surviving share of the jackknife's noise, `√(Σ_{k<N} s^{2k} / N)`, in `(0, 1]`.
+    /// How much the curve's fluctuations persist beyond the jackknife's independent
+    /// sub-steps, at least 1 ([`persistence`]).
+    pub persistence: f64,
+    /// The share of the jackknife's noise there at the end, `√(Σ_{k<N} s^{2k} / N)` times the
+    /// persistence: below 1 where the geometry levels the fluctuations out, above where
+    /// consecutive sub-steps' fluctuations go the same way.
     pub share: f64,
 }
 
@@ -335,10 +344,12 @@ pub const LEVELLING_MIN_STEPS: usize = NOISE_WARM_UP;
 /// synthetic curves give the ends' scatter at `s = 0` and `s = 1` and overstate it in between
 /// (`wear/tests/noise.rs`). A trending curve (positively correlated increments) keeps the
 /// jackknife's noise. Fewer than [`LEVELLING_MIN_STEPS`] increments, or a curve that does not
-/// move, or lengths that are not one positive number per sub-step: share 1.
+/// move, or lengths that are not one positive number per sub-step: share 1. The share is then
+/// multiplied by the increments' [`persistence`] (1 unless they stay correlated positively).
 pub fn levelling(curve: &[f64], lengths: &[f64]) -> Levelling {
     let none = Levelling {
         survival: 1.0,
+        persistence: 1.0,
         share: 1.0,
     };
     let steps = curve.len().saturating_sub(1);
@@ -368,10 +379,72 @@ pub fn levelling(curve: &[f64], lengths: &[f64]) -> Levelling {
         sum += term;
         term *= survival * survival;
     }
+    let persistence = persistence(&increments);
     Levelling {
         survival,
-        share: (sum / steps as f64).sqrt(),
+        persistence,
+        share: (sum / steps as f64).sqrt() * persistence,
     }
+}
+
+/// Degree of the trend [`persistence`] takes out of a life curve's increments: the wear rate
+/// changes smoothly over a stage as the surfaces conform, and that change is not noise.
+pub const PERSISTENCE_TREND_DEGREE: i32 = 3;
+
+/// How much more than independent the sampling fluctuations of consecutive sub-steps add up:
+/// `√max(1, 1 + 2 Σ_{k=1}^{b} (1 − k/(b+1)) r_k)`, `r_k` the autocorrelation at lag `k` of the
+/// increments (per unit length) less a least-squares cubic in the sub-step's index, with
+/// Bartlett weights over `b = ⌊4 (N/100)^{2/9}⌋` lags (Newey and West's bandwidth; 4 at 141
+/// sub-steps).
+///
+/// Why: the jackknife deals consecutive runs into different batches (so that a trend does not
+/// pass for noise) and so counts every sub-step's sample as independent. A trajectory that
+/// continues across sub-steps can stay in a more (or less) wearing motion for a few of them;
+/// those fluctuations add up to `1 + 2 Σ r_k` times the independent variance. Negative
+/// correlations are the levelling's (counted by the survival); they do not lower this factor
+/// below 1. On the default LGRES stage A's peaks and volume read 1.2 (the curve's increments
+/// correlate by about +0.12 at lags 1 to 3 after the cubic), B's 1.0, which brought A's printed
+/// noise from 0.72–0.80 of the scatter of eight repeats to 0.88–0.96 (docs/convergence.md).
+/// A curve whose increments the cubic takes out (to rounding), or with fewer increments than
+/// the cubic and two lags need: 1.
+pub fn persistence(increments: &[f64]) -> f64 {
+    let n = increments.len();
+    let bandwidth = (4.0 * (n as f64 / 100.0).powf(2.0 / 9.0)).floor() as usize;
+    if n < PERSISTENCE_TREND_DEGREE as usize + 3 || bandwidth == 0 {
+        return 1.0;
+    }
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    // Least squares by modified Gram–Schmidt on the powers of the index mapped to [−1, 1].
+    let index: Vec<f64> = (0..n)
+        .map(|i| 2.0 * i as f64 / (n - 1) as f64 - 1.0)
+        .collect();
+    let mut residual = increments.to_vec();
+    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(PERSISTENCE_TREND_DEGREE as usize + 1);
+    for degree in 0..=PERSISTENCE_TREND_DEGREE {
+        let mut v: Vec<f64> = index.iter().map(|t| t.powi(degree)).collect();
+        for b in &basis {
+            let c = dot(&v, b);
+            v.iter_mut().zip(b).for_each(|(x, y)| *x -= c * y);
+        }
+        let norm = dot(&v, &v).sqrt();
+        v.iter_mut().for_each(|x| *x /= norm);
+        let c = dot(&residual, &v);
+        residual.iter_mut().zip(&v).for_each(|(x, y)| *x -= c * y);
+        basis.push(v);
+    }
+    let variance = dot(&residual, &residual);
+    let scale = dot(increments, increments);
+    if !(variance > 1e-20 * scale) || !variance.is_finite() {
+        return 1.0;
+    }
+    let lags = bandwidth.min(n - 1);
+    let sum: f64 = (1..=lags)
+        .map(|k| {
+            let weight = 1.0 - k as f64 / (lags + 1) as f64;
+            weight * dot(&residual[..n - k], &residual[k..]) / variance
+        })
+        .sum();
+    (1.0 + 2.0 * sum).max(1.0).sqrt()
 }
 
 /// A surface's noise at the stage's end as a function of the rest's sub-step growth
@@ -441,7 +514,8 @@ pub const NOISE_WARM_UP: usize = 8;
 ///
 /// Per surface, with `D` its peak depth (`D₀` at the stage's start, `Δᵢ` its growth in the
 /// sub-steps so far), `σ` the jackknife noise of `D` now and `s` the curve's [`levelling`]:
-/// each sub-step's growth carries a noise `κ Δ` with `κ = σ/√(ΣΔᵢ²)`, of which a fraction `s`
+/// each sub-step's growth carries a noise `κ Δ` with `κ = p σ/√(ΣΔᵢ²)` (`p` the curve's
+/// persistence), of which a fraction `s`
 /// survives each later sub-step. The rest of the stage, `D_rem` at the stage's rate so far, in
 /// `m = D_rem/Δ` sub-steps of growth `Δ`, leaves at the end
 /// `V = s^{2m} σ_ℓ² + κ² Δ² Σ_{k<m} s^{2k}` (`σ_ℓ` the levelled noise now; with `s = 1`,
@@ -498,7 +572,7 @@ pub(crate) fn noise_fraction(
             }
             let levelling = levelling(&curve, &lengths);
             let ending = EndNoise {
-                kappa2: sigma * sigma / squares,
+                kappa2: (sigma * levelling.persistence).powi(2) / squares,
                 now2: (sigma * levelling.share).powi(2),
                 survival2: levelling.survival * levelling.survival,
                 rest,

@@ -181,15 +181,15 @@ pub struct NoiseSamples {
     /// The measures on surfaces one noise away (`wear::Replicas::plausible_surfaces`): the
     /// noise of a measure that moves in jumps (a worn arc, a count) is their spread.
     pub plausible: Vec<JointMetrics>,
-    /// The share of the jackknife's noise the worn geometry's levelling leaves.
+    /// The share of the jackknife's noise at the stage's end (levelling and persistence).
     pub levelling: LevellingShares,
     /// Width of one wear cell, deg: the step a worn arc moves in.
     pub cell_deg: f64,
 }
 
-/// The share of a joint's jackknife noise that survives the levelling of the worn geometry:
-/// the run's levelled noise over the jackknife's (`wear::JointNoise::levelled`; 1: none
-/// levelled, or not measured).
+/// The share of a joint's jackknife noise there at the stage's end: the run's levelled noise
+/// over the jackknife's (`wear::JointNoise::levelled`: below 1 where the worn geometry levels
+/// the fluctuations out, above where consecutive sub-steps' persist; 1: not measured).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LevellingShares {
     /// Of the bearing's peak depth.
@@ -218,7 +218,7 @@ impl LevellingShares {
         };
         let share = |l: f64, j: f64| {
             if j > 0.0 && l.is_finite() {
-                (l / j).clamp(0.0, 1.0)
+                (l / j).max(0.0)
             } else {
                 1.0
             }
