@@ -434,7 +434,7 @@ pub fn persistence(increments: &[f64]) -> f64 {
     }
     let variance = dot(&residual, &residual);
     let scale = dot(increments, increments);
-    if !(variance > 1e-20 * scale) || !variance.is_finite() {
+    if !variance.is_finite() || variance <= 1e-20 * scale {
         return 1.0;
     }
     let lags = bandwidth.min(n - 1);
