@@ -254,8 +254,9 @@ fn wear(w: &sim::WearSummary) {
         .any(|j| j.bearing_peak_depth_noise_m.is_some())
     {
         outln!(
-            "  (±: one standard error of the stage's sampling, levelled; the bias of the \
-             sub-steps, tolerance and grids is not in it, docs/convergence.md)"
+            "  (±: one standard error of the stage's sampling; not in it: the bias of the \
+             sub-steps, tolerance and grids, up to about one ± each at the default, \
+             docs/convergence.md)"
         );
     }
     for j in &w.joints {
