@@ -1,6 +1,8 @@
 //! The figures of a sweep: every metric against every varied input (`scatter.png`, one panel
-//! each), and for random sweeps the histograms of inputs and metrics (`histograms.png`).
-//! Failed samples and missing metrics are left out of the panels.
+//! each; a metric's noise, when the sweep keeps it too, as bars of ± one noise on the metric's
+//! points rather than as panels of its own), and for random sweeps the histograms of inputs
+//! and metrics (`histograms.png`). Failed samples and missing metrics are left out of the
+//! panels.
 
 use std::path::{Path, PathBuf};
 
@@ -31,6 +33,21 @@ fn short(name: &str) -> String {
     parts[from.min(parts.len().saturating_sub(1))..].join(".")
 }
 
+/// The metric whose noise `name` is, if the sweep keeps it: a metric whose last path segment
+/// holds `_noise` (`…clearance_limit.cycles_noise`, `…bearing_peak_depth_noise_m`) is the noise
+/// of the same name without it (`…cycles`, `…bearing_peak_depth_m`).
+fn noise_of(name: &str, metrics: &[String]) -> Option<usize> {
+    let (path, last) = name.rsplit_once('.').map_or(("", name), |(p, l)| (p, l));
+    let at = last.find("_noise")?;
+    let base_last = format!("{}{}", &last[..at], &last[at + "_noise".len()..]);
+    let base = if path.is_empty() {
+        base_last
+    } else {
+        format!("{path}.{base_last}")
+    };
+    metrics.iter().position(|m| *m == base)
+}
+
 /// The scatter figure's file name.
 pub const SCATTER_FILE: &str = "scatter.png";
 /// The histograms' file name (random sweeps).
@@ -43,8 +60,18 @@ pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, Out
         .filter(|r| r.written_status() == Status::Ok)
         .collect();
     let mut files = Vec::new();
-    let (ni, nm) = (sweep.inputs.len(), sweep.metrics.len());
-    let (cols, nrows) = (ni, nm);
+    let ni = sweep.inputs.len();
+    // Per metric with a panel, the metric its noise is in (drawn as bars), if any.
+    let noise_metrics: Vec<Option<usize>> = sweep
+        .metrics
+        .iter()
+        .map(|m| noise_of(m, &sweep.metrics))
+        .collect();
+    let panels: Vec<(usize, Option<usize>)> = (0..sweep.metrics.len())
+        .filter(|m| noise_metrics[*m].is_none())
+        .map(|m| (m, noise_metrics.iter().position(|n| *n == Some(m))))
+        .collect();
+    let (cols, nrows) = (ni, panels.len());
     let path = out.join(SCATTER_FILE);
     let size = (PANEL.0 * cols as u32, PANEL.1 * nrows as u32 + 40);
     let title = format!(
@@ -58,23 +85,41 @@ pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, Out
         let (top, body) = root.split_vertically(40);
         top.titled(&title, (FONT, 22))?;
         for (k, area) in body.split_evenly((nrows, cols)).iter().enumerate() {
-            let (m, i) = (k / cols, k % cols);
+            let ((m, noise), i) = (panels[k / cols], k % cols);
             let points: Vec<(f64, f64)> = ok
                 .iter()
                 .filter_map(|r| Some((r.inputs[i], r.metrics[m]?)))
                 .collect();
+            // ± one noise where the sample has it (finite and positive).
+            let bars: Vec<(f64, f64, f64)> = noise.map_or_else(Vec::new, |n| {
+                ok.iter()
+                    .filter_map(|r| {
+                        let (v, e) = (r.metrics[m]?, r.metrics[n]?);
+                        (e.is_finite() && e > 0.0).then_some((r.inputs[i], v - e, v + e))
+                    })
+                    .collect()
+            });
             let mut chart = ChartBuilder::on(area)
                 .margin(10)
                 .x_label_area_size(45)
                 .y_label_area_size(75)
                 .build_cartesian_2d(
                     padded_range(points.iter().map(|p| p.0)),
-                    padded_range(points.iter().map(|p| p.1)),
+                    padded_range(
+                        points
+                            .iter()
+                            .map(|p| p.1)
+                            .chain(bars.iter().flat_map(|b| [b.1, b.2])),
+                    ),
                 )?;
             chart
                 .configure_mesh()
                 .x_desc(short(&sweep.inputs[i].name))
-                .y_desc(short(&sweep.metrics[m]))
+                .y_desc(if noise.is_some() {
+                    format!("{} (± noise)", short(&sweep.metrics[m]))
+                } else {
+                    short(&sweep.metrics[m])
+                })
                 .x_labels(5)
                 .x_label_formatter(&|v| format!("{v:.3e}"))
                 .y_label_formatter(&|v| format!("{v:.3e}"))
@@ -82,6 +127,10 @@ pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, Out
                 .axis_desc_style((FONT, 14))
                 .light_line_style(RGBColor(235, 235, 235))
                 .draw()?;
+            chart
+                .draw_series(bars.iter().map(|b| {
+                    PathElement::new(vec![(b.0, b.1), (b.0, b.2)], BLUE.stroke_width(2))
+                }))?;
             chart.draw_series(points.iter().map(|p| Circle::new(*p, 4, BLUE.filled())))?;
         }
         Ok(())
@@ -172,4 +221,31 @@ fn histogram(
         Rectangle::new([(x0, 0), (x0 + width, *c)], BLUE.mix(0.7).filled())
     }))?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::noise_of;
+
+    #[test]
+    fn a_noise_metric_finds_the_metric_it_is_the_noise_of() {
+        let metrics: Vec<String> = [
+            "wear.joints.A.clearance_limit.cycles",
+            "wear.joints.A.clearance_limit.cycles_noise",
+            "wear.joints.B.bearing_peak_depth_m",
+            "wear.joints.B.bearing_peak_depth_noise_m",
+            "wear.joints.A.bearing_peak_depth_noise_m",
+            "noise",
+        ]
+        .map(String::from)
+        .to_vec();
+        assert_eq!(noise_of(&metrics[1], &metrics), Some(0));
+        assert_eq!(noise_of(&metrics[3], &metrics), Some(2));
+        // Its metric not kept by the sweep: a panel of its own.
+        assert_eq!(noise_of(&metrics[4], &metrics), None);
+        // Not a noise, or a segment that only looks like one.
+        assert_eq!(noise_of(&metrics[0], &metrics), None);
+        assert_eq!(noise_of(&metrics[5], &metrics), None);
+        assert_eq!(noise_of("wear.noise_total.x", &metrics), None);
+    }
 }

@@ -67,8 +67,9 @@ pub fn write_page(
                 continue;
             }
             let caption = if name.starts_with("scatter") {
-                "Every metric (rows) against every input (columns): a trend is a slope, scatter at \
-                 one input value is the chaotic dynamics' noise."
+                "Every metric (rows) against every input (columns), with ± one noise as a bar \
+                 where the sweep keeps a metric's noise: a trend is a slope, scatter at one \
+                 input value is the chaotic dynamics' noise."
             } else {
                 "Histograms of the inputs drawn and the metrics they gave."
             };
