@@ -57,6 +57,38 @@ fn chi2_quantile(p: f64, k: f64) -> f64 {
     k * (1.0 - a + z * a.sqrt()).powi(3)
 }
 
+/// The mean of `values` (at least two) and their sample variance (on `n − 1` degrees of freedom).
+fn mean_and_variance(values: &[f64]) -> (f64, f64) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let variance = values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, variance)
+}
+
+/// The bias table's cells so far: how many, how many within half the noise `σ`, how many
+/// beyond twice their standard error.
+#[derive(Default)]
+struct Tally {
+    cells: usize,
+    within: usize,
+    significant: usize,
+}
+
+impl Tally {
+    /// Writes one cell, `bias ± se` and both in units of `sigma`, and counts it.
+    fn cell(&mut self, out: &mut String, bias: f64, se: f64, sigma: f64) -> std::fmt::Result {
+        self.cells += 1;
+        self.within += usize::from(bias.abs() <= 0.5 * sigma);
+        self.significant += usize::from(bias.abs() > 2.0 * se);
+        write!(
+            out,
+            " {bias:+.1} ± {se:.1} ({:+.2} ± {:.2}σ) |",
+            bias / sigma,
+            se / sigma
+        )
+    }
+}
+
 /// The quantity's unit and its scale from SI.
 fn unit(quantity: usize) -> (&'static str, f64) {
     if QUANTITIES[quantity] == "worn volume" {
@@ -191,8 +223,8 @@ fn main() -> Result<(), Box<dyn Error>> {
     for (k, (label, q)) in labels.iter().enumerate() {
         let (u, scale) = unit(*q);
         let v: Vec<f64> = repeats.iter().map(|r| r.values[k].value * scale).collect();
-        let mean = v.iter().sum::<f64>() / n as f64;
-        let sd = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / dof).sqrt();
+        let (mean, variance) = mean_and_variance(&v);
+        let sd = variance.sqrt();
         let printed = (repeats
             .iter()
             .map(|r| (r.values[k].noise * scale).powi(2))
@@ -267,21 +299,13 @@ fn main() -> Result<(), Box<dyn Error>> {
         let s2 = r.norm_squared() / residual_dof;
         fits.push((b, r, s2));
     }
-    let (mut within, mut significant, mut cells) = (0, 0, 0);
+    let mut tally = Tally::default();
     for (name, c) in &rows {
         write!(out, "| {name} |")?;
         for (k, (b, _, s2)) in fits.iter().enumerate() {
             let bias = -c.dot(b);
             let se = (s2 * (c.transpose() * &xtx_inv * c)[(0, 0)]).sqrt();
-            write!(
-                out,
-                " {bias:+.1} ± {se:.1} ({:+.2} ± {:.2}σ) |",
-                bias / sigma[k],
-                se / sigma[k]
-            )?;
-            cells += 1;
-            within += usize::from(bias.abs() <= 0.5 * sigma[k]);
-            significant += usize::from(bias.abs() > 2.0 * se);
+            tally.cell(&mut out, bias, se, sigma[k])?;
         }
         writeln!(out)?;
     }
@@ -307,33 +331,27 @@ fn main() -> Result<(), Box<dyn Error>> {
             let scale = unit(*q).1;
             let stats = |group: &[&Run]| {
                 let v: Vec<f64> = group.iter().map(|r| r.values[k].value * scale).collect();
-                let mean = v.iter().sum::<f64>() / v.len() as f64;
-                let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (v.len() - 1) as f64;
-                (mean, var / v.len() as f64)
+                let (mean, variance) = mean_and_variance(&v);
+                (mean, variance / v.len() as f64)
             };
             let ((md, vd), (mf, vf)) = (stats(&repeats), stats(&reference));
-            let (bias, se) = (md - mf, (vd + vf).sqrt());
-            write!(
-                out,
-                " {bias:+.1} ± {se:.1} ({:+.2} ± {:.2}σ) |",
-                bias / sigma[k],
-                se / sigma[k]
-            )?;
-            cells += 1;
-            within += usize::from(bias.abs() <= 0.5 * sigma[k]);
-            significant += usize::from(bias.abs() > 2.0 * se);
+            tally.cell(&mut out, md - mf, (vd + vf).sqrt(), sigma[k])?;
         }
         writeln!(out)?;
     }
     writeln!(
         out,
-        "\nσ (the default's printed noise): {}. {within} of {cells} biases within σ/2; {significant} of {cells} beyond twice their standard error.",
+        "\nσ (the default's printed noise): {}. {} of {} biases within σ/2; {} of {} beyond twice their standard error.",
         labels
             .iter()
             .zip(&sigma)
             .map(|((l, q), s)| format!("{l} {s:.2} {}", unit(*q).0))
             .collect::<Vec<_>>()
-            .join(", ")
+            .join(", "),
+        tally.within,
+        tally.cells,
+        tally.significant,
+        tally.cells
     )?;
 
     // 3. The printed noise against the residuals of every run.
