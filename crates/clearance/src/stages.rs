@@ -197,13 +197,13 @@ pub struct WearStages {
     pub stage_halves: Vec<Option<StageHalves>>,
     /// Per wearing joint, per point of its life curve (the start, then every sub-step of every
     /// stage): the sampling noise of its results there ([`wear::NoiseBatches`], batches over
-    /// all runs so far). `None` at the start, inside an error-controlled stage (whose runs are
-    /// simulated on predicted surfaces; its end has one), and throughout when a run kept no
-    /// halves (odd K on one trajectory, an odd number of trajectories).
+    /// all runs so far). `None` at the start; throughout when a run kept no halves (odd K on
+    /// one trajectory, an odd number of trajectories); and from the first error-controlled
+    /// stage on, whose corrector's correlated sub-steps the levelling cannot read.
     pub life_noise: Vec<Vec<Option<JointNoise>>>,
     /// Per stage, per wearing joint: the jackknife replicas of its surfaces at the stage's end,
     /// from which the noise of any measure of them follows ([`Replicas::noise`]); none (no
-    /// replica) when a run kept no halves.
+    /// replica) when a run kept no halves, and from the first error-controlled stage on.
     pub stage_replicas: Vec<Vec<Replicas>>,
 }
 
@@ -347,8 +347,7 @@ impl LifeCurves<'_> {
         }
     }
 
-    /// Appends a point without noise (inside an error-controlled stage, whose runs simulate
-    /// predicted surfaces; the results' curves skip it).
+    /// Appends a point without noise (an error-controlled stage's, see [`stage_noise`]).
     fn push_none(&mut self) {
         for curve in self.noise.iter_mut() {
             curve.push(None);
@@ -359,7 +358,7 @@ impl LifeCurves<'_> {
 /// Adds a stage's runs to the noise batches (`None` once a run kept no halves) and appends
 /// each sub-step's point to the life curves: measured on the surfaces the next run started
 /// from (`entries`; the stage's end on `joints`), or, without entries (an error-controlled
-/// stage), at the stage's end only. Returns the stage end's replicas.
+/// stage), without noise, the batches dropped. Returns the stage end's replicas.
 fn stage_noise(
     noise: &mut Option<NoiseBatches>,
     halves: &[Vec<[StageWear; 2]>],
@@ -383,12 +382,16 @@ fn stage_noise(
             curves.push(noise, surfaces, report.substeps[run].amplification);
         }
     }
-    if entries.is_none() && !report.substeps.is_empty() {
-        for _ in 1..report.substeps.len() {
+    if entries.is_none() {
+        // An error-controlled stage's noise cannot be levelled: its corrector gives each run's
+        // wear to two sub-steps, which correlates consecutive increments of the life curve by
+        // construction and hides the negative correlation the levelling reads. The jackknife
+        // alone was measured at 0.5× (A) to 14× (B) the scatter of eight repeats of the
+        // LGRES stage (docs/convergence.md), so none is given, here or after.
+        for _ in 0..report.substeps.len() {
             curves.push_none();
         }
-        let stage_length = report.substeps.iter().map(|s| s.amplification).sum();
-        curves.push(noise, joints, stage_length);
+        *noise = None;
     }
     match noise {
         Some(batches) => batches.replicas(),

@@ -58,6 +58,15 @@ impl StagesRan<'_> {
             .filter_map(|d| d.halves_difference)
             .reduce(f64::max);
         let (stage_halves, converged) = self.halves(&mut records.warnings);
+        if matches!(self.plan.extrapolation, Extrapolation::Controlled { .. }) {
+            records.warnings.push(
+                "note: error-controlled sub-steps (run.wear_tolerance) give no sampling noise: \
+                 their corrector shares each run's wear between two sub-steps, so the life \
+                 curve does not show how much of the noise the worn geometry levels out; run \
+                 without run.wear_tolerance for the wear results with their noise"
+                    .into(),
+            );
+        }
         for w in &records.warnings {
             progress.note(w);
         }
