@@ -1,7 +1,7 @@
 //! The figures of a sweep: every metric against every varied input (`scatter.png`, one panel
 //! each; a metric's noise, when the sweep keeps it too, as bars of ± one noise on the metric's
 //! points rather than as panels of its own), and for random sweeps the histograms of inputs
-//! and metrics (`histograms.png`). Failed samples and missing metrics are left out of the
+//! and metrics, noises left out (`histograms.png`). Failed samples and missing metrics are left out of the
 //! panels.
 
 use std::path::{Path, PathBuf};
@@ -138,16 +138,7 @@ pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, Out
     files.push(path);
 
     if matches!(sweep.mode, Mode::Random { .. }) {
-        let mut columns: Vec<(String, Vec<f64>)> = Vec::new();
-        for (i, input) in sweep.inputs.iter().enumerate() {
-            columns.push((input.name.clone(), ok.iter().map(|r| r.inputs[i]).collect()));
-        }
-        for (m, metric) in sweep.metrics.iter().enumerate() {
-            columns.push((
-                metric.clone(),
-                ok.iter().filter_map(|r| r.metrics[m]).collect(),
-            ));
-        }
+        let columns = histogram_columns(sweep, &ok);
         let (c, r) = grid(columns.len(), 3);
         let path = out.join(HISTOGRAMS_FILE);
         let title = format!(
@@ -170,6 +161,28 @@ pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, Out
         files.push(path);
     }
     Ok(files)
+}
+
+/// The histograms' columns: every input, and every metric that is not another's noise (a
+/// noise is the error bar of its metric's points, not a distribution of interest).
+fn histogram_columns(sweep: &Sweep, ok: &[&Row]) -> Vec<(String, Vec<f64>)> {
+    let inputs = sweep
+        .inputs
+        .iter()
+        .enumerate()
+        .map(|(i, input)| (input.name.clone(), ok.iter().map(|r| r.inputs[i]).collect()));
+    let metrics = sweep
+        .metrics
+        .iter()
+        .enumerate()
+        .filter(|(_, name)| noise_of(name, &sweep.metrics).is_none())
+        .map(|(m, name)| {
+            (
+                name.clone(),
+                ok.iter().filter_map(|r| r.metrics[m]).collect(),
+            )
+        });
+    inputs.chain(metrics).collect()
 }
 
 fn histogram(
@@ -225,7 +238,36 @@ fn histogram(
 
 #[cfg(test)]
 mod tests {
-    use super::noise_of;
+    use super::{histogram_columns, noise_of};
+    use crate::{Row, Status, Sweep};
+
+    #[test]
+    fn histograms_leave_a_kept_noise_out() {
+        let sweep = Sweep::from_str(
+            r#"
+scene = "lgres"
+metrics = ["wear.joints.A.bearing_peak_depth_m", "wear.joints.A.bearing_peak_depth_noise_m"]
+[[vary]]
+path = "run.cycles"
+values = [1, 2]
+"#,
+            "h",
+        )
+        .expect("a valid sweep");
+        let row = Row {
+            sample: 0,
+            inputs: vec![1.0],
+            metrics: vec![Some(3.6e-4), Some(5e-6)],
+            status: Status::Ok,
+            error: String::new(),
+            wall_time_s: 1.0,
+        };
+        let names: Vec<String> = histogram_columns(&sweep, &[&row])
+            .into_iter()
+            .map(|(name, _)| name)
+            .collect();
+        assert_eq!(names, ["run.cycles", "wear.joints.A.bearing_peak_depth_m"]);
+    }
 
     #[test]
     fn a_noise_metric_finds_the_metric_it_is_the_noise_of() {
