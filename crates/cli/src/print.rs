@@ -255,9 +255,9 @@ fn wear(w: &sim::WearSummary) {
     {
         outln!(
             "  (±: one standard error of the stage's sampling; not in it: the discretisation's \
-             bias, measured on the built-in lgres at up to about one ± each for the sub-steps, \
-             tolerance and grids, and at about 2 % of joint B's peaks between the explicit and \
-             the implicit wear step, docs/convergence.md)"
+             bias, measured on the built-in lgres at up to about two ± for the sub-steps and one \
+             for the tolerance and grids, and at about 2 % of joint B's peaks between the \
+             explicit and the implicit wear step, docs/convergence.md)"
         );
     }
     for j in &w.joints {
