@@ -385,12 +385,19 @@ fn wear(html: &mut Html, s: &Summary) {
         return;
     };
     html.heading(2, "Wear");
+    let batches = w.joints.first().map_or(0, |j| j.noise_batches);
+    let noise = if batches > 0 {
+        format!(
+            "± is the sampling noise of each result (a standard error over {batches} batches of \
+             the runs' independent halves, docs/model.md §10.4)"
+        )
+    } else {
+        "no sampling noise was measured (see the warnings and notes)".to_string()
+    };
     html.lede(&format!(
         "After {} stage(s): {:.3e} drive cycles applied in sub-steps {:?} ({} extrapolation, {} \
          simulated cycles per sub-step on {} trajector{}). Depths are in the body frames; ranges hold the cells \
-         at least half as deep as the peak; ± is the sampling noise of each result (a standard \
-         error over {} batches of the runs' independent halves, docs/model.md §10.4). The \
-         stage's two halves {}.",
+         at least half as deep as the peak; {noise}. The stage's two halves {}.",
         w.stages,
         w.cycles_applied,
         w.substeps_per_stage,
@@ -398,7 +405,6 @@ fn wear(html: &mut Html, s: &Summary) {
         w.cycles_per_stage,
         w.trajectories,
         if w.trajectories == 1 { "y" } else { "ies" },
-        w.joints.first().map_or(0, |j| j.noise_batches),
         if w.converged {
             "agree: the wear is converged in K"
         } else {

@@ -105,6 +105,11 @@ fn a_run_report_embeds_every_figure_and_shows_every_verdict() {
         None => format!(">{peak} µm<"),
     };
     assert!(page.contains(&printed), "bearing peak {printed}");
+    assert!(wear.noise_batches > 0, "this stage keeps its halves");
+    assert!(page.contains(&format!(
+        "a standard error over {} batches",
+        wear.noise_batches
+    )));
     assert!(page.contains("505 µm"), "clearance limit shown");
     for w in &s.wear.as_ref().unwrap().warnings {
         assert!(page.contains(&html::escape(w)), "warning {w}");
@@ -120,6 +125,29 @@ fn a_run_report_embeds_every_figure_and_shows_every_verdict() {
     assert!(!page.contains("<b>fast"));
     // Scene parameters, with units.
     assert!(page.contains("<td>bodies[0].mass</td><td>0.3</td><td>kg</td>"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A stage that measured no noise (one cycle a run: no halves) says so, rather than giving
+/// a standard error over no batches.
+#[test]
+fn a_stage_without_noise_says_none_was_measured() {
+    let text = common::worn_slider_crank("", 1, 1, "").replace(
+        "cycles_per_stage = 2\namplification = 750.0",
+        "cycles_per_stage = 1\namplification = 1500.0",
+    );
+    let outcome = common::run(&text, "no-noise");
+    let wear = outcome.summary.wear.as_ref().unwrap();
+    assert!(
+        wear.joints
+            .iter()
+            .all(|j| j.noise_batches == 0 && j.bearing_peak_depth_noise_m.is_none())
+    );
+    let dir = temp_dir("no-noise");
+    output::write_run(&outcome, &dir).unwrap();
+    let page = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    assert!(page.contains("no sampling noise was measured"));
+    assert!(!page.contains("batches of the runs"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
