@@ -1,8 +1,8 @@
 //! The figures of a sweep: every metric against every varied input (`scatter.png`, one panel
 //! each; a metric's noise, when the sweep keeps it too, as bars of ± one noise on the metric's
 //! points rather than as panels of its own), and for random sweeps the histograms of inputs
-//! and metrics, noises left out (`histograms.png`). Failed samples and missing metrics are left out of the
-//! panels.
+//! and metrics, noises left out (`histograms.png`). Failed samples and missing metrics are
+//! left out of the panels.
 
 use std::path::{Path, PathBuf};
 
