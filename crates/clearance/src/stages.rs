@@ -356,9 +356,9 @@ impl LifeCurves<'_> {
 }
 
 /// Adds a stage's runs to the noise batches (`None` once a run kept no halves) and appends
-/// each sub-step's point to the life curves: measured on the surfaces the next run started
-/// from (`entries`; the stage's end on `joints`), or, without entries (an error-controlled
-/// stage), without noise, the batches dropped. Returns the stage end's replicas.
+/// each sub-step's point to the life curves, measured on the surfaces the next run started
+/// from (`entries`; the stage's end on `joints`). Without entries (an error-controlled stage)
+/// the points carry no noise and the batches are dropped. Returns the stage end's replicas.
 fn stage_noise(
     noise: &mut Option<NoiseBatches>,
     halves: &[Vec<[StageWear; 2]>],
@@ -367,6 +367,18 @@ fn stage_noise(
     joints: &[WornJoint],
     mut curves: LifeCurves<'_>,
 ) -> Vec<Replicas> {
+    let Some(entries) = entries else {
+        // An error-controlled stage's noise cannot be levelled: its corrector gives each run's
+        // wear to two sub-steps, which correlates consecutive increments of the life curve by
+        // construction and hides the negative correlation the levelling reads. The jackknife
+        // alone was measured at 0.5× (A) to 14× (B) the scatter of eight repeats of the
+        // LGRES stage (docs/convergence.md), so none is given, here or after.
+        for _ in &report.substeps {
+            curves.push_none();
+        }
+        *noise = None;
+        return vec![Replicas::default(); joints.len()];
+    };
     for (run, &weight) in report.run_weights.iter().enumerate() {
         if let Some(batches) = noise.as_mut() {
             match halves.get(run) {
@@ -375,23 +387,10 @@ fn stage_noise(
                 _ => {}
             }
         }
-        if let Some(entries) = entries
-            && run < report.substeps.len()
-        {
+        if run < report.substeps.len() {
             let surfaces = entries.get(run + 1).map_or(joints, |e| &e[..]);
             curves.push(noise, surfaces, report.substeps[run].amplification);
         }
-    }
-    if entries.is_none() {
-        // An error-controlled stage's noise cannot be levelled: its corrector gives each run's
-        // wear to two sub-steps, which correlates consecutive increments of the life curve by
-        // construction and hides the negative correlation the levelling reads. The jackknife
-        // alone was measured at 0.5× (A) to 14× (B) the scatter of eight repeats of the
-        // LGRES stage (docs/convergence.md), so none is given, here or after.
-        for _ in 0..report.substeps.len() {
-            curves.push_none();
-        }
-        *noise = None;
     }
     match noise {
         Some(batches) => batches.replicas(),
