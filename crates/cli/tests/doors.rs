@@ -199,6 +199,11 @@ fn settings_without_a_bound_on_work_are_refused_naming_the_field() {
         ),
         ("[run]\nwear_tolerance = 1e-200", "run.wear_tolerance"),
         ("[run]\nwear_noise = 0", "run.wear_noise"),
+        (
+            "[run]\nforming_clearance_change = 1e-9",
+            "run.forming_clearance_change",
+        ),
+        ("[run]\nforming_depth = -1", "run.forming_depth"),
         ("[run]\namplification = 1e300", "run.amplification"),
         (
             "[[clearance_joints]]\nname = \"B\"\ncontact = { width = 1e6 }",

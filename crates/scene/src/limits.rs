@@ -37,7 +37,8 @@ pub const MAX_K_D_SCATTER: f64 = 3.0;
 /// stage's `K` cycles (the shipped scenes take a few dozen; the default budget is 400).
 pub const MAX_SUBSTEPS: u32 = 10_000;
 /// Smallest step bound or tolerance of a wear sub-step, as a fraction
-/// (`run.max_clearance_change`, `run.max_slope_change`, `run.max_curvature_change`,
+/// (`run.max_clearance_change`, `run.forming_clearance_change`, `run.max_slope_change`,
+/// `run.max_curvature_change`,
 /// `run.wear_tolerance`): finer, a stage needs more sub-steps than [`MAX_SUBSTEPS`] allows
 /// long before it ends (the defaults are 0.1, 0.25 and, for a tolerance, about 0.05).
 pub const MIN_SUBSTEP_FRACTION: f64 = 1e-4;
@@ -347,6 +348,7 @@ impl Limits<'_> {
         }
         for (path, fraction) in [
             ("run.max_clearance_change", Some(r.max_clearance_change)),
+            ("run.forming_clearance_change", r.forming_clearance_change),
             ("run.max_slope_change", r.max_slope_change),
             ("run.max_curvature_change", r.max_curvature_change),
             ("run.wear_tolerance", r.wear_tolerance),

@@ -90,6 +90,18 @@ pub struct RunSettings {
     /// 1000; docs/model.md §10.4).
     #[serde(default = "wear_smoothing_deg")]
     pub wear_smoothing_deg: f64,
+    /// Finer sub-steps while a joint's groove forms (optional; unset: none): as long as a
+    /// wearing joint's deeper worn peak is shallower than `forming_depth` of its nominal
+    /// clearance, a sub-step changes its local clearance by at most this fraction, in
+    /// `(0, 1]` ([`wear::FormingBound`]; error-controlled stages lower their floor and cap to
+    /// it). On the built-in LGRES, 0.0025 takes out most of joint B's bias at the 2 % bound,
+    /// for about 40 % more sub-steps (docs/convergence.md, "Where the bias forms").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub forming_clearance_change: Option<f64>,
+    /// Depth, as a fraction of a joint's nominal clearance in `(0, 1]`, up to which
+    /// `forming_clearance_change` bounds its sub-steps (default 0.08; unused without it).
+    #[serde(default = "forming_depth")]
+    pub forming_depth: f64,
     /// Most extrapolation sub-steps per stage; a stage that needs more fails, naming this.
     #[serde(default = "max_substeps")]
     pub max_substeps: u32,
@@ -192,6 +204,12 @@ pub const DEFAULT_WEAR_SMOOTHING_DEG: f64 = 2.88;
 fn wear_smoothing_deg() -> f64 {
     DEFAULT_WEAR_SMOOTHING_DEG
 }
+/// Default [`RunSettings::forming_depth`]: 8 % of the nominal clearance.
+pub const DEFAULT_FORMING_DEPTH: f64 = 0.08;
+
+fn forming_depth() -> f64 {
+    DEFAULT_FORMING_DEPTH
+}
 fn max_substeps() -> u32 {
     400
 }
@@ -242,6 +260,8 @@ impl Default for RunSettings {
             wear_tolerance: None,
             wear_noise: None,
             wear_smoothing_deg: wear_smoothing_deg(),
+            forming_clearance_change: None,
+            forming_depth: forming_depth(),
             max_substeps: max_substeps(),
             stop_at_validity_limits: true,
             transient_window: transient_window(),

@@ -390,6 +390,19 @@ impl Validator {
                  zone would erase the wear pattern)",
             );
         }
+        if let Some(f) = r.forming_clearance_change
+            && self.number("run.forming_clearance_change", f, true)
+            && f > 1.0
+        {
+            self.push("run.forming_clearance_change", f, "must lie in (0, 1]");
+        }
+        if self.number("run.forming_depth", r.forming_depth, true) && r.forming_depth > 1.0 {
+            self.push(
+                "run.forming_depth",
+                r.forming_depth,
+                "must lie in (0, 1] (a fraction of the joint's nominal clearance)",
+            );
+        }
         if let Some(bound) = r.max_slope_change {
             self.number("run.max_slope_change", bound, true);
         }

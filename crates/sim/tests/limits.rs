@@ -390,7 +390,7 @@ fn work_bounds_hold_over_fuzzed_values() {
     let k = f64::from(base.run.cycles_per_stage);
     // (field, TOML patch of a value, whether the value is in range).
     type Case = (&'static str, fn(f64) -> String, fn(f64, f64) -> bool);
-    let cases: [Case; 8] = [
+    let cases: [Case; 10] = [
         (
             "run.max_clearance_change",
             |v| format!("[run]\nmax_clearance_change = {v:e}"),
@@ -414,6 +414,16 @@ fn work_bounds_hold_over_fuzzed_values() {
         (
             "run.wear_noise",
             |v| format!("[run]\nwear_noise = {v:e}"),
+            |v, _| v > 0.0 && v <= 1.0,
+        ),
+        (
+            "run.forming_clearance_change",
+            |v| format!("[run]\nforming_clearance_change = {v:e}"),
+            |v, _| (MIN_SUBSTEP_FRACTION..=1.0).contains(&v),
+        ),
+        (
+            "run.forming_depth",
+            |v| format!("[run]\nforming_depth = {v:e}"),
             |v, _| v > 0.0 && v <= 1.0,
         ),
         (

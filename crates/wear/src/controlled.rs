@@ -7,7 +7,7 @@ use crate::error::WearError;
 use crate::joint::WornJoint;
 use crate::staging::{
     RunContext, StagePlan, StageReport, StagingError, WearSample, apply_all,
-    largest_change_per_amplification, limited_amplification, sample,
+    clearance_bounded_amplification, limited_amplification, sample,
 };
 
 /// The settings of [`Extrapolation::Controlled`](crate::Extrapolation::Controlled).
@@ -68,17 +68,16 @@ where
     let mut proposed: Option<f64> = None;
     loop {
         let remaining = plan.amplification - used;
-        let per_unit = largest_change_per_amplification(joints, &start.wear)?;
         // The first step, and the floor: sampling noise that the halves do not remove keeps
         // the estimate from falling with the step, so no step is cut below the fixed bound's.
-        let (floor, cap) = if per_unit > 0.0 {
-            (
-                control.min_fraction / per_unit,
-                control.max_fraction / per_unit,
-            )
-        } else {
-            (f64::INFINITY, f64::INFINITY)
+        // A forming joint lowers both (infinite: no clearance changes).
+        let bounded = |fraction| {
+            clearance_bounded_amplification(joints, &start.wear, fraction, plan.forming.as_ref())
         };
+        let (floor, cap) = (
+            bounded(control.min_fraction)?,
+            bounded(control.max_fraction)?,
+        );
         let limit = noise_limited_amplification(
             joints.len(),
             &noise,

@@ -88,7 +88,7 @@ pub use noise::{
 pub use profile::{AngularRange, Peak, Side, WornProfile};
 pub use run::{run_stage, run_stages};
 pub use staging::{
-    ClearanceStop, Extrapolation, ExtrapolationWarning, GeometryLimits, JointSubstep,
+    ClearanceStop, Extrapolation, ExtrapolationWarning, FormingBound, GeometryLimits, JointSubstep,
     NOISE_MAX_FRACTION, RunContext, StagePlan, StageReport, StagingError, SubstepReport,
     WearSample, WearStepping,
 };

@@ -9,7 +9,7 @@ use crate::joint::WornJoint;
 use crate::noise::{NOISE_GROUPS, NoiseBatches, noise_fraction};
 use crate::staging::{
     Extrapolation, ExtrapolationWarning, RunContext, StagePlan, StageReport, StagingError,
-    WearSample, WearStepping, apply_all, largest_change_per_amplification, limited_amplification,
+    WearSample, WearStepping, apply_all, clearance_bounded_amplification, limited_amplification,
     sample,
 };
 
@@ -83,7 +83,6 @@ where
             applied: used / plan.amplification,
         };
         let WearSample { wear, halves } = sample(runner, context, joints)?;
-        let per_unit = largest_change_per_amplification(joints, &wear)?;
         let (mut slope_per_unit, mut curvature_per_unit): (f64, f64) = (0.0, 0.0);
         for (joint, w) in joints.iter().zip(&wear) {
             let (slope, curvature) = joint.shape_change_per_amplification(w)?;
@@ -113,15 +112,20 @@ where
                 };
                 // The largest amplification every bound allows; the small slack avoids a
                 // needless re-run for a rounding-sized remainder.
+                let clearance = clearance_bounded_amplification(
+                    joints,
+                    &wear,
+                    max_fraction,
+                    plan.forming.as_ref(),
+                )?;
                 let allowed = [
-                    (per_unit, max_fraction),
                     (slope_per_unit, max_slope_change),
                     (curvature_per_unit, max_curvature_change),
                 ]
                 .iter()
                 .filter(|(rate, _)| *rate > 0.0)
                 .map(|(rate, bound)| bound / rate)
-                .fold(f64::INFINITY, f64::min);
+                .fold(clearance, f64::min);
                 let limited = limited_amplification(plan, joints, &wear)?;
                 if limited < allowed.min(remaining) {
                     at_limits = true;

@@ -7,8 +7,8 @@ use common::*;
 use contact::SurfaceProfile;
 use std::convert::Infallible;
 use wear::{
-    Extrapolation, GeometryLimits, RunContext, StagePlan, StageWear, StagingError, WearError,
-    WornJoint, WornProfile, run_stages,
+    Extrapolation, FormingBound, GeometryLimits, RunContext, StagePlan, StageWear, StagingError,
+    WearError, WornJoint, WornProfile, run_stages,
 };
 
 /// Wear localized around cell 250 (bearing) and 260 (pin), proportional to the current local
@@ -320,6 +320,67 @@ fn geometry_limits_end_a_stage_at_the_limit() {
     let bound =
         (largest(&|a| j.bearing().sample(a).slope) + largest(&|a| j.pin().sample(a).slope)) / c0;
     assert!((bound - 0.3).abs() < 0.3 * 2e-3, "slope bound {bound}");
+}
+
+#[test]
+fn forming_bound_refines_a_joint_until_its_groove_is_deep_then_lets_go() {
+    // Joint 0 wears fast (its deeper peak passes half its clearance early in the stage),
+    // joint 1 fifty times slower (it stays under 5 % of its clearance all stage).
+    let rates = [1e-4, 2e-6];
+    let run = |plan: &StagePlan| {
+        let mut joints = vec![joint(1000), joint(500)];
+        let c0: Vec<f64> = joints.iter().map(|j| j.nominal_clearance()).collect();
+        let reports = run_stages(&mut joints, plan, |_, js: &[WornJoint]| {
+            proportional(js, &rates)
+        })
+        .unwrap();
+        (reports.into_iter().next().unwrap(), c0)
+    };
+    let plain = fraction_only(1);
+    let forming = plain.with_forming_bound(Some(FormingBound::new(0.01, 0.5)));
+    let (report, c0) = run(&forming);
+    let (unbounded, _) = run(&plain);
+    let sum: f64 = report.substeps.iter().map(|s| s.amplification).sum();
+    assert_relative_eq!(sum, forming.amplification, max_relative = 1e-12);
+    let mut before = [0.0, 0.0];
+    let (mut forming_steps, mut released) = (0, 0);
+    for s in &report.substeps {
+        let fast = &s.joints[0];
+        if before[0] < 0.5 * c0[0] {
+            forming_steps += 1;
+            assert!(fast.change_fraction <= 0.01 * (1.0 + 1e-9), "{fast:?}");
+        } else {
+            // The slow joint still forms, but its bound is far from binding: the fast joint
+            // takes the plan's own 10 %.
+            assert!(before[1] < 0.5 * c0[1]);
+            assert!(fast.change_fraction <= 0.1 * (1.0 + 1e-9));
+            released += usize::from(fast.change_fraction > 0.099);
+        }
+        before = [0, 1].map(|i| s.joints[i].max_bearing_depth.max(s.joints[i].max_pin_depth));
+    }
+    assert!(before[1] < 0.05 * c0[1], "slow joint {:e}", before[1]);
+    // While the fast joint forms, its local clearance c0 + (h_b + h_p)/2 grows by about half
+    // (both surfaces wear alike): ln 1.5 / ln 1.01 ≈ 41 sub-steps of 1 %, a few more because
+    // the two surfaces' bumps are ten cells apart.
+    assert!((40..=50).contains(&forming_steps), "{forming_steps}");
+    assert!(released > 0);
+    // Past the depth, about as many sub-steps as the plan alone takes from there.
+    let deep = |s: &wear::SubstepReport| {
+        s.joints[0].max_bearing_depth.max(s.joints[0].max_pin_depth) >= 0.5 * c0[0]
+    };
+    let unbounded_after = unbounded.substeps.iter().filter(|s| deep(s)).count();
+    let after = report.substeps.iter().filter(|s| deep(s)).count();
+    assert!(
+        after.abs_diff(unbounded_after) <= 1,
+        "{after} vs {unbounded_after}"
+    );
+    assert!(report.substeps.len() > unbounded.substeps.len() + 15);
+    let invalid = plain.with_forming_bound(Some(FormingBound::new(0.0, 0.5)));
+    let err = run_stages(&mut vec![joint(100)], &invalid, |_, js: &[WornJoint]| {
+        proportional(js, &[1e-4])
+    })
+    .unwrap_err();
+    assert!(err.to_string().contains("forming.max_fraction"), "{err}");
 }
 
 /// Material removed from one surface, summed here from its cells: `Σ h_k/2 · R Δθ · w`.

@@ -233,6 +233,17 @@ impl StagesRan<'_> {
         } else {
             "single-jump (the paper's)".into()
         };
+        if let (Some(forming), false) = (
+            plan.forming,
+            matches!(plan.extrapolation, Extrapolation::SingleJump { .. }),
+        ) {
+            words.push_str(&format!(
+                ", at most {} % while a joint's deeper peak is under {} % of its clearance \
+                 (run.forming_clearance_change)",
+                percent(forming.max_fraction),
+                percent(forming.depth)
+            ));
+        }
         if let (Some(target), Extrapolation::Adaptive { .. }) =
             (plan.noise_target, plan.extrapolation)
         {
