@@ -94,8 +94,9 @@ pub struct RunSettings {
     /// wearing joint's deeper worn peak is shallower than `forming_depth` of its nominal
     /// clearance, a sub-step changes its local clearance by at most this fraction, in
     /// `(0, 1]` ([`wear::FormingBound`]; error-controlled stages lower their floor and cap to
-    /// it). On the built-in LGRES, 0.0025 takes out most of joint B's bias at the 2 % bound,
-    /// for about 40 % more sub-steps (docs/convergence.md, "Where the bias forms").
+    /// it). On the built-in LGRES, 0.0025 with `forming_depth = 0.16` brings joint B's peaks
+    /// from 1.2–1.6 noises shallow to within half a noise of sub-steps 20× finer, for 60 % more
+    /// sub-steps (docs/convergence.md, "Where the bias forms").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub forming_clearance_change: Option<f64>,
     /// Depth, as a fraction of a joint's nominal clearance in `(0, 1]`, up to which

@@ -197,3 +197,51 @@ fn implicit_sub_steps_are_reported_and_thread_independent() -> Result<(), Box<dy
     assert!(explicit != worn[0], "the implicit step changed nothing");
     Ok(())
 }
+
+/// Finer sub-steps while a groove forms (`run.forming_clearance_change`): every sub-step of a
+/// joint still shallower than `forming_depth` keeps to the finer bound, the summary says so
+/// and notes that the noise is not calibrated, and the threads change no bit.
+#[test]
+fn forming_sub_steps_keep_the_finer_bound_and_are_thread_independent()
+-> Result<(), Box<dyn std::error::Error>> {
+    // The stage's 8000 cycles leave the groove far shallower than the clearance: all forming.
+    let scene = scene_with(2, "forming_clearance_change = 0.01\nforming_depth = 1.0")?;
+    let mut worn = Vec::new();
+    let mut counts = Vec::new();
+    for threads in [1, 2] {
+        let (outcome, surfaces) = on_threads(&scene, threads)?;
+        let wear = outcome.summary.wear.as_ref().ok_or("stages ran")?;
+        eprintln!("{threads} thread(s): {}", wear.extrapolation);
+        assert!(
+            wear.extrapolation.contains(
+                "at most 1 % while a joint's deeper peak is under 100 % of its clearance"
+            ),
+            "{}",
+            wear.extrapolation
+        );
+        assert!(
+            wear.warnings
+                .iter()
+                .any(|w| w.contains("run.forming_clearance_change the printed noise is not")),
+            "{:?}",
+            wear.warnings
+        );
+        for s in &wear.substeps {
+            assert!(s.change_fraction <= 0.01 * (1.0 + 1e-9), "{s:?}");
+        }
+        counts.push(wear.substeps_per_stage[0]);
+        worn.push(surfaces);
+    }
+    assert!(
+        worn[0] == worn[1],
+        "1 and 2 threads gave different surfaces"
+    );
+    let (plain, _) = on_threads(&scene_with(2, "")?, 2)?;
+    let plain = plain.summary.wear.as_ref().ok_or("stages ran")?;
+    assert!(
+        plain.substeps.iter().any(|s| s.change_fraction > 0.011),
+        "the plain bound never took more than the forming one: the test shows nothing"
+    );
+    assert!(counts[0] > plain.substeps_per_stage[0]);
+    Ok(())
+}

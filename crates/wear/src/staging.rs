@@ -258,11 +258,11 @@ pub struct StagePlan {
 ///
 /// Why: from concentric surfaces the contact goes from a line to a groove that fits the pin,
 /// and the wear pattern's shape changes fastest while it does. On the built-in LGRES the
-/// explicit step at the default 2 % bound leaves joint B's peaks 2 µm shallow by the tenth of
-/// the life where they reach 15 % of the clearance, and they stay so; 0.25 % sub-steps until
-/// then take most of that out (docs/convergence.md, "Where the bias forms"). The forming
-/// sub-steps are bounded in number whatever the joint's wear rate: about `depth` over
-/// `max_fraction` times a few.
+/// explicit step at the 2 % bound leaves joint B's peaks 2 µm shallow by the tenth of the life
+/// in which they reach 15 % of the clearance, and they stay so; 0.25 % sub-steps up to 16 %
+/// bring them within half their noise of a 20× finer reference, for 60 % more sub-steps
+/// (docs/convergence.md, "Where the bias forms"). The forming sub-steps are bounded in number
+/// whatever the joint's wear rate: about `depth / max_fraction` per joint.
 ///
 /// With [`Extrapolation::Adaptive`] it bounds each forming joint's clearance change; with
 /// [`Extrapolation::Controlled`] it lowers both the floor and the cap of the forming joints'

@@ -67,6 +67,17 @@ impl StagesRan<'_> {
                     .into(),
             );
         }
+        if self.plan.forming.is_some()
+            && matches!(self.plan.extrapolation, Extrapolation::Adaptive { .. })
+        {
+            records.warnings.push(
+                "note: with run.forming_clearance_change the printed noise is not calibrated: on \
+                 the built-in lgres it was 0.8-2.6 times the scatter of repeated stages (joint \
+                 B's volume and peaks overstated; docs/convergence.md, \"Where the bias forms\"), \
+                 so read it as a rough bound"
+                    .into(),
+            );
+        }
         for w in &records.warnings {
             progress.note(w);
         }
