@@ -7,7 +7,8 @@ use crate::error::WearError;
 use crate::joint::WornJoint;
 use crate::staging::{
     RunContext, StagePlan, StageReport, StagingError, WearSample, apply_all,
-    clearance_bounded_amplification, limited_amplification, sample,
+    clearance_bounded_amplification, clearance_changes_per_amplification, limited_amplification,
+    sample,
 };
 
 /// The settings of [`Extrapolation::Controlled`](crate::Extrapolation::Controlled).
@@ -71,13 +72,11 @@ where
         // The first step, and the floor: sampling noise that the halves do not remove keeps
         // the estimate from falling with the step, so no step is cut below the fixed bound's.
         // A forming joint lowers both (infinite: no clearance changes).
+        let per_unit = clearance_changes_per_amplification(joints, &start.wear)?;
         let bounded = |fraction| {
-            clearance_bounded_amplification(joints, &start.wear, fraction, plan.forming.as_ref())
+            clearance_bounded_amplification(joints, &per_unit, fraction, plan.forming.as_ref())
         };
-        let (floor, cap) = (
-            bounded(control.min_fraction)?,
-            bounded(control.max_fraction)?,
-        );
+        let (floor, cap) = (bounded(control.min_fraction), bounded(control.max_fraction));
         let limit = noise_limited_amplification(
             joints.len(),
             &noise,

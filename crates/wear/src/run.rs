@@ -9,8 +9,8 @@ use crate::joint::WornJoint;
 use crate::noise::{NOISE_GROUPS, NoiseBatches, noise_fraction};
 use crate::staging::{
     Extrapolation, ExtrapolationWarning, RunContext, StagePlan, StageReport, StagingError,
-    WearSample, WearStepping, apply_all, clearance_bounded_amplification, limited_amplification,
-    sample,
+    WearSample, WearStepping, apply_all, clearance_bounded_amplification,
+    clearance_changes_per_amplification, limited_amplification, sample,
 };
 
 /// Runs all stages of `plan` on `joints` (all joints of the mechanism that wear, updated
@@ -114,10 +114,10 @@ where
                 // needless re-run for a rounding-sized remainder.
                 let clearance = clearance_bounded_amplification(
                     joints,
-                    &wear,
+                    &clearance_changes_per_amplification(joints, &wear)?,
                     max_fraction,
                     plan.forming.as_ref(),
-                )?;
+                );
                 let allowed = [
                     (slope_per_unit, max_slope_change),
                     (curvature_per_unit, max_curvature_change),

@@ -753,23 +753,35 @@ where
     Ok(sample)
 }
 
-/// The largest amplification of `wear` that changes every joint's local clearance by at most
-/// `fraction` of its current value, or the forming bound's fraction for a joint whose groove
-/// forms (infinite when no clearance changes).
-pub(crate) fn clearance_bounded_amplification(
+/// Each joint's relative local-clearance change per unit of amplification of its `wear`
+/// ([`WornJoint::clearance_change_per_amplification`]).
+pub(crate) fn clearance_changes_per_amplification(
     joints: &[WornJoint],
     wear: &[StageWear],
+) -> Result<Vec<f64>, WearError> {
+    joints
+        .iter()
+        .zip(wear)
+        .map(|(joint, w)| joint.clearance_change_per_amplification(w))
+        .collect()
+}
+
+/// The largest amplification that changes every joint's local clearance by at most `fraction`
+/// of its current value, or the forming bound's fraction for a joint whose groove forms, given
+/// each joint's change per unit (`per_unit`, from [`clearance_changes_per_amplification`];
+/// infinite when no clearance changes).
+pub(crate) fn clearance_bounded_amplification(
+    joints: &[WornJoint],
+    per_unit: &[f64],
     fraction: f64,
     forming: Option<&FormingBound>,
-) -> Result<f64, WearError> {
-    let mut allowed = f64::INFINITY;
-    for (joint, w) in joints.iter().zip(wear) {
-        let per_unit = joint.clearance_change_per_amplification(w)?;
-        if per_unit > 0.0 {
-            allowed = allowed.min(FormingBound::fraction(forming, joint, fraction) / per_unit);
-        }
-    }
-    Ok(allowed)
+) -> f64 {
+    joints
+        .iter()
+        .zip(per_unit)
+        .filter(|(_, rate)| **rate > 0.0)
+        .map(|(joint, rate)| FormingBound::fraction(forming, joint, fraction) / rate)
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The largest amplification of `wear` the plan's geometry limits allow (infinite: none).

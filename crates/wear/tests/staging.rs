@@ -342,6 +342,7 @@ fn forming_bound_refines_a_joint_until_its_groove_is_deep_then_lets_go() {
     let (unbounded, _) = run(&plain);
     let sum: f64 = report.substeps.iter().map(|s| s.amplification).sum();
     assert_relative_eq!(sum, forming.amplification, max_relative = 1e-12);
+    let peak = |j: &wear::JointSubstep| j.max_bearing_depth.max(j.max_pin_depth);
     let mut before = [0.0, 0.0];
     let (mut forming_steps, mut released) = (0, 0);
     for s in &report.substeps {
@@ -356,7 +357,7 @@ fn forming_bound_refines_a_joint_until_its_groove_is_deep_then_lets_go() {
             assert!(fast.change_fraction <= 0.1 * (1.0 + 1e-9));
             released += usize::from(fast.change_fraction > 0.099);
         }
-        before = [0, 1].map(|i| s.joints[i].max_bearing_depth.max(s.joints[i].max_pin_depth));
+        before = [0, 1].map(|i| peak(&s.joints[i]));
     }
     assert!(before[1] < 0.05 * c0[1], "slow joint {:e}", before[1]);
     // While the fast joint forms, its local clearance c0 + (h_b + h_p)/2 grows by about half
@@ -365,9 +366,7 @@ fn forming_bound_refines_a_joint_until_its_groove_is_deep_then_lets_go() {
     assert!((40..=50).contains(&forming_steps), "{forming_steps}");
     assert!(released > 0);
     // Past the depth, about as many sub-steps as the plan alone takes from there.
-    let deep = |s: &wear::SubstepReport| {
-        s.joints[0].max_bearing_depth.max(s.joints[0].max_pin_depth) >= 0.5 * c0[0]
-    };
+    let deep = |s: &wear::SubstepReport| peak(&s.joints[0]) >= 0.5 * c0[0];
     let unbounded_after = unbounded.substeps.iter().filter(|s| deep(s)).count();
     let after = report.substeps.iter().filter(|s| deep(s)).count();
     assert!(

@@ -244,10 +244,11 @@ impl StagesRan<'_> {
         } else {
             "single-jump (the paper's)".into()
         };
-        if let (Some(forming), false) = (
-            plan.forming,
-            matches!(plan.extrapolation, Extrapolation::SingleJump { .. }),
-        ) {
+        // A single jump has no sub-steps to bound.
+        if let Some(forming) = plan
+            .forming
+            .filter(|_| !matches!(plan.extrapolation, Extrapolation::SingleJump { .. }))
+        {
             words.push_str(&format!(
                 ", at most {} % while a joint's deeper peak is under {} % of its clearance \
                  (run.forming_clearance_change)",
