@@ -375,7 +375,7 @@ fn forming_bound_refines_a_joint_until_its_groove_is_deep_then_lets_go() {
     );
     assert!(report.substeps.len() > unbounded.substeps.len() + 15);
     let invalid = plain.with_forming_bound(Some(FormingBound::new(0.0, 0.5)));
-    let err = run_stages(&mut vec![joint(100)], &invalid, |_, js: &[WornJoint]| {
+    let err = run_stages(&mut [joint(100)], &invalid, |_, js: &[WornJoint]| {
         proportional(js, &[1e-4])
     })
     .unwrap_err();
