@@ -48,6 +48,12 @@ fn noise_of(name: &str, metrics: &[String]) -> Option<usize> {
     metrics.iter().position(|m| *m == base)
 }
 
+/// Per metric, the metric it is the noise of ([`noise_of`]), if any: such a metric is drawn as
+/// its metric's error bars, not as a panel or histogram of its own.
+fn noise_pairs(metrics: &[String]) -> Vec<Option<usize>> {
+    metrics.iter().map(|m| noise_of(m, metrics)).collect()
+}
+
 /// The scatter figure's file name.
 pub const SCATTER_FILE: &str = "scatter.png";
 /// The histograms' file name (random sweeps).
@@ -61,12 +67,7 @@ pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, Out
         .collect();
     let mut files = Vec::new();
     let ni = sweep.inputs.len();
-    // Per metric with a panel, the metric its noise is in (drawn as bars), if any.
-    let noise_metrics: Vec<Option<usize>> = sweep
-        .metrics
-        .iter()
-        .map(|m| noise_of(m, &sweep.metrics))
-        .collect();
+    let noise_metrics = noise_pairs(&sweep.metrics);
     let panels: Vec<(usize, Option<usize>)> = (0..sweep.metrics.len())
         .filter(|m| noise_metrics[*m].is_none())
         .map(|m| (m, noise_metrics.iter().position(|n| *n == Some(m))))
@@ -138,7 +139,7 @@ pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, Out
     files.push(path);
 
     if matches!(sweep.mode, Mode::Random { .. }) {
-        let columns = histogram_columns(sweep, &ok);
+        let columns = histogram_columns(sweep, &noise_metrics, &ok);
         let (c, r) = grid(columns.len(), 3);
         let path = out.join(HISTOGRAMS_FILE);
         let title = format!(
@@ -164,8 +165,13 @@ pub fn draw(sweep: &Sweep, rows: &[Row], out: &Path) -> Result<Vec<PathBuf>, Out
 }
 
 /// The histograms' columns: every input, and every metric that is not another's noise (a
-/// noise is the error bar of its metric's points, not a distribution of interest).
-fn histogram_columns(sweep: &Sweep, ok: &[&Row]) -> Vec<(String, Vec<f64>)> {
+/// noise is the error bar of its metric's points, not a distribution of interest);
+/// `noise_metrics[m]`: the metric that metric `m` is the noise of ([`noise_of`]).
+fn histogram_columns(
+    sweep: &Sweep,
+    noise_metrics: &[Option<usize>],
+    ok: &[&Row],
+) -> Vec<(String, Vec<f64>)> {
     let inputs = sweep
         .inputs
         .iter()
@@ -175,7 +181,7 @@ fn histogram_columns(sweep: &Sweep, ok: &[&Row]) -> Vec<(String, Vec<f64>)> {
         .metrics
         .iter()
         .enumerate()
-        .filter(|(_, name)| noise_of(name, &sweep.metrics).is_none())
+        .filter(|(m, _)| noise_metrics[*m].is_none())
         .map(|(m, name)| {
             (
                 name.clone(),
@@ -238,7 +244,7 @@ fn histogram(
 
 #[cfg(test)]
 mod tests {
-    use super::{histogram_columns, noise_of};
+    use super::{histogram_columns, noise_of, noise_pairs};
     use crate::{Row, Status, Sweep};
 
     #[test]
@@ -262,7 +268,7 @@ values = [1, 2]
             error: String::new(),
             wall_time_s: 1.0,
         };
-        let names: Vec<String> = histogram_columns(&sweep, &[&row])
+        let names: Vec<String> = histogram_columns(&sweep, &noise_pairs(&sweep.metrics), &[&row])
             .into_iter()
             .map(|(name, _)| name)
             .collect();
