@@ -255,8 +255,9 @@ fn wear(w: &sim::WearSummary) {
     {
         outln!(
             "  (±: one standard error of the stage's sampling; not in it: the discretisation's \
-             bias, which on the built-in lgres reaches about 1.5 ± at joint B's peaks against \
-             20× finer sub-steps and stays within 0.7 ± elsewhere, docs/convergence.md)"
+             bias, which on the built-in lgres reaches about 1.6 ± at joint B's peaks and 1.0 ± \
+             at its volume against 20× finer sub-steps and stays within 0.7 ± at A, \
+             docs/convergence.md)"
         );
     }
     for j in &w.joints {

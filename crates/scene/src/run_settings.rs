@@ -96,7 +96,8 @@ pub struct RunSettings {
     /// `(0, 1]` ([`wear::FormingBound`]; error-controlled stages lower their floor and cap to
     /// it). On the built-in LGRES, 0.0025 with `forming_depth = 0.16` brings joint B's peaks
     /// from 1.2–1.6 noises shallow to within half a noise of sub-steps 20× finer, for 60 % more
-    /// sub-steps (docs/convergence.md, "Where the bias forms").
+    /// sub-steps; B's worn volume stays 0.7 noise above (docs/convergence.md, "Where the bias
+    /// forms", "Four reference runs").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub forming_clearance_change: Option<f64>,
     /// Depth, as a fraction of a joint's nominal clearance in `(0, 1]`, up to which
