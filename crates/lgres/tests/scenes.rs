@@ -643,6 +643,56 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
     assert_eq!(load(&s.to_toml()).unwrap().run.wear_tolerance, Some(0.05));
 }
 
+/// The forming bound's two settings: each refused where it would change nothing (a depth
+/// without the bound it ends, a bound on the single jump's absent sub-steps), and both kept
+/// through the scene's own TOML.
+#[test]
+fn forming_settings_are_refused_where_they_would_change_nothing() {
+    let with = |extra: &str| {
+        edited(
+            "transient_window = 0.1",
+            &format!("transient_window = 0.1\n{extra}"),
+        )
+    };
+    let msg = refused(&with("forming_depth = 0.16"));
+    assert_eq!(msg.len(), 1, "{msg:?}");
+    assert!(
+        msg[0].starts_with("run.forming_depth = 0.16")
+            && msg[0].contains("without run.forming_clearance_change"),
+        "{msg:?}"
+    );
+    let jump = with("forming_clearance_change = 0.0025").replace(
+        "adaptive_extrapolation = true",
+        "adaptive_extrapolation = false",
+    );
+    let msg = refused(&jump);
+    assert_eq!(msg.len(), 1, "{msg:?}");
+    assert!(
+        msg[0].starts_with("run.forming_clearance_change = 0.0025")
+            && msg[0].contains("needs run.adaptive_extrapolation = true"),
+        "{msg:?}"
+    );
+    let s = load(&with(
+        "forming_clearance_change = 0.0025\nforming_depth = 0.16",
+    ))
+    .unwrap();
+    let bound = s.run.forming_bound().expect("a forming bound");
+    assert_eq!(bound, wear::FormingBound::new(0.0025, 0.16));
+    assert_eq!(load(&s.to_toml()).unwrap().run.forming_bound(), Some(bound));
+    // Unset depth: the documented default; neither set: no bound, and none written.
+    let s = load(&with("forming_clearance_change = 0.0025")).unwrap();
+    assert_eq!(
+        s.run.forming_bound(),
+        Some(wear::FormingBound::new(
+            0.0025,
+            scene::DEFAULT_FORMING_DEPTH
+        ))
+    );
+    let s = load(&with("")).unwrap();
+    assert_eq!(s.run.forming_bound(), None);
+    assert!(!s.to_toml().contains("forming"), "{}", s.to_toml());
+}
+
 /// The foundation's fields of a joint's contact (the test fails on another model).
 fn foundation(contact: &scene::ContactSpec) -> scene::FoundationSpec {
     let scene::ContactSpec::Foundation(spec) = contact else {

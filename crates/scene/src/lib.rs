@@ -100,7 +100,9 @@ pub use contact_spec::*;
 pub use error::{Issue, SceneError};
 pub use extends::{builtin, from_table, load_path, load_str, merged_table, merged_table_of_file};
 pub use named::{LoadError, Loadable, NotFound, load_named};
-pub use run_settings::{DEFAULT_WEAR_SMOOTHING_DEG, KdCorrelation, RunSettings};
+pub use run_settings::{
+    DEFAULT_FORMING_DEPTH, DEFAULT_WEAR_SMOOTHING_DEG, KdCorrelation, RunSettings,
+};
 pub use types::*;
 pub use valid::ValidScene;
 

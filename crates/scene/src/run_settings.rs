@@ -101,9 +101,11 @@ pub struct RunSettings {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub forming_clearance_change: Option<f64>,
     /// Depth, as a fraction of a joint's nominal clearance in `(0, 1]`, up to which
-    /// `forming_clearance_change` bounds its sub-steps (default 0.08; unused without it).
-    #[serde(default = "forming_depth")]
-    pub forming_depth: f64,
+    /// `forming_clearance_change` bounds its sub-steps (optional; unset:
+    /// [`DEFAULT_FORMING_DEPTH`]). Refused without `forming_clearance_change`, where it would
+    /// change nothing ([`RunSettings::forming_bound`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub forming_depth: Option<f64>,
     /// Most extrapolation sub-steps per stage; a stage that needs more fails, naming this.
     #[serde(default = "max_substeps")]
     pub max_substeps: u32,
@@ -208,10 +210,6 @@ fn wear_smoothing_deg() -> f64 {
 }
 /// Default [`RunSettings::forming_depth`]: 8 % of the nominal clearance.
 pub const DEFAULT_FORMING_DEPTH: f64 = 0.08;
-
-fn forming_depth() -> f64 {
-    DEFAULT_FORMING_DEPTH
-}
 fn max_substeps() -> u32 {
     400
 }
@@ -227,6 +225,17 @@ impl RunSettings {
         let represented = f64::from(self.cycles_per_stage) * self.amplification;
         let stages = (self.max_cycles? / represented).ceil();
         (stages.is_finite() && stages > 0.0).then_some(stages)
+    }
+
+    /// The finer sub-steps while a groove forms, if `forming_clearance_change` asks for them:
+    /// up to `forming_depth`, else [`DEFAULT_FORMING_DEPTH`].
+    pub fn forming_bound(&self) -> Option<wear::FormingBound> {
+        self.forming_clearance_change.map(|fraction| {
+            wear::FormingBound::new(
+                fraction,
+                self.forming_depth.unwrap_or(DEFAULT_FORMING_DEPTH),
+            )
+        })
     }
 
     /// The slope and curvature bounds per extrapolation sub-step: the scene's, else 0.25 each
@@ -263,7 +272,7 @@ impl Default for RunSettings {
             wear_noise: None,
             wear_smoothing_deg: wear_smoothing_deg(),
             forming_clearance_change: None,
-            forming_depth: forming_depth(),
+            forming_depth: None,
             max_substeps: max_substeps(),
             stop_at_validity_limits: true,
             transient_window: transient_window(),

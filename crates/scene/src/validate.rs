@@ -392,16 +392,35 @@ impl Validator {
         }
         if let Some(f) = r.forming_clearance_change
             && self.number("run.forming_clearance_change", f, true)
-            && f > 1.0
         {
-            self.push("run.forming_clearance_change", f, "must lie in (0, 1]");
+            if f > 1.0 {
+                self.push("run.forming_clearance_change", f, "must lie in (0, 1]");
+            } else if !r.adaptive_extrapolation {
+                self.push(
+                    "run.forming_clearance_change",
+                    f,
+                    "needs run.adaptive_extrapolation = true (the single jump has no sub-steps \
+                     to bound)",
+                );
+            }
         }
-        if self.number("run.forming_depth", r.forming_depth, true) && r.forming_depth > 1.0 {
-            self.push(
-                "run.forming_depth",
-                r.forming_depth,
-                "must lie in (0, 1] (a fraction of the joint's nominal clearance)",
-            );
+        if let Some(depth) = r.forming_depth
+            && self.number("run.forming_depth", depth, true)
+        {
+            if depth > 1.0 {
+                self.push(
+                    "run.forming_depth",
+                    depth,
+                    "must lie in (0, 1] (a fraction of the joint's nominal clearance)",
+                );
+            } else if r.forming_clearance_change.is_none() {
+                self.push(
+                    "run.forming_depth",
+                    depth,
+                    "has no effect without run.forming_clearance_change (the finer bound it \
+                     ends; set both, or neither)",
+                );
+            }
         }
         if let Some(bound) = r.max_slope_change {
             self.number("run.max_slope_change", bound, true);

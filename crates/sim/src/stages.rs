@@ -7,9 +7,7 @@ use std::time::Instant;
 
 use clearance::{Ensemble, StageRuns, StageSimulation, WearStagesError, run_ensemble_stages};
 use multibody::{OutputTimes, SimulationError, SimulationResult};
-use wear::{
-    ClearanceStop, Extrapolation, FormingBound, GeometryLimits, RunContext, StagePlan, WornJoint,
-};
+use wear::{ClearanceStop, Extrapolation, GeometryLimits, RunContext, StagePlan, WornJoint};
 
 use super::life::life_curves;
 use super::record::{Recorder, assemble};
@@ -343,10 +341,7 @@ fn stage_plan(r: &RunSettings, shape_limits: Option<ShapeLimits>, k: u32) -> Sta
                 .map(|l| GeometryLimits::new(l.slope, l.curvature)),
         )
         .with_clearance_stop(until_limit(r, k))
-        .with_forming_bound(
-            r.forming_clearance_change
-                .map(|f| FormingBound::new(f, r.forming_depth)),
-        )
+        .with_forming_bound(r.forming_bound())
 }
 
 /// With `run.until_limit`: the stop at `run.clearance_limit`, `run.max_cycles` spread over

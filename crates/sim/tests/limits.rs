@@ -423,7 +423,7 @@ fn work_bounds_hold_over_fuzzed_values() {
         ),
         (
             "run.forming_depth",
-            |v| format!("[run]\nforming_depth = {v:e}"),
+            |v| format!("[run]\nforming_clearance_change = 0.01\nforming_depth = {v:e}"),
             |v, _| v > 0.0 && v <= 1.0,
         ),
         (
