@@ -32,6 +32,14 @@ fn edited(from: &str, to: &str) -> String {
     text.replacen(from, to, 1)
 }
 
+/// The default scene's text with `lines` added to its `[run]` table.
+fn with_run(lines: &str) -> String {
+    edited(
+        "transient_window = 0.1",
+        &format!("transient_window = 0.1\n{lines}"),
+    )
+}
+
 fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
@@ -222,12 +230,7 @@ fn bad_values_name_field_value_and_reason() {
 
 #[test]
 fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
-    let with = |limit: &str| {
-        edited(
-            "transient_window = 0.1",
-            &format!("transient_window = 0.1\nclearance_limit = {limit}"),
-        )
-    };
+    let with = |limit: &str| with_run(&format!("clearance_limit = {limit}"));
     // Below the 0.5 mm of both A and B: one issue per joint, naming the field, value and joint.
     let msg = refused(&with("0.0004"));
     assert_eq!(msg.len(), 2, "{msg:?}");
@@ -264,28 +267,22 @@ fn clearance_limit_must_be_positive_and_above_every_initial_clearance() {
 
 #[test]
 fn a_run_to_the_limit_needs_the_limit_a_cycle_budget_and_wear() {
-    let with = |lines: &str| {
-        edited(
-            "transient_window = 0.1",
-            &format!("transient_window = 0.1\n{lines}"),
-        )
-    };
     // Each missing piece named, with its field.
-    let msg = refused(&with("until_limit = true"));
+    let msg = refused(&with_run("until_limit = true"));
     assert_eq!(msg.len(), 2, "{msg:?}");
     assert!(msg[0].starts_with("run.until_limit = true: needs run.clearance_limit"));
     assert!(
         msg[1].starts_with("run.max_cycles = \"none\": required with run.until_limit"),
         "{msg:?}"
     );
-    let msg = refused(&with("until_limit = true\nclearance_limit = 0.0008"));
+    let msg = refused(&with_run("until_limit = true\nclearance_limit = 0.0008"));
     assert_eq!(msg.len(), 1, "{msg:?}");
     assert!(
         msg[0].starts_with("run.max_cycles = \"none\": required"),
         "{msg:?}"
     );
     // A budget only with the run it bounds; positive, finite, and not too many stages.
-    let msg = refused(&with("max_cycles = 2e7"));
+    let msg = refused(&with_run("max_cycles = 2e7"));
     assert_eq!(
         msg,
         [
@@ -295,35 +292,30 @@ fn a_run_to_the_limit_needs_the_limit_a_cycle_budget_and_wear() {
     );
     let full = "until_limit = true\nclearance_limit = 0.0008\nmax_cycles = ";
     assert_eq!(
-        refused(&with(&format!("{full}-1"))),
+        refused(&with_run(&format!("{full}-1"))),
         ["run.max_cycles = -1.0: must be positive"]
     );
     assert_eq!(
-        refused(&with(&format!("{full}inf"))),
+        refused(&with_run(&format!("{full}inf"))),
         ["run.max_cycles = inf: must be a finite number"]
     );
     // 2e6 cycles a stage: 1000 stages at most.
-    let msg = refused(&with(&format!("{full}3e9")));
+    let msg = refused(&with_run(&format!("{full}3e9")));
     assert_eq!(msg.len(), 1, "{msg:?}");
     assert!(
         msg[0].starts_with("run.max_cycles = 3000000000.0: would take 1500 stages"),
         "{msg:?}"
     );
     // No wear to run on.
-    let msg = refused(
-        &edited(
-            "transient_window = 0.1",
-            &format!("transient_window = 0.1\n{full}2e7"),
-        )
-        .replace("wear_stages = 1", "wear_stages = 0"),
-    );
+    let msg =
+        refused(&with_run(&format!("{full}2e7")).replace("wear_stages = 1", "wear_stages = 0"));
     assert!(
         msg.iter()
             .any(|m| m.starts_with("run.until_limit = true: needs wear")),
         "{msg:?}"
     );
     // Valid: loads, survives the round trip; off by default and not written then.
-    let s = load(&with(&format!(
+    let s = load(&with_run(&format!(
         "{full}2e7\nk_d_correlation = \"independent\""
     )))
     .unwrap();
@@ -347,7 +339,7 @@ fn a_run_to_the_limit_needs_the_limit_a_cycle_budget_and_wear() {
         assert!(!text.contains(field), "{field}");
     }
     // An unknown correlation is refused where it is written, with the ones there are.
-    let msg = load(&with("k_d_correlation = \"both\""))
+    let msg = load(&with_run("k_d_correlation = \"both\""))
         .unwrap_err()
         .to_string();
     assert!(
@@ -559,10 +551,7 @@ fn contact_model_fields_are_validated_naming_the_field() {
         ));
     }
     // The wear smoothing is an angle within [0, 30]°.
-    let text = edited(
-        "transient_window = 0.1",
-        "transient_window = 0.1\nwear_smoothing_deg = -1.0",
-    );
+    let text = with_run("wear_smoothing_deg = -1.0");
     assert_eq!(
         refused(&text),
         [
@@ -591,26 +580,20 @@ fn joint_names_whose_files_collide_are_refused() {
 
 #[test]
 fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
-    let with = |extra: &str| {
-        edited(
-            "transient_window = 0.1",
-            &format!("transient_window = 0.1\n{extra}"),
-        )
-    };
     for (bad, reason) in [
         ("0.0", "must be positive"),
         ("-0.1", "must be positive"),
         ("1.5", "must lie in (0, 1]"),
         ("nan", "must be a finite number"),
     ] {
-        let msg = issues(load(&with(&format!("wear_tolerance = {bad}"))).unwrap_err());
+        let msg = issues(load(&with_run(&format!("wear_tolerance = {bad}"))).unwrap_err());
         assert_eq!(msg.len(), 1, "{msg:?}");
         assert!(
             msg[0].starts_with("run.wear_tolerance = ") && msg[0].contains(reason),
             "{msg:?}"
         );
     }
-    let text = with("wear_tolerance = 0.05").replace(
+    let text = with_run("wear_tolerance = 0.05").replace(
         "adaptive_extrapolation = true",
         "adaptive_extrapolation = false",
     );
@@ -622,7 +605,7 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
     // (Linearly implicit sub-steps need a node per wear cell: A and B on 1000.)
     let one_per_cell =
         |text: String| text.replace("contact = { model = \"thin-gap\", cells = 500 }", "");
-    let text = one_per_cell(with(
+    let text = one_per_cell(with_run(
         "wear_tolerance = 0.05\nwear_stepping = \"linearly-implicit\"",
     ));
     let msg = refused(&text);
@@ -630,15 +613,18 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
         msg[0].starts_with("run.wear_tolerance = ") && msg[0].contains("linearly-implicit"),
         "{msg:?}"
     );
-    let bad = load(&with("wear_stepping = \"backward\"")).unwrap_err();
+    let bad = load(&with_run("wear_stepping = \"backward\"")).unwrap_err();
     assert!(bad.to_string().contains("wear_stepping"), "{bad}");
-    let s = load(&one_per_cell(with("wear_stepping = \"linearly-implicit\""))).unwrap();
+    let s = load(&one_per_cell(with_run(
+        "wear_stepping = \"linearly-implicit\"",
+    )))
+    .unwrap();
     assert_eq!(s.run.wear_stepping, wear::WearStepping::LinearlyImplicit);
     assert_eq!(
         load(&s.to_toml()).unwrap().run.wear_stepping,
         wear::WearStepping::LinearlyImplicit
     );
-    let s = load(&with("wear_tolerance = 0.05")).unwrap();
+    let s = load(&with_run("wear_tolerance = 0.05")).unwrap();
     assert_eq!(s.run.wear_tolerance, Some(0.05));
     assert_eq!(load(&s.to_toml()).unwrap().run.wear_tolerance, Some(0.05));
 }
@@ -648,20 +634,14 @@ fn wear_tolerance_must_lie_in_the_unit_interval_and_needs_sub_steps() {
 /// through the scene's own TOML.
 #[test]
 fn forming_settings_are_refused_where_they_would_change_nothing() {
-    let with = |extra: &str| {
-        edited(
-            "transient_window = 0.1",
-            &format!("transient_window = 0.1\n{extra}"),
-        )
-    };
-    let msg = refused(&with("forming_depth = 0.16"));
+    let msg = refused(&with_run("forming_depth = 0.16"));
     assert_eq!(msg.len(), 1, "{msg:?}");
     assert!(
         msg[0].starts_with("run.forming_depth = 0.16")
             && msg[0].contains("without run.forming_clearance_change"),
         "{msg:?}"
     );
-    let jump = with("forming_clearance_change = 0.0025").replace(
+    let jump = with_run("forming_clearance_change = 0.0025").replace(
         "adaptive_extrapolation = true",
         "adaptive_extrapolation = false",
     );
@@ -672,7 +652,7 @@ fn forming_settings_are_refused_where_they_would_change_nothing() {
             && msg[0].contains("needs run.adaptive_extrapolation = true"),
         "{msg:?}"
     );
-    let s = load(&with(
+    let s = load(&with_run(
         "forming_clearance_change = 0.0025\nforming_depth = 0.16",
     ))
     .unwrap();
@@ -680,7 +660,7 @@ fn forming_settings_are_refused_where_they_would_change_nothing() {
     assert_eq!(bound, wear::FormingBound::new(0.0025, 0.16));
     assert_eq!(load(&s.to_toml()).unwrap().run.forming_bound(), Some(bound));
     // Unset depth: the documented default; neither set: no bound, and none written.
-    let s = load(&with("forming_clearance_change = 0.0025")).unwrap();
+    let s = load(&with_run("forming_clearance_change = 0.0025")).unwrap();
     assert_eq!(
         s.run.forming_bound(),
         Some(wear::FormingBound::new(
@@ -688,7 +668,7 @@ fn forming_settings_are_refused_where_they_would_change_nothing() {
             scene::DEFAULT_FORMING_DEPTH
         ))
     );
-    let s = load(&with("")).unwrap();
+    let s = load(&with_run("")).unwrap();
     assert_eq!(s.run.forming_bound(), None);
     assert!(!s.to_toml().contains("forming"), "{}", s.to_toml());
 }
