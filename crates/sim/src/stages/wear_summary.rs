@@ -72,9 +72,11 @@ impl StagesRan<'_> {
         {
             records.warnings.push(
                 "note: with run.forming_clearance_change the printed noise is not calibrated: on \
-                 the built-in lgres it was 0.8-2.6 times the scatter of repeated stages (joint \
-                 B's volume and peaks overstated; docs/convergence.md, \"Where the bias forms\"), \
-                 so read it as a rough bound"
+                 the built-in lgres it was 0.8-2.6 times the scatter of repeated stages, joint \
+                 B's volume and peaks overstated (the forming phase's falling wear rate hides \
+                 from the life curve how much of the noise the worn geometry levels out; \
+                 docs/convergence.md, \"Four reference runs\"), so read it as a rough guide, \
+                 mostly an overestimate"
                     .into(),
             );
         }
