@@ -352,6 +352,35 @@ impl Validator {
         }
     }
 
+    /// An optional setting in `(0, 1]` that only sub-steps use: refused outside that interval,
+    /// and with the single jump (`adaptive` false), which has no sub-steps to `purpose`.
+    /// Returns the value where it passed, for the setting's own further checks.
+    fn sub_step_setting(
+        &mut self,
+        path: &str,
+        value: Option<f64>,
+        adaptive: bool,
+        purpose: &str,
+    ) -> Option<f64> {
+        let v = value.filter(|v| self.number(path, *v, true))?;
+        if v > 1.0 {
+            self.push(path, v, "must lie in (0, 1]");
+            None
+        } else if !adaptive {
+            self.push(
+                path,
+                v,
+                format!(
+                    "needs run.adaptive_extrapolation = true (the single jump has no sub-steps \
+                     to {purpose})"
+                ),
+            );
+            None
+        } else {
+            Some(v)
+        }
+    }
+
     fn run(&mut self, s: &Scene) {
         let r = &s.run;
         if let Some(t) = r.period {
@@ -390,20 +419,12 @@ impl Validator {
                  zone would erase the wear pattern)",
             );
         }
-        if let Some(f) = r.forming_clearance_change
-            && self.number("run.forming_clearance_change", f, true)
-        {
-            if f > 1.0 {
-                self.push("run.forming_clearance_change", f, "must lie in (0, 1]");
-            } else if !r.adaptive_extrapolation {
-                self.push(
-                    "run.forming_clearance_change",
-                    f,
-                    "needs run.adaptive_extrapolation = true (the single jump has no sub-steps \
-                     to bound)",
-                );
-            }
-        }
+        self.sub_step_setting(
+            "run.forming_clearance_change",
+            r.forming_clearance_change,
+            r.adaptive_extrapolation,
+            "bound",
+        );
         if let Some(depth) = r.forming_depth
             && self.number("run.forming_depth", depth, true)
         {
@@ -428,47 +449,33 @@ impl Validator {
         if let Some(bound) = r.max_curvature_change {
             self.number("run.max_curvature_change", bound, true);
         }
-        if let Some(tolerance) = r.wear_tolerance
-            && self.number("run.wear_tolerance", tolerance, true)
+        if let Some(tolerance) = self.sub_step_setting(
+            "run.wear_tolerance",
+            r.wear_tolerance,
+            r.adaptive_extrapolation,
+            "control",
+        ) && r.wear_stepping == wear::WearStepping::LinearlyImplicit
         {
-            if tolerance > 1.0 {
-                self.push("run.wear_tolerance", tolerance, "must lie in (0, 1]");
-            } else if !r.adaptive_extrapolation {
-                self.push(
-                    "run.wear_tolerance",
-                    tolerance,
-                    "needs run.adaptive_extrapolation = true (the single jump has no sub-steps \
-                     to control)",
-                );
-            } else if r.wear_stepping == wear::WearStepping::LinearlyImplicit {
-                self.push(
-                    "run.wear_tolerance",
-                    tolerance,
-                    "cannot be combined with run.wear_stepping = \"linearly-implicit\" \
-                     (error-controlled sub-steps are an explicit predictor-corrector; drop one)",
-                );
-            }
+            self.push(
+                "run.wear_tolerance",
+                tolerance,
+                "cannot be combined with run.wear_stepping = \"linearly-implicit\" \
+                 (error-controlled sub-steps are an explicit predictor-corrector; drop one)",
+            );
         }
-        if let Some(target) = r.wear_noise
-            && self.number("run.wear_noise", target, true)
+        if let Some(target) = self.sub_step_setting(
+            "run.wear_noise",
+            r.wear_noise,
+            r.adaptive_extrapolation,
+            "size",
+        ) && r.wear_tolerance.is_some()
         {
-            if target > 1.0 {
-                self.push("run.wear_noise", target, "must lie in (0, 1]");
-            } else if !r.adaptive_extrapolation {
-                self.push(
-                    "run.wear_noise",
-                    target,
-                    "needs run.adaptive_extrapolation = true (the single jump has no sub-steps \
-                     to size)",
-                );
-            } else if r.wear_tolerance.is_some() {
-                self.push(
-                    "run.wear_noise",
-                    target,
-                    "cannot be combined with run.wear_tolerance (error-controlled sub-steps \
-                     size themselves; drop one)",
-                );
-            }
+            self.push(
+                "run.wear_noise",
+                target,
+                "cannot be combined with run.wear_tolerance (error-controlled sub-steps \
+                 size themselves; drop one)",
+            );
         }
         if r.max_substeps == 0 {
             self.push("run.max_substeps", 0, "must be at least 1");

@@ -43,13 +43,32 @@ fn on_threads(
     Ok((outcome, surfaces))
 }
 
-#[test]
-fn the_threads_change_no_bit_of_the_worn_surfaces() -> Result<(), Box<dyn std::error::Error>> {
-    let scene = scene(2)?;
+type TestResult<T = ()> = Result<T, Box<dyn std::error::Error>>;
+
+/// `scene` run on 1 and on 2 threads, `check` called with the thread count, the outcome and
+/// its wear summary after each; fails unless both runs leave the same surfaces, bit for bit.
+/// Returns those surfaces.
+fn on_one_and_two_threads(
+    scene: &scene::ValidScene,
+    mut check: impl FnMut(usize, &RunOutcome, &sim::WearSummary) -> TestResult,
+) -> TestResult<Vec<Vec<wear::WornJoint>>> {
     let mut worn = Vec::new();
     for threads in [1, 2] {
-        let (outcome, surfaces) = on_threads(&scene, threads)?;
+        let (outcome, surfaces) = on_threads(scene, threads)?;
         let wear = outcome.summary.wear.as_ref().ok_or("stages ran")?;
+        check(threads, &outcome, wear)?;
+        worn.push(surfaces);
+    }
+    assert!(
+        worn[0] == worn[1],
+        "1 and 2 threads gave different surfaces"
+    );
+    Ok(worn.swap_remove(1))
+}
+
+#[test]
+fn the_threads_change_no_bit_of_the_worn_surfaces() -> TestResult {
+    on_one_and_two_threads(&scene(2)?, |threads, _, wear| {
         assert_eq!(wear.trajectories, 2);
         // Sub-steps after the first continue the trajectories.
         assert!(wear.substeps_per_stage[0] >= 2);
@@ -60,12 +79,8 @@ fn the_threads_change_no_bit_of_the_worn_surfaces() -> Result<(), Box<dyn std::e
             wear.substeps_per_stage[0], wear.joints[0].bearing_peak_depth_m
         );
         assert!(wear.joints[0].bearing_peak_depth_m > 0.0);
-        worn.push(surfaces);
-    }
-    assert!(
-        worn[0] == worn[1],
-        "1 and 2 threads gave different surfaces"
-    );
+        Ok(())
+    })?;
     Ok(())
 }
 
@@ -79,7 +94,7 @@ impl sim::Progress for Phases {
 }
 
 #[test]
-fn trajectories_must_divide_the_cycles_of_a_sub_step() -> Result<(), Box<dyn std::error::Error>> {
+fn trajectories_must_divide_the_cycles_of_a_sub_step() -> TestResult {
     // The scene's K = 2 on 3 trajectories; K overridden to 3 on the scene's 2; the flags'
     // 2 trajectories with K = 3.
     let cases = [
@@ -133,13 +148,9 @@ fn trajectories_must_divide_the_cycles_of_a_sub_step() -> Result<(), Box<dyn std
 /// runs (the first rate, one per sub-step, the rejected predictions), gives each sub-step's
 /// estimate and the halves of the run it applied, and the threads change no bit.
 #[test]
-fn controlled_sub_steps_are_reported_and_thread_independent()
--> Result<(), Box<dyn std::error::Error>> {
+fn controlled_sub_steps_are_reported_and_thread_independent() -> TestResult {
     let scene = scene_with(2, "wear_tolerance = 0.05\nmax_clearance_change = 0.02")?;
-    let mut worn = Vec::new();
-    for threads in [1, 2] {
-        let (outcome, surfaces) = on_threads(&scene, threads)?;
-        let wear = outcome.summary.wear.as_ref().ok_or("stages ran")?;
+    on_one_and_two_threads(&scene, |threads, _, wear| {
         let (substeps, runs) = (wear.substeps_per_stage[0], wear.runs_per_stage[0]);
         eprintln!(
             "{threads} thread(s): {substeps} sub-steps, {runs} runs ({} rejected): {}",
@@ -156,12 +167,8 @@ fn controlled_sub_steps_are_reported_and_thread_independent()
         }
         let applied: f64 = wear.substeps.iter().map(|s| s.amplification).sum();
         assert!((applied - wear.amplification).abs() <= 1e-9 * wear.amplification);
-        worn.push(surfaces);
-    }
-    assert!(
-        worn[0] == worn[1],
-        "1 and 2 threads gave different surfaces"
-    );
+        Ok(())
+    })?;
     Ok(())
 }
 
@@ -169,13 +176,9 @@ fn controlled_sub_steps_are_reported_and_thread_independent()
 /// reports how stiff it was, the step changes the surfaces (against explicit sub-steps of the
 /// same scene), and the threads change no bit.
 #[test]
-fn implicit_sub_steps_are_reported_and_thread_independent() -> Result<(), Box<dyn std::error::Error>>
-{
+fn implicit_sub_steps_are_reported_and_thread_independent() -> TestResult {
     let scene = scene_with(2, "wear_stepping = \"linearly-implicit\"")?;
-    let mut worn = Vec::new();
-    for threads in [1, 2] {
-        let (outcome, surfaces) = on_threads(&scene, threads)?;
-        let wear = outcome.summary.wear.as_ref().ok_or("stages ran")?;
+    let worn = on_one_and_two_threads(&scene, |threads, outcome, wear| {
         eprintln!("{threads} thread(s): {}", wear.extrapolation);
         assert!(
             wear.extrapolation.ends_with(
@@ -187,14 +190,10 @@ fn implicit_sub_steps_are_reported_and_thread_independent() -> Result<(), Box<dy
         let life = &outcome.wear[0].life;
         assert!(life.len() >= 3, "{life:?}");
         assert!(life[1..].iter().all(|p| p.wear_stiffness > 0.0), "{life:?}");
-        worn.push(surfaces);
-    }
-    assert!(
-        worn[0] == worn[1],
-        "1 and 2 threads gave different surfaces"
-    );
+        Ok(())
+    })?;
     let (_, explicit) = on_threads(&scene_with(2, "")?, 2)?;
-    assert!(explicit != worn[0], "the implicit step changed nothing");
+    assert!(explicit != worn, "the implicit step changed nothing");
     Ok(())
 }
 
@@ -202,15 +201,11 @@ fn implicit_sub_steps_are_reported_and_thread_independent() -> Result<(), Box<dy
 /// joint still shallower than `forming_depth` keeps to the finer bound, the summary says so
 /// and notes that the noise is not calibrated, and the threads change no bit.
 #[test]
-fn forming_sub_steps_keep_the_finer_bound_and_are_thread_independent()
--> Result<(), Box<dyn std::error::Error>> {
+fn forming_sub_steps_keep_the_finer_bound_and_are_thread_independent() -> TestResult {
     // The stage's 8000 cycles leave the groove far shallower than the clearance: all forming.
     let scene = scene_with(2, "forming_clearance_change = 0.01\nforming_depth = 1.0")?;
-    let mut worn = Vec::new();
     let mut counts = Vec::new();
-    for threads in [1, 2] {
-        let (outcome, surfaces) = on_threads(&scene, threads)?;
-        let wear = outcome.summary.wear.as_ref().ok_or("stages ran")?;
+    on_one_and_two_threads(&scene, |threads, _, wear| {
         eprintln!("{threads} thread(s): {}", wear.extrapolation);
         assert!(
             wear.extrapolation.contains(
@@ -230,12 +225,8 @@ fn forming_sub_steps_keep_the_finer_bound_and_are_thread_independent()
             assert!(s.change_fraction <= 0.01 * (1.0 + 1e-9), "{s:?}");
         }
         counts.push(wear.substeps_per_stage[0]);
-        worn.push(surfaces);
-    }
-    assert!(
-        worn[0] == worn[1],
-        "1 and 2 threads gave different surfaces"
-    );
+        Ok(())
+    })?;
     let (plain, _) = on_threads(&scene_with(2, "")?, 2)?;
     let plain = plain.summary.wear.as_ref().ok_or("stages ran")?;
     assert!(
